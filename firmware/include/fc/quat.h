@@ -1,0 +1,85 @@
+/*
+ * fc/quat.h - unit quaternions (Hamilton convention, scalar first).
+ *
+ * Components are in UNIT format. Convention used throughout the library:
+ * q is the attitude of the body in the world frame (body -> world), so a
+ * body-frame vector v_b is seen in the world as  v_w = q (x) [0, v_b] (x) q*.
+ * Its kinematics are  q' = 1/2 [0, w_world] (x) q = 1/2 q (x) [0, w_body],
+ * the first being the dissertation's form under (2.1) with w in {0}.
+ * World frame ENU (z up), body frame FLU (dissertation 2.2).
+ */
+#ifndef FC_QUAT_H
+#define FC_QUAT_H
+
+#include "fc/vec3.h"
+
+typedef struct fc_quat {
+    fc_real w, x, y, z;
+} fc_quat;
+
+static inline fc_quat fc_quat_make(fc_real w, fc_real x, fc_real y, fc_real z)
+{
+    const fc_quat q = {w, x, y, z};
+    return q;
+}
+
+static inline fc_quat fc_quat_identity(void)
+{
+    return fc_quat_make(FC_INT(1, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT));
+}
+
+static inline fc_vec3 fc_quat_vector_part(fc_quat q)
+{
+    return fc_vec3_make(q.x, q.y, q.z);
+}
+
+/* Hamilton product p (x) q (2.7), (2.8): first rotate by q, then by p. */
+fc_quat fc_quat_mul(fc_arith *ar, fc_quat p, fc_quat q);
+
+/* q* = [w, -x, -y, -z]. */
+fc_quat fc_quat_conj(fc_arith *ar, fc_quat q);
+
+/* w^2 + x^2 + y^2 + z^2 in UNIT. */
+fc_real fc_quat_norm_sq(fc_arith *ar, fc_quat q);
+
+/* q / |q|. A quaternion of zero (or non-finite) length gives the identity and
+ * *ok = false; otherwise *ok = true. Near unit length (the usual case after
+ * one integration step) it costs no division and no square root. */
+fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok);
+
+/* The same rotation with w >= 0 (the shortest path: rotation angle <= pi). */
+fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q);
+
+/* q (x) [0, v] (x) q*: v from body to world; v of any format. */
+fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v);
+
+/* q* (x) [0, v] (x) q: v from world to body. */
+fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v);
+
+/* Rotation of angle_rad (ANGLE) about a UNIT axis. */
+fc_quat fc_quat_from_axis_angle(fc_arith *ar, fc_vec3 axis_unit, fc_real angle_rad);
+
+/* Axis (UNIT) and angle (ANGLE, in [0, pi]) of q; the identity gives axis x, angle 0. */
+void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real *angle_rad);
+
+/* Exponential map: the rotation by the rotation vector theta (ANGLE, |theta| <= 8 rad). */
+fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad);
+
+/* Roll-pitch-yaw (ZYX: yaw about z, then pitch about y, then roll about x), ANGLE. */
+fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_real yaw_rad);
+
+/* (roll, pitch, yaw) of q as an ANGLE vector; pitch in [-pi/2, pi/2]. */
+fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q);
+
+/* One step of q' = 1/2 q (x) [0, w_body] over dt_s, by the exponential map:
+ * q (x) exp(w_body dt / 2), renormalised. rate in RATE, dt in DT. Exact for a
+ * rate constant over the step. */
+fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_radps, fc_real dt_s);
+
+/* One step of q' = 1/2 [0, w_world] (x) q over dt_s (the form under (2.1)). */
+fc_quat fc_quat_integrate_world_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_world_radps, fc_real dt_s);
+
+/* True when every component is finite. */
+bool fc_quat_is_finite(fc_quat q);
+
+#endif /* FC_QUAT_H */

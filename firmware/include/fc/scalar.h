@@ -1,0 +1,416 @@
+/*
+ * fc/scalar.h - the numeric backend: one algorithm source, two number types.
+ *
+ * Every algorithm in firmware/ is written once against the functions below.
+ * The build selects the backend with FC_NUMERIC_FIXED (CMake option FC_NUMERIC):
+ *
+ *   float  fc_real is IEEE single. Shifts are ignored, nothing saturates.
+ *   fixed  fc_real is int32_t in a Q-format that depends on what the signal is
+ *          (table below). Products go through a 64-bit intermediate, are
+ *          rounded to nearest and saturate symmetrically to +-INT32_MAX;
+ *          a saturation sets fc_arith.saturated, which the caller owns and
+ *          reads (the library has no global state, so the flag travels with
+ *          the caller, like the Q bit of a Cortex-M APSR but in a struct).
+ *
+ * How a multiply is written: the caller names the formats of both operands
+ * and of the result, and FC_SHIFT turns them into the right shift:
+ *
+ *     angle = fc_mul(&ar, rate_radps, dt_s, FC_SHIFT(RATE, DT, ANGLE));
+ *
+ * reads "rate times dt gives an angle"; in fixed it is
+ * (rate * dt) >> (24 + 30 - 28), in float it is rate * dt.
+ *
+ * Q-formats, chosen per kind of signal from its range (int32: 1 sign bit,
+ * 31 - FRAC integer bits, FRAC fraction bits; resolution = 2^-FRAC):
+ *
+ *   name      FRAC  range             resolution   used for
+ *   UNIT       30   [-2, 2)           9.3e-10      quaternion components, sin/cos,
+ *                                                  direction cosines, unit vectors
+ *   ANGLE      28   [-8, 8) rad       3.7e-9 rad   angles, wrapped to [-pi, pi]
+ *   RATE       24   [-128, 128) rad/s 6.0e-8       body rates (gyro: 2000 deg/s = 35 rad/s)
+ *   ACCEL      22   [-512, 512) m/s2  2.4e-7       accelerations (16 g = 157 m/s2)
+ *   VEL        22   [-512, 512) m/s   2.4e-7       velocities, the sliding variable
+ *   LENGTH     20   [-2048, 2048) m   9.5e-7 m     positions, altitudes, arms
+ *   FORCE      20   [-2048, 2048) N   9.5e-7 N     thrusts, the SSC control signal
+ *   MOMENT     24   [-128, 128) N m   6.0e-8 N m   body moments (Crazyflie: 5e-3 N m)
+ *   MASS       24   [-128, 128) kg    6.0e-8 kg    mass, the SSC parameter Theta
+ *   INERTIA    30   [-2, 2) kg m2     9.3e-10      moments of inertia (Crazyflie: 1.7e-5)
+ *   DT         30   [-2, 2) s         9.3e-10 s    the fixed step and filter time constants
+ *   TIME       16   [-32768, 32768) s 1.5e-5 s     mission time
+ *   RATIO      24   [-128, 128)       6.0e-8       dimensionless factors (k_g, k_h, weights)
+ *   GAIN       16   [-32768, 32768)   1.5e-5       controller gains of mixed units
+ *   MAT        24   [-128, 128)       6.0e-8       entries of the allocation matrices
+ *
+ * Functions of the form fc_xxx(&ar, ...) may saturate in fixed; the others
+ * cannot. Division and square root are kept out of hot paths: reciprocals of
+ * constants are computed at init (fixed division is a 64-bit divide).
+ */
+#ifndef FC_SCALAR_H
+#define FC_SCALAR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#ifndef FC_NUMERIC_FIXED
+#define FC_NUMERIC_FIXED 0
+#endif
+
+/* ---- Q-formats (see the table above) ---------------------------------- */
+#define FC_UNIT_FRAC 30
+#define FC_ANGLE_FRAC 28
+#define FC_RATE_FRAC 24
+#define FC_ACCEL_FRAC 22
+#define FC_VEL_FRAC 22
+#define FC_LENGTH_FRAC 20
+#define FC_FORCE_FRAC 20
+#define FC_MOMENT_FRAC 24
+#define FC_MASS_FRAC 24
+#define FC_INERTIA_FRAC 30
+#define FC_DT_FRAC 30
+#define FC_TIME_FRAC 16
+#define FC_RATIO_FRAC 24
+#define FC_GAIN_FRAC 16
+#define FC_MAT_FRAC 24
+
+/* Right shift of a product: operand formats A and B, result format OUT. */
+#define FC_SHIFT(A, B, OUT) (FC_##A##_FRAC + FC_##B##_FRAC - FC_##OUT##_FRAC)
+/* Left shift of a dividend: NUM / DEN gives OUT. */
+#define FC_DIV_SHIFT(NUM, DEN, OUT) (FC_##OUT##_FRAC + FC_##DEN##_FRAC - FC_##NUM##_FRAC)
+/* The FRAC of a named format, for the functions that take one. */
+#define FC_FRAC(KIND) (FC_##KIND##_FRAC)
+
+/* Saturation record, owned by the caller (a module keeps one in its state). */
+typedef struct fc_arith {
+    uint8_t saturated; /* set to 1 by any saturating operation; cleared by the owner */
+} fc_arith;
+
+#if FC_NUMERIC_FIXED
+/* ======================================================================= */
+/* fixed backend                                                           */
+/* ======================================================================= */
+typedef int32_t fc_real;
+
+#define FC_REAL_MAX INT32_MAX
+#define FC_REAL_MIN (-INT32_MAX) /* symmetric: negation never overflows */
+
+/* A constant in format KIND, folded at compile time (no run-time float).
+ * X must be a float constant expression; it is rounded to nearest. */
+#define FC_C(X, KIND)                                                                     \
+    ((fc_real)((X) * (float)((uint32_t)1u << FC_##KIND##_FRAC) + ((X) < 0.0f ? -0.5f : 0.5f)))
+/* An integer constant in format KIND (exact). */
+#define FC_INT(N, KIND) ((fc_real)((int32_t)(N) * ((int32_t)1 << FC_##KIND##_FRAC)))
+
+static inline fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
+{
+    if (value > (int64_t)FC_REAL_MAX) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    if (value < (int64_t)FC_REAL_MIN) {
+        ar->saturated = 1u;
+        return FC_REAL_MIN;
+    }
+    return (fc_real)value;
+}
+
+/* value / 2^shift rounded to nearest (shift > 0), or value * 2^-shift. */
+static inline int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
+{
+    if (shift > 0) {
+        return (value + ((int64_t)1 << (shift - 1))) >> shift; /* arithmetic shift (gcc) */
+    }
+    if (shift < 0) {
+        const int64_t limit = INT64_MAX >> (-shift);
+        if (value > limit || value < -limit) {
+            ar->saturated = 1u;
+            return value > 0 ? INT64_MAX : -INT64_MAX;
+        }
+        return value * ((int64_t)1 << (-shift));
+    }
+    return value;
+}
+
+static inline fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_fx_saturate(ar, (int64_t)a + b);
+}
+
+static inline fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_fx_saturate(ar, (int64_t)a - b);
+}
+
+static inline fc_real fc_neg(fc_arith *ar, fc_real a)
+{
+    return fc_fx_saturate(ar, -(int64_t)a);
+}
+
+static inline fc_real fc_abs(fc_arith *ar, fc_real a)
+{
+    return a < 0 ? fc_neg(ar, a) : a;
+}
+
+/* a * b >> shift, rounded, saturated. */
+static inline fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a * b, shift));
+}
+
+/* a0*b0 + a1*b1 (+ ...) >> shift with one rounding: the dot products of the
+ * vector and quaternion code accumulate in 64 bits. */
+static inline fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              int shift)
+{
+    const int64_t sum = (int64_t)a0 * b0 + (int64_t)a1 * b1;
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift));
+}
+
+static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              fc_real a2, fc_real b2, int shift)
+{
+    /* a product of two int32 is below 2^62 in magnitude and four of them could
+     * wrap an int64: the products are accumulated in quarters (two low bits of
+     * each are dropped, far below the result's LSB for the shifts used here) */
+    const int64_t sum = ((int64_t)a0 * b0 >> 2) + ((int64_t)a1 * b1 >> 2) + ((int64_t)a2 * b2 >> 2);
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 2));
+}
+
+static inline fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
+{
+    const int64_t sum = ((int64_t)a0 * b0 >> 2) + ((int64_t)a1 * b1 >> 2) +
+                        ((int64_t)a2 * b2 >> 2) + ((int64_t)a3 * b3 >> 2);
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 2));
+}
+
+/* An accumulator for sums of up to eight products (matrix rows): 64 bits,
+ * each product entered with FC_ACC_GUARD_BITS dropped so eight of them
+ * cannot wrap; one rounding at the end. */
+typedef int64_t fc_acc;
+#define FC_ACC_GUARD_BITS 3
+
+static inline fc_acc fc_acc_zero(void)
+{
+    return 0;
+}
+
+static inline fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return acc + (((int64_t)a * b) >> FC_ACC_GUARD_BITS);
+}
+
+static inline fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
+{
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, acc, shift - FC_ACC_GUARD_BITS));
+}
+
+/* num << shift / den, rounded to nearest; den == 0 saturates toward the sign of num. */
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
+
+/* Change of format: a value in format FROM re-expressed in format TO. */
+static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
+{
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, frac_from - frac_to));
+}
+
+static inline bool fc_is_finite(fc_real a)
+{
+    (void)a;
+    return true;
+}
+
+#else
+/* ======================================================================= */
+/* float backend                                                           */
+/* ======================================================================= */
+typedef float fc_real;
+
+#define FC_REAL_MAX 3.40282347e+38f
+#define FC_REAL_MIN (-3.40282347e+38f)
+
+#define FC_C(X, KIND) ((fc_real)(X))
+#define FC_INT(N, KIND) ((fc_real)(N))
+
+static inline fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+{
+    (void)ar;
+    return a + b;
+}
+
+static inline fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    (void)ar;
+    return a - b;
+}
+
+static inline fc_real fc_neg(fc_arith *ar, fc_real a)
+{
+    (void)ar;
+    return -a;
+}
+
+static inline fc_real fc_abs(fc_arith *ar, fc_real a)
+{
+    (void)ar;
+    return a < 0.0f ? -a : a;
+}
+
+static inline fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    (void)ar;
+    (void)shift;
+    return a * b;
+}
+
+static inline fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              int shift)
+{
+    (void)ar;
+    (void)shift;
+    return a0 * b0 + a1 * b1;
+}
+
+static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              fc_real a2, fc_real b2, int shift)
+{
+    (void)ar;
+    (void)shift;
+    return a0 * b0 + a1 * b1 + a2 * b2;
+}
+
+static inline fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+                              fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
+{
+    (void)ar;
+    (void)shift;
+    return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+typedef float fc_acc;
+
+static inline fc_acc fc_acc_zero(void)
+{
+    return 0.0f;
+}
+
+static inline fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return acc + a * b;
+}
+
+static inline fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
+{
+    (void)ar;
+    (void)shift;
+    return acc;
+}
+
+/* num / den; den == 0 gives +-FC_REAL_MAX (or 0 for 0/0) instead of inf/NaN. */
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
+
+static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
+{
+    (void)ar;
+    (void)frac_from;
+    (void)frac_to;
+    return a;
+}
+
+static inline bool fc_is_finite(fc_real a)
+{
+    return __builtin_isfinite(a);
+}
+
+#endif /* FC_NUMERIC_FIXED */
+
+/* ---- backend-neutral helpers ------------------------------------------ */
+
+static inline fc_real fc_min(fc_real a, fc_real b)
+{
+    return a < b ? a : b;
+}
+
+static inline fc_real fc_max(fc_real a, fc_real b)
+{
+    return a > b ? a : b;
+}
+
+static inline fc_real fc_clamp(fc_real a, fc_real lo, fc_real hi)
+{
+    return a < lo ? lo : (a > hi ? hi : a);
+}
+
+/* -1, 0 or +1 as a UNIT value (the relay of the sliding-mode laws). */
+static inline fc_real fc_sign_unit(fc_real a)
+{
+    if (a > FC_INT(0, UNIT)) {
+        return FC_INT(1, UNIT);
+    }
+    if (a < FC_INT(0, UNIT)) {
+        return FC_INT(-1, UNIT);
+    }
+    return FC_INT(0, UNIT);
+}
+
+/* ---- functions of the backend (scalar.c) ------------------------------ */
+
+/* sqrt of x in format frac, result in the same format; x <= 0 gives 0. */
+fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac);
+
+/* sqrt(a^2 + b^2 + c^2) in the format of a, b and c; the squares are summed
+ * in 64 bits in fixed, so no intermediate overflows. */
+fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
+
+/* 1/sqrt(x): x in format frac_in, result in format frac_out; x <= 0 saturates. */
+fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
+
+/* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
+fc_real fc_sin(fc_arith *ar, fc_real angle_rad);
+fc_real fc_cos(fc_arith *ar, fc_real angle_rad);
+
+/* atan2(y, x) as an ANGLE in [-pi, pi]; y and x in any one common format. */
+fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x);
+
+/* asin of a UNIT value (clamped to [-1, 1]), as an ANGLE. */
+fc_real fc_asin(fc_arith *ar, fc_real x_unit);
+
+/* exp(-x) for x >= 0 in RATIO, result in UNIT: the pole of a discretised
+ * first-order filter, e^(-dt/tau). Init-time use. */
+fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio);
+
+/* Conversions for hosts and the Cortex-M (never called inside the library:
+ * on the ATmega fixed image they would pull in soft-float). */
+static inline fc_real fc_from_float(float x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    const float scaled = x * (float)((uint32_t)1u << frac);
+    if (!(scaled == scaled)) {
+        return 0;
+    }
+    if (scaled >= 2147483647.0f) {
+        return FC_REAL_MAX;
+    }
+    if (scaled <= -2147483647.0f) {
+        return FC_REAL_MIN;
+    }
+    return (fc_real)(scaled + (scaled < 0.0f ? -0.5f : 0.5f));
+#else
+    (void)frac;
+    return x;
+#endif
+}
+
+static inline float fc_to_float(fc_real x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    return (float)x / (float)((uint32_t)1u << frac);
+#else
+    (void)frac;
+    return x;
+#endif
+}
+
+#define FC_PI FC_C(3.14159265f, ANGLE)
+#define FC_HALF_PI FC_C(1.57079633f, ANGLE)
+
+#endif /* FC_SCALAR_H */

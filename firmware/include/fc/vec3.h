@@ -1,0 +1,61 @@
+/*
+ * fc/vec3.h - three-vectors of any signal kind.
+ *
+ * A vector holds one kind of signal (all three components in one Q-format).
+ * Functions that multiply take the shift of the product (FC_SHIFT); the
+ * others keep the operands' format.
+ */
+#ifndef FC_VEC3_H
+#define FC_VEC3_H
+
+#include "fc/scalar.h"
+
+typedef struct fc_vec3 {
+    fc_real x, y, z;
+} fc_vec3;
+
+static inline fc_vec3 fc_vec3_make(fc_real x, fc_real y, fc_real z)
+{
+    const fc_vec3 v = {x, y, z};
+    return v;
+}
+
+static inline fc_vec3 fc_vec3_zero(void)
+{
+    return fc_vec3_make(FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT));
+}
+
+fc_vec3 fc_vec3_add(fc_arith *ar, fc_vec3 a, fc_vec3 b);
+fc_vec3 fc_vec3_sub(fc_arith *ar, fc_vec3 a, fc_vec3 b);
+fc_vec3 fc_vec3_neg(fc_arith *ar, fc_vec3 v);
+
+/* v * k: shift = FC_SHIFT(kind of v, kind of k, kind of the result). */
+fc_vec3 fc_vec3_scale(fc_arith *ar, fc_vec3 v, fc_real k, int shift);
+
+/* Component-wise product (a diagonal matrix times a vector). */
+fc_vec3 fc_vec3_mul_elementwise(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+
+/* a . b, accumulated in 64 bits in fixed. */
+fc_real fc_vec3_dot(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+
+/* a x b. */
+fc_vec3 fc_vec3_cross(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+
+/* |v| in v's own format (no intermediate overflow: the squares are summed in
+ * 64 bits in fixed). */
+fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac);
+
+/* v / |v| as a UNIT vector. A zero vector gives the zero vector and *ok = false. */
+fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok);
+
+/* Saturation that keeps the direction (dissertation 2.6.4): if |v| > max_norm,
+ * v is scaled down to length max_norm; v and max_norm share format frac. */
+fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac);
+
+/* Format change of all three components. */
+fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to);
+
+/* True when every component is a finite number (always true in fixed). */
+bool fc_vec3_is_finite(fc_vec3 v);
+
+#endif /* FC_VEC3_H */

@@ -1,0 +1,206 @@
+/* quat.c - unit quaternions (fc/quat.h). One source for both backends. */
+#include "fc/quat.h"
+
+/* shift of a product of two UNIT values giving a UNIT value */
+#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
+
+fc_quat fc_quat_mul(fc_arith *ar, fc_quat p, fc_quat q)
+{
+    /* (2.8): each component is a 4-term dot product, rounded once */
+    const fc_real w = fc_dot4(ar, p.w, q.w, fc_neg(ar, p.x), q.x, fc_neg(ar, p.y), q.y,
+                              fc_neg(ar, p.z), q.z, UNIT_X_UNIT);
+    const fc_real x = fc_dot4(ar, p.w, q.x, p.x, q.w, p.y, q.z, fc_neg(ar, p.z), q.y, UNIT_X_UNIT);
+    const fc_real y = fc_dot4(ar, p.w, q.y, fc_neg(ar, p.x), q.z, p.y, q.w, p.z, q.x, UNIT_X_UNIT);
+    const fc_real z = fc_dot4(ar, p.w, q.z, p.x, q.y, fc_neg(ar, p.y), q.x, p.z, q.w, UNIT_X_UNIT);
+    return fc_quat_make(w, x, y, z);
+}
+
+fc_quat fc_quat_conj(fc_arith *ar, fc_quat q)
+{
+    return fc_quat_make(q.w, fc_neg(ar, q.x), fc_neg(ar, q.y), fc_neg(ar, q.z));
+}
+
+fc_real fc_quat_norm_sq(fc_arith *ar, fc_quat q)
+{
+    return fc_dot4(ar, q.w, q.w, q.x, q.x, q.y, q.y, q.z, q.z, UNIT_X_UNIT);
+}
+
+static fc_quat quat_scale(fc_arith *ar, fc_quat q, fc_real k, int shift)
+{
+    return fc_quat_make(fc_mul(ar, q.w, k, shift), fc_mul(ar, q.x, k, shift),
+                        fc_mul(ar, q.y, k, shift), fc_mul(ar, q.z, k, shift));
+}
+
+bool fc_quat_is_finite(fc_quat q)
+{
+    return fc_is_finite(q.w) && fc_is_finite(q.x) && fc_is_finite(q.y) && fc_is_finite(q.z);
+}
+
+fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
+{
+    if (!fc_quat_is_finite(q)) {
+        *ok = false;
+        return fc_quat_identity();
+    }
+    /* A fixed quaternion longer than sqrt(2) would saturate |q|^2 in UNIT:
+     * quarter it first (the direction is all that matters). */
+    fc_arith probe = {0u};
+    fc_real norm_sq = fc_quat_norm_sq(&probe, q);
+    if (probe.saturated != 0u) {
+        q = quat_scale(ar, q, FC_C(0.25f, UNIT), UNIT_X_UNIT);
+        norm_sq = fc_quat_norm_sq(ar, q);
+    }
+    if (!fc_is_finite(norm_sq) || norm_sq < FC_C(1.0e-4f, UNIT)) {
+        *ok = false;
+        return fc_quat_identity();
+    }
+    *ok = true;
+    const fc_real one_minus_norm_sq = fc_sub(ar, FC_INT(1, UNIT), norm_sq);
+    if (fc_abs(ar, one_minus_norm_sq) < FC_C(3.0e-5f, UNIT)) {
+        /* |q|^2 = 1 - e: 1/|q| = 1 + e/2 + O(e^2), the O(e^2) below 1e-9 here */
+        const fc_real inv_norm = fc_add(ar, FC_INT(1, UNIT),
+                                        fc_mul(ar, one_minus_norm_sq, FC_C(0.5f, UNIT), UNIT_X_UNIT));
+        return quat_scale(ar, q, inv_norm, UNIT_X_UNIT);
+    }
+    /* 1/|q| up to 100 (|q|^2 >= 1e-4): RATIO format */
+    const fc_real inv_norm = fc_rsqrt(ar, norm_sq, FC_UNIT_FRAC, FC_RATIO_FRAC);
+    return quat_scale(ar, q, inv_norm, FC_SHIFT(UNIT, RATIO, UNIT));
+}
+
+fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q)
+{
+    if (q.w < FC_INT(0, UNIT)) {
+        return fc_quat_make(fc_neg(ar, q.w), fc_neg(ar, q.x), fc_neg(ar, q.y), fc_neg(ar, q.z));
+    }
+    return q;
+}
+
+fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v)
+{
+    /* v' = v + w t + q_v x t with t = 2 q_v x v: two cross products, no matrix */
+    const fc_vec3 qv = fc_quat_vector_part(q);
+    const fc_vec3 half_t = fc_vec3_cross(ar, qv, v, FC_UNIT_FRAC);
+    const fc_vec3 t = fc_vec3_add(ar, half_t, half_t);
+    const fc_vec3 wt = fc_vec3_scale(ar, t, q.w, FC_UNIT_FRAC);
+    return fc_vec3_add(ar, fc_vec3_add(ar, v, wt), fc_vec3_cross(ar, qv, t, FC_UNIT_FRAC));
+}
+
+fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v)
+{
+    return fc_quat_rotate(ar, fc_quat_conj(ar, q), v);
+}
+
+fc_quat fc_quat_from_axis_angle(fc_arith *ar, fc_vec3 axis_unit, fc_real angle_rad)
+{
+    const fc_real half_angle = fc_mul(ar, angle_rad, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
+    const fc_real s = fc_sin(ar, half_angle);
+    const fc_vec3 v = fc_vec3_scale(ar, axis_unit, s, UNIT_X_UNIT);
+    return fc_quat_make(fc_cos(ar, half_angle), v.x, v.y, v.z);
+}
+
+void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real *angle_rad)
+{
+    const fc_quat qs = fc_quat_shortest(ar, q);
+    const fc_vec3 v = fc_quat_vector_part(qs);
+    const fc_real sin_half = fc_vec3_norm(ar, v, FC_UNIT_FRAC);
+    bool ok = false;
+    const fc_vec3 axis = fc_vec3_normalize(ar, v, FC_UNIT_FRAC, &ok);
+    *axis_unit = ok ? axis : fc_vec3_make(FC_INT(1, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT));
+    /* angle = 2 atan2(|v|, w), w >= 0 so the angle is in [0, pi] */
+    const fc_real half_angle = fc_atan2(ar, sin_half, qs.w);
+    *angle_rad = fc_add(ar, half_angle, half_angle);
+}
+
+fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
+{
+    const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
+    fc_real cos_half;          /* cos(a/2), UNIT */
+    fc_real sin_half_over_a;   /* sin(a/2)/a, UNIT */
+    if (angle < FC_C(0.5f, ANGLE)) {
+        /* series in a^2 (truncation below 4e-10 for a < 0.5 rad); no division,
+         * and exact at a = 0 where sin(a/2)/a is 0/0 */
+        const fc_real a2 = fc_vec3_dot(ar, theta_rad, theta_rad, FC_SHIFT(ANGLE, ANGLE, UNIT));
+        /* cos(a/2) = 1 - a^2/8 (1 - a^2/48 (1 - a^2/120)) */
+        fc_real acc = fc_sub(ar, FC_INT(1, UNIT), fc_mul(ar, a2, FC_C(1.0f / 120.0f, UNIT), UNIT_X_UNIT));
+        acc = fc_sub(ar, FC_INT(1, UNIT),
+                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 48.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
+        cos_half = fc_sub(ar, FC_INT(1, UNIT),
+                          fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 8.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
+        /* sin(a/2)/a = 1/2 (1 - a^2/24 (1 - a^2/80 (1 - a^2/168))) */
+        acc = fc_sub(ar, FC_INT(1, UNIT), fc_mul(ar, a2, FC_C(1.0f / 168.0f, UNIT), UNIT_X_UNIT));
+        acc = fc_sub(ar, FC_INT(1, UNIT),
+                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 80.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
+        acc = fc_sub(ar, FC_INT(1, UNIT),
+                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 24.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
+        sin_half_over_a = fc_mul(ar, acc, FC_C(0.5f, UNIT), UNIT_X_UNIT);
+    } else {
+        const fc_real half_angle = fc_mul(ar, angle, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
+        cos_half = fc_cos(ar, half_angle);
+        sin_half_over_a = fc_div(ar, fc_sin(ar, half_angle), angle, FC_DIV_SHIFT(UNIT, ANGLE, UNIT));
+    }
+    /* (sin(a/2)/a) theta: UNIT times ANGLE is the UNIT vector part */
+    const fc_vec3 v = fc_vec3_scale(ar, theta_rad, sin_half_over_a, FC_SHIFT(ANGLE, UNIT, UNIT));
+    return fc_quat_make(cos_half, v.x, v.y, v.z);
+}
+
+fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_real yaw_rad)
+{
+    const int half_shift = FC_SHIFT(ANGLE, UNIT, ANGLE);
+    const fc_real half_roll = fc_mul(ar, roll_rad, FC_C(0.5f, UNIT), half_shift);
+    const fc_real half_pitch = fc_mul(ar, pitch_rad, FC_C(0.5f, UNIT), half_shift);
+    const fc_real half_yaw = fc_mul(ar, yaw_rad, FC_C(0.5f, UNIT), half_shift);
+    const fc_real cr = fc_cos(ar, half_roll), sr = fc_sin(ar, half_roll);
+    const fc_real cp = fc_cos(ar, half_pitch), sp = fc_sin(ar, half_pitch);
+    const fc_real cy = fc_cos(ar, half_yaw), sy = fc_sin(ar, half_yaw);
+    /* q = q_z(yaw) (x) q_y(pitch) (x) q_x(roll), expanded */
+    const fc_real cp_cy = fc_mul(ar, cp, cy, UNIT_X_UNIT), sp_sy = fc_mul(ar, sp, sy, UNIT_X_UNIT);
+    const fc_real sp_cy = fc_mul(ar, sp, cy, UNIT_X_UNIT), cp_sy = fc_mul(ar, cp, sy, UNIT_X_UNIT);
+    return fc_quat_make(fc_dot2(ar, cr, cp_cy, sr, sp_sy, UNIT_X_UNIT),
+                        fc_dot2(ar, sr, cp_cy, fc_neg(ar, cr), sp_sy, UNIT_X_UNIT),
+                        fc_dot2(ar, cr, sp_cy, sr, cp_sy, UNIT_X_UNIT),
+                        fc_dot2(ar, cr, cp_sy, fc_neg(ar, sr), sp_cy, UNIT_X_UNIT));
+}
+
+static fc_real twice(fc_arith *ar, fc_real a)
+{
+    return fc_add(ar, a, a);
+}
+
+fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q)
+{
+    const fc_real roll_num = twice(ar, fc_dot2(ar, q.w, q.x, q.y, q.z, UNIT_X_UNIT));
+    const fc_real roll_den =
+        fc_sub(ar, FC_INT(1, UNIT), twice(ar, fc_dot2(ar, q.x, q.x, q.y, q.y, UNIT_X_UNIT)));
+    const fc_real sin_pitch = twice(ar, fc_dot2(ar, q.w, q.y, fc_neg(ar, q.z), q.x, UNIT_X_UNIT));
+    const fc_real yaw_num = twice(ar, fc_dot2(ar, q.w, q.z, q.x, q.y, UNIT_X_UNIT));
+    const fc_real yaw_den =
+        fc_sub(ar, FC_INT(1, UNIT), twice(ar, fc_dot2(ar, q.y, q.y, q.z, q.z, UNIT_X_UNIT)));
+    return fc_vec3_make(fc_atan2(ar, roll_num, roll_den), fc_asin(ar, sin_pitch),
+                        fc_atan2(ar, yaw_num, yaw_den));
+}
+
+/* The rotation over one step of a constant rate: exp(rate dt / 2). */
+static fc_quat step_rotation(fc_arith *ar, fc_vec3 rate_radps, fc_real dt_s)
+{
+    const fc_vec3 theta = fc_vec3_scale(ar, rate_radps, dt_s, FC_SHIFT(RATE, DT, ANGLE));
+    return fc_quat_from_rotation_vector(ar, theta);
+}
+
+static fc_quat renormalised_or(fc_arith *ar, fc_quat candidate, fc_quat fallback)
+{
+    bool ok = false;
+    const fc_quat n = fc_quat_normalize(ar, candidate, &ok);
+    return ok ? n : fallback;
+}
+
+fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_radps, fc_real dt_s)
+{
+    const fc_quat dq = step_rotation(ar, rate_body_radps, dt_s);
+    return renormalised_or(ar, fc_quat_mul(ar, q, dq), q);
+}
+
+fc_quat fc_quat_integrate_world_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_world_radps, fc_real dt_s)
+{
+    const fc_quat dq = step_rotation(ar, rate_world_radps, dt_s);
+    return renormalised_or(ar, fc_quat_mul(ar, dq, q), q);
+}

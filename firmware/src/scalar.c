@@ -1,0 +1,344 @@
+/*
+ * scalar.c - the backend functions that are too large to inline.
+ *
+ * This is the only file with two implementations: everything above it in
+ * firmware/ is one source. The fixed implementations use integer arithmetic
+ * only (no float, so the ATmega fixed image links no soft-float routines).
+ */
+#include "fc/scalar.h"
+
+#if FC_NUMERIC_FIXED
+
+/* ----------------------------------------------------------------------- */
+/* fixed backend                                                           */
+/* ----------------------------------------------------------------------- */
+
+/* A Q30 constant, folded at compile time. */
+#define Q30(X) ((int32_t)((X) * 1073741824.0f + 0.5f))
+
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
+{
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+    const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
+    const int64_t den64 = den;
+    const int64_t half_den = (den64 > 0 ? den64 : -den64) / 2;
+    /* round to nearest: push the dividend half a divisor away from zero */
+    const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
+    return fc_fx_saturate(ar, rounded / den64);
+}
+
+/* floor(sqrt(v)) by the digit-by-digit method: 32 rounds, no division. */
+static uint32_t isqrt_u64(uint64_t v)
+{
+    uint64_t root = 0u;
+    uint64_t bit = (uint64_t)1u << 62;
+    while (bit > v) {
+        bit >>= 2;
+    }
+    while (bit != 0u) {
+        if (v >= root + bit) {
+            v -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    return (uint32_t)root;
+}
+
+fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
+{
+    (void)ar;
+    if (x <= 0) {
+        return 0;
+    }
+    /* sqrt(X / 2^f) * 2^f = sqrt(X * 2^f): X < 2^31 and f <= 31 keep X * 2^f < 2^62 */
+    const uint64_t scaled = (uint64_t)x << frac;
+    uint32_t root = isqrt_u64(scaled);
+    /* round to nearest: (r + 1/2)^2 = r^2 + r + 1/4 */
+    if (scaled - (uint64_t)root * root > root) {
+        root++;
+    }
+    return (fc_real)root;
+}
+
+fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
+{
+    /* each square is below 2^62, so three of them fit a uint64 */
+    const uint64_t sum = (uint64_t)((int64_t)a * a) + (uint64_t)((int64_t)b * b) +
+                         (uint64_t)((int64_t)c * c);
+    uint32_t root = isqrt_u64(sum);
+    if (sum - (uint64_t)root * root > root) {
+        root++;
+    }
+    return fc_fx_saturate(ar, (int64_t)root);
+}
+
+/* Bit length of a positive value: X lies in [2^(len-1), 2^len). */
+static int bit_length_u32(uint32_t x)
+{
+    int len = 0;
+    while (x != 0u) {
+        x >>= 1;
+        len++;
+    }
+    return len;
+}
+
+/*
+ * 1/sqrt(x), division-free: x = m * 4^j with m in [1/4, 1), then Newton steps
+ * y <- y (3 - m y^2) / 2 for y = 1/sqrt(m) in (1, 2], held in Q29.
+ */
+#define RSQRT_Y_FRAC 29
+fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
+{
+    if (x <= 0) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    const int len = bit_length_u32((uint32_t)x);
+    /* m = X 2^s in Q30 with its top bit at 28 or 29, and 30 - s - frac_in even */
+    int s = 30 - len;
+    if (((30 - s - frac_in) & 1) != 0) {
+        s -= 1;
+    }
+    const int32_t m_q30 = s >= 0 ? (int32_t)((uint32_t)x << s) : (int32_t)((uint32_t)x >> (-s));
+    const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
+
+    /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
+     * five Newton steps take that below the Q29 resolution */
+    int32_t y = (int32_t)(((int64_t)Q30(1.05f)) - (((int64_t)m_q30 * Q30(1.15f)) >> 31));
+    for (int i = 0; i < 5; i++) {
+        const int64_t y2_q30 = ((int64_t)y * y) >> (2 * RSQRT_Y_FRAC - 30);
+        const int64_t my2_q30 = ((int64_t)m_q30 * y2_q30) >> 30;
+        const int64_t corr_q30 = ((int64_t)3 << 30) - my2_q30; /* 3 - m y^2 */
+        y = (int32_t)(((int64_t)y * corr_q30) >> 31);         /* y (3 - m y^2) / 2 */
+    }
+    /* 1/sqrt(x) = y 2^-j, from Q29 to frac_out */
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)y, RSQRT_Y_FRAC + j - frac_out));
+}
+
+
+/* sin and cos of r in [-pi/4, pi/4], r and results in Q30 (Taylor to r^9 and r^10,
+ * truncation below 2e-11). */
+static void sincos_octant_q30(fc_arith *ar, int32_t r, int32_t *sin_out, int32_t *cos_out)
+{
+    const int32_t r2 = fc_mul(ar, r, r, 30);
+    /* sin r = r (1 - r^2/6 (1 - r^2/20 (1 - r^2/42 (1 - r^2/72)))) */
+    int32_t s = Q30(1.0f) - fc_mul(ar, r2, Q30(1.0f / 72.0f), 30);
+    s = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 42.0f), 30), s, 30);
+    s = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 20.0f), 30), s, 30);
+    s = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 6.0f), 30), s, 30);
+    *sin_out = fc_mul(ar, r, s, 30);
+    /* cos r = 1 - r^2/2 (1 - r^2/12 (1 - r^2/30 (1 - r^2/56 (1 - r^2/90)))) */
+    int32_t c = Q30(1.0f) - fc_mul(ar, r2, Q30(1.0f / 90.0f), 30);
+    c = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 56.0f), 30), c, 30);
+    c = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 30.0f), 30), c, 30);
+    c = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(1.0f / 12.0f), 30), c, 30);
+    *cos_out = Q30(1.0f) - fc_mul(ar, fc_mul(ar, r2, Q30(0.5f), 30), c, 30);
+}
+
+/* sin and cos of an ANGLE: reduce to [-pi, pi], then to a quarter turn n and a
+ * remainder r in [-pi/4, pi/4]. */
+static void sincos_fixed(fc_arith *ar, fc_real angle, fc_real *sin_out, fc_real *cos_out)
+{
+    const int32_t two_pi = FC_C(6.28318531f, ANGLE);
+    const int32_t half_pi = FC_C(1.57079633f, ANGLE);
+    int32_t a = angle;
+    while (a > FC_PI) {
+        a -= two_pi;
+    }
+    while (a < -FC_PI) {
+        a += two_pi;
+    }
+    int quarter = 0;
+    while (a > half_pi / 2) {
+        a -= half_pi;
+        quarter++;
+    }
+    while (a < -(half_pi / 2)) {
+        a += half_pi;
+        quarter--;
+    }
+    int32_t s, c;
+    sincos_octant_q30(ar, a * 4 /* ANGLE Q28 -> Q30, |a| <= pi/4 */, &s, &c);
+    switch ((quarter + 4) % 4) {
+    case 0:
+        *sin_out = s;
+        *cos_out = c;
+        break;
+    case 1:
+        *sin_out = c;
+        *cos_out = -s;
+        break;
+    case 2:
+        *sin_out = -s;
+        *cos_out = -c;
+        break;
+    default:
+        *sin_out = -c;
+        *cos_out = s;
+        break;
+    }
+}
+
+fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
+{
+    fc_real s, c;
+    sincos_fixed(ar, angle_rad, &s, &c);
+    return s;
+}
+
+fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
+{
+    fc_real s, c;
+    sincos_fixed(ar, angle_rad, &s, &c);
+    return c;
+}
+
+/* atan t for t in [-tan(pi/8), tan(pi/8)], Q30 in, ANGLE out: Taylor to t^23
+ * (truncation below 1e-10 rad). */
+static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
+{
+    const int32_t t2 = fc_mul(ar, t_q30, t_q30, 30);
+    int32_t acc = Q30(1.0f / 23.0f);
+    for (int k = 10; k >= 0; k--) {
+        /* acc <- 1/(2k+1) - t^2 acc */
+        acc = Q30(1.0f) / (2 * k + 1) - fc_mul(ar, t2, acc, 30);
+    }
+    return fc_mul(ar, t_q30, acc, 30 + 30 - FC_ANGLE_FRAC);
+}
+
+fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
+{
+    if (x == 0 && y == 0) {
+        return 0;
+    }
+    const int64_t ay = y < 0 ? -(int64_t)y : (int64_t)y;
+    const int64_t ax = x < 0 ? -(int64_t)x : (int64_t)x;
+    const bool steep = ay > ax;
+    /* ratio in [0, 1] as Q30 */
+    const int64_t num = steep ? ax : ay;
+    const int64_t den = steep ? ay : ax;
+    const int32_t ratio = (int32_t)(((num << 30) + den / 2) / den);
+    /* atan(a) = pi/4 + atan((a - 1)/(a + 1)) brings a > tan(pi/8) into range */
+    const int32_t tan_pi_8 = Q30(0.41421356f);
+    int32_t angle;
+    if (ratio > tan_pi_8) {
+        const int32_t t = fc_div(ar, ratio - Q30(1.0f), ratio + Q30(1.0f), 30);
+        angle = FC_C(0.78539816f, ANGLE) + atan_small_angle(ar, t);
+    } else {
+        angle = atan_small_angle(ar, ratio);
+    }
+    if (steep) {
+        angle = FC_HALF_PI - angle;
+    }
+    if (x < 0) {
+        angle = FC_PI - angle;
+    }
+    return y < 0 ? -angle : angle;
+}
+
+fc_real fc_asin(fc_arith *ar, fc_real x_unit)
+{
+    const fc_real x = fc_clamp(x_unit, -Q30(1.0f), Q30(1.0f));
+    const fc_real one_minus_x2 = Q30(1.0f) - fc_mul(ar, x, x, 30);
+    return fc_atan2(ar, x, fc_sqrt(ar, one_minus_x2, FC_UNIT_FRAC));
+}
+
+fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio)
+{
+    if (x_ratio <= 0) {
+        return Q30(1.0f);
+    }
+    /* x = n ln2 + r, r in [0, ln2): e^-x = 2^-n e^-r */
+    const int32_t ln2 = FC_C(0.69314718f, RATIO);
+    const int32_t n = x_ratio / ln2;
+    if (n >= 31) {
+        return 0;
+    }
+    const int32_t r_q30 = (x_ratio - n * ln2) * (1 << (30 - FC_RATIO_FRAC));
+    /* e^-r = 1 - r (1 - r/2 (1 - r/3 ( ... (1 - r/12)))) : truncation below 1e-10 */
+    int32_t acc = Q30(1.0f);
+    for (int k = 12; k >= 1; k--) {
+        acc = Q30(1.0f) - fc_mul(ar, r_q30 / k, acc, 30);
+    }
+    return acc >> n;
+}
+
+#else /* float backend */
+
+/* ----------------------------------------------------------------------- */
+/* float backend                                                           */
+/* ----------------------------------------------------------------------- */
+#include <math.h>
+
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
+{
+    (void)shift;
+    if (den == 0.0f) {
+        ar->saturated = 1u;
+        return num > 0.0f ? FC_REAL_MAX : (num < 0.0f ? FC_REAL_MIN : 0.0f);
+    }
+    return num / den;
+}
+
+fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
+{
+    (void)ar;
+    (void)frac;
+    return x > 0.0f ? sqrtf(x) : 0.0f;
+}
+
+fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
+{
+    (void)ar;
+    return sqrtf(a * a + b * b + c * c);
+}
+
+fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
+{
+    (void)frac_in;
+    (void)frac_out;
+    if (!(x > 0.0f)) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    return 1.0f / sqrtf(x);
+}
+
+fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
+{
+    (void)ar;
+    return sinf(angle_rad);
+}
+
+fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
+{
+    (void)ar;
+    return cosf(angle_rad);
+}
+
+fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
+{
+    (void)ar;
+    return atan2f(y, x);
+}
+
+fc_real fc_asin(fc_arith *ar, fc_real x_unit)
+{
+    (void)ar;
+    return asinf(fc_clamp(x_unit, -1.0f, 1.0f));
+}
+
+fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio)
+{
+    (void)ar;
+    return x_ratio <= 0.0f ? 1.0f : expf(-x_ratio);
+}
+
+#endif
