@@ -270,11 +270,50 @@ fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio)
     return acc >> n;
 }
 
+/* ln x for x in (0, 1] (Q30) as RATIO: x = m 2^-k with m in [1, 2), then
+ * ln m = 2 atanh(t), t = (m - 1)/(m + 1) in [0, 1/3), series to t^21. */
+static int32_t log_unit_ratio(fc_arith *ar, int32_t x_q30)
+{
+    int k = 0;
+    int32_t m = x_q30;
+    while (m < (int32_t)0x40000000) { /* until m is in [2^30, 2^31) */
+        m <<= 1;
+        k++;
+    }
+    /* m in [2^30, 2^31) as a Q30 value in [1, 2); hold it as Q29 to add 1 safely */
+    const int32_t m_q29 = m >> 1;
+    const int32_t t_q30 = fc_div(ar, m_q29 - ((int32_t)1 << 29), m_q29 + ((int32_t)1 << 29), 30);
+    const int32_t t2 = fc_mul(ar, t_q30, t_q30, 30);
+    int32_t acc = Q30(1.0f / 21.0f);
+    for (int j = 9; j >= 0; j--) {
+        acc = Q30(1.0f) / (2 * j + 1) + fc_mul(ar, t2, acc, 30); /* 1/(2j+1) + t^2 acc */
+    }
+    /* ln m = 2 t acc, Q30 x Q30 -> RATIO with the factor 2 written out */
+    const int32_t half_ln_m = fc_mul(ar, t_q30, acc, 30 + 30 - FC_RATIO_FRAC);
+    const int32_t ln2 = FC_C(0.69314718f, RATIO);
+    return half_ln_m + half_ln_m - k * ln2;
+}
+
+fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
+{
+    if (x_unit <= 0) {
+        return 0;
+    }
+    if (x_unit >= Q30(1.0f)) {
+        return Q30(1.0f);
+    }
+    const int32_t ln_x = log_unit_ratio(ar, x_unit); /* <= 0 */
+    const int32_t minus_e_ln_x = -fc_mul(ar, exponent_ratio, ln_x, FC_RATIO_FRAC);
+    return fc_exp_neg(ar, minus_e_ln_x);
+}
+
 #else /* float backend */
 
 /* ----------------------------------------------------------------------- */
 /* float backend                                                           */
 /* ----------------------------------------------------------------------- */
+/* libm's single-precision functions; avr-libc maps them onto its double
+ * functions (double is 32 bits there), hence the casts back to fc_real */
 #include <math.h>
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
@@ -291,13 +330,13 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
 {
     (void)ar;
     (void)frac;
-    return x > 0.0f ? sqrtf(x) : 0.0f;
+    return x > 0.0f ? (fc_real)sqrtf(x) : 0.0f;
 }
 
 fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
 {
     (void)ar;
-    return sqrtf(a * a + b * b + c * c);
+    return (fc_real)sqrtf(a * a + b * b + c * c);
 }
 
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
@@ -308,37 +347,49 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
         ar->saturated = 1u;
         return FC_REAL_MAX;
     }
-    return 1.0f / sqrtf(x);
+    return 1.0f / (fc_real)sqrtf(x);
 }
 
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {
     (void)ar;
-    return sinf(angle_rad);
+    return (fc_real)sinf(angle_rad);
 }
 
 fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
 {
     (void)ar;
-    return cosf(angle_rad);
+    return (fc_real)cosf(angle_rad);
 }
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
 {
     (void)ar;
-    return atan2f(y, x);
+    return (fc_real)atan2f(y, x);
 }
 
 fc_real fc_asin(fc_arith *ar, fc_real x_unit)
 {
     (void)ar;
-    return asinf(fc_clamp(x_unit, -1.0f, 1.0f));
+    return (fc_real)asinf(fc_clamp(x_unit, -1.0f, 1.0f));
 }
 
 fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio)
 {
     (void)ar;
-    return x_ratio <= 0.0f ? 1.0f : expf(-x_ratio);
+    return x_ratio <= 0.0f ? 1.0f : (fc_real)expf(-x_ratio);
+}
+
+fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
+{
+    (void)ar;
+    if (!(x_unit > 0.0f)) {
+        return 0.0f;
+    }
+    if (x_unit >= 1.0f) {
+        return 1.0f;
+    }
+    return (fc_real)powf(x_unit, exponent_ratio);
 }
 
 #endif

@@ -378,6 +378,11 @@ fc_real fc_asin(fc_arith *ar, fc_real x_unit);
  * first-order filter, e^(-dt/tau). Init-time use. */
 fc_real fc_exp_neg(fc_arith *ar, fc_real x_ratio);
 
+/* x^e for x in [0, 1] (UNIT) and e > 0 (RATIO), result in UNIT: a rotor's
+ * normalised thrust against its normalised speed, T = T_max (w / w_max)^r.
+ * Fixed: exp(e ln x) with both series, error a few 1e-7. */
+fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio);
+
 /* Conversions for hosts and the Cortex-M (never called inside the library:
  * on the ATmega fixed image they would pull in soft-float). */
 static inline fc_real fc_from_float(float x, int frac)

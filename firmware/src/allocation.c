@@ -1,0 +1,2 @@
+#include "fc/allocation.h"
+typedef int fc_allocation_placeholder;

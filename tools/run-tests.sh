@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what it needs, then configures, builds and
+# tests every preset (host float/fixed, host under ASan+UBSan float/fixed,
+# and the cross builds for the Crazyflie and the ATmega in both backends,
+# whose tests check the archives). Prints one total line at the end.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+tools/install-deps.sh
+
+presets=(host host-fixed host-asan host-asan-fixed cf2 cf2-fixed atmega atmega-fixed)
+passed=0
+failed=0
+failed_presets=()
+for preset in "${presets[@]}"; do
+  echo "=== preset $preset"
+  log=$(mktemp)
+  if cmake --workflow --preset "$preset" --fresh 2>&1 | tee "$log"; then status=0; else status=1; fi
+  # ctest's summary: "100% tests passed, 0 tests failed out of 42"
+  summary=$(grep -E 'tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -1 || true)
+  if [ -n "$summary" ]; then
+    total=$(sed -E 's/.* out of ([0-9]+).*/\1/' <<<"$summary")
+    nfail=$(sed -E 's/.*passed, ([0-9]+) tests? failed.*/\1/' <<<"$summary")
+    passed=$((passed + total - nfail))
+    failed=$((failed + nfail))
+  fi
+  if [ $status -ne 0 ] || [ -z "$summary" ]; then
+    failed_presets+=("$preset")
+    [ -z "$summary" ] && failed=$((failed + 1))
+  fi
+  rm -f "$log"
+done
+
+if [ ${#failed_presets[@]} -ne 0 ]; then
+  echo "failing presets: ${failed_presets[*]}"
+fi
+echo "total: $passed passed, $failed failed"
+[ ${#failed_presets[@]} -eq 0 ]
