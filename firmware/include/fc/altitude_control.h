@@ -1,0 +1,245 @@
+/*
+ * fc/altitude_control.h - the altitude law: Smooth Sliding Control (SSC) in
+ * the forms of the dissertation's chapter 4, and baselines with the same
+ * interface to compare against.
+ *
+ * Plant (3.4):  z'' = u / Theta* - g,   Theta* = m / (k_h k_g),  u the vertical force.
+ * Tracking error (4.1) e = z - z_r; ideal sliding variable sigma = e' + l0 e (4.2).
+ *
+ * SSC (Figure 4.1):
+ *   sigma_tilde = sigma_hat - sigma_bar                        (4.4)
+ *   sigma_bar'  = -a_m sigma_bar + kappa_m (u0 - u0_av)        (4.5)  prediction-error loop
+ *   u           = u_nom - u0_av                                (4.6)
+ *   tau_av u0_av' = -u0_av + u0                                (4.7)  averaging filter
+ *   u0          = rho sgn(sigma_tilde)                         (4.8)  relay
+ *   relative degree one (z' measured):   sigma_hat = sigma
+ *   relative degree two (z' not measured): sigma_hat = (s + l0)/(tau_f s + 1) e, realised
+ *       by (4.18): tau_f x_f' = -x_f + e,  sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f
+ * Modulation rho:
+ *   CONSTANT        rho fixed (the dissertation's simulation: rho = 50)
+ *   NORM_OBSERVER   (4.40)-(4.43): tau_av w5' = -(kp_min/kappa_m) w5 + w4,
+ *                   rho = (1 + kp_max/kappa_m) w5 + w4 + delta + k0 |sigma_tilde|
+ *                   relative degree two: the eta norm observer of 4.3.2 instead:
+ *                   d_eq3 = eta1 + eta2/kappa_m + a_m eta3/kappa_m (4.81) is the output of
+ *                   the eta-dynamics driven by kp D, |kp D| <= kp_max |u_nom| + |g + z_r'' + l0^2 e|;
+ *                   its impulse response h(t) from kp D to d_eq3 is majorised over the
+ *                   kp range by two exponentials, |h(t)| <= c_f e^(-l_f t) + c_s e^(-l_s t):
+ *                   the fast term is the lead filter's direct path, c_f = h(0) = 1/(tau_f kappa_m),
+ *                   the slow one the lightly damped pair of the eta-dynamics. Lemma 11 on
+ *                   each: w_f' = -l_f w_f + |kp D|, w_s' = -l_s w_s + |kp D|, and
+ *                   rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde|.
+ *                   Relative degree two also needs the eta-dynamics minimum phase over
+ *                   the kp range (Remark 9): tau_f l0 < 1, tau_av kappa_m l0 < kp_min and
+ *                   tau_av kappa_m l0 (1 - tau_f l0) + tau_f kp_min (a_m + l0) < kp_min;
+ *                   init rejects a tuning that breaks them.
+ *   EXTRA           (4.54)-(4.56): rho = (1 + kp_max/kappa_m) |u0_av| + w4 + delta
+ * Nominal control (4.4): u_nom = Theta phi, phi = g + z_r'' - l0 e'; Theta fixed at
+ * Theta0, or adapted by the gradient law Theta' = -gamma sigma phi (4.83), projected
+ * onto [Theta_min, Theta_max] = [1/kp_max, 1/kp_min] (4.15).
+ *
+ * Anti-windup (part of the law): the thrust command is clamped to
+ * [thrust_min, thrust_max]; while clamped the adaptation is frozen and the
+ * averaging filter's state is held inside the band that the clamped actuator can
+ * deliver, u0_av in [u_nom - u_max, u_nom - u_min].
+ *
+ * Tilt compensation: the vertical force u is delivered by a body thrust
+ * F = u / k_h with k_h = cos(roll) cos(pitch) from the measured attitude, bounded
+ * below by tilt_cos_min.
+ *
+ * Discretisation at the fixed step dt, input held over the step (exact ZOH):
+ *   u0_av    <- a u0_av + (1 - a) u0,                  a = e^(-dt/tau_av)
+ *   sigma_bar<- b sigma_bar + kappa_m c (u0 - u0_av),  b = e^(-a_m dt),
+ *               c = (a - b) / (a_m - 1/tau_av)  (the pair (sigma_bar, u0_av) is a
+ *               triangular linear system driven by the held u0; c -> dt e^(-a_m dt)
+ *               when a_m = 1/tau_av)
+ *   w5       <- p w5 + (1 - p) (kappa_m / kp_min) w4,  p = e^(-kp_min dt/(kappa_m tau_av))
+ *   x_f      <- f x_f + (1 - f) e,                     f = e^(-dt/tau_f)
+ *   Theta    <- Theta - gamma dt sigma phi             (integrator: Euler is its ZOH)
+ * With a discrete relay the ideal sliding mode becomes a quasi-sliding band of
+ * about rho dt / tau_av in u0_av: a modulation only as large as needed keeps
+ * the control ripple small.
+ *
+ * Baselines (u_nom = Theta0 phi in all of them, same clamp and tilt compensation):
+ *   PID            the Crazyflie's structure: position PID -> velocity setpoint,
+ *                  velocity PID -> thrust, with feed-forward of z_r' and z_r''.
+ *                  Tuning rule: velocity loop kp_v = 2 zeta w_v Theta0, ki_v = w_v^2 Theta0 / 4,
+ *                  position loop kp_z = w_v / 4 (a loop four times slower), ki_z = kp_z^2 / 8.
+ *   SMC_SIGN       u = u_nom - k sgn(sigma), k = rho (the same disturbance bound).
+ *   SMC_BOUNDARY   u = u_nom - k sat(sigma / phi_bl), phi_bl the boundary-layer width.
+ *   SUPER_TWISTING u = u_nom - k1 |sigma|^(1/2) sgn(sigma) + v, v' = -k2 sgn(sigma);
+ *                  Levant's rule k2 = 1.1 L Theta0, k1 = 1.5 sqrt(L) Theta0 with L a bound of the
+ *                  disturbance's derivative in m/s^3.
+ */
+#ifndef FC_ALTITUDE_CONTROL_H
+#define FC_ALTITUDE_CONTROL_H
+
+#include "fc/altitude_reference.h"
+#include "fc/scalar.h"
+#include "fc/status.h"
+
+/* sigma times phi, in m^2/s^3, for the adaptation law: [-32768, 32768), 1.5e-5 */
+#define FC_SIGMA_PHI_FRAC 16
+
+typedef enum fc_altitude_law {
+    FC_ALT_LAW_SSC = 0,
+    FC_ALT_LAW_PID,
+    FC_ALT_LAW_SMC_SIGN,
+    FC_ALT_LAW_SMC_BOUNDARY,
+    FC_ALT_LAW_SUPER_TWISTING,
+    FC_ALT_LAW_COUNT
+} fc_altitude_law;
+
+typedef enum fc_ssc_modulation {
+    FC_SSC_MODULATION_CONSTANT = 0,
+    FC_SSC_MODULATION_NORM_OBSERVER,
+    FC_SSC_MODULATION_EXTRA
+} fc_ssc_modulation;
+
+typedef struct fc_altitude_control_params {
+    fc_altitude_law law;
+    fc_ssc_modulation modulation;
+    bool adaptive;               /* Theta by (4.83); otherwise Theta = Theta0 */
+    bool velocity_measured;      /* relative degree one; false: lead filter (4.18) */
+
+    fc_real dt_s;                /* DT */
+    fc_real gravity_mps2;        /* ACCEL */
+    fc_real theta0_kg;           /* MASS: nominal Theta = m / (k_h k_g), and Theta(0) */
+    fc_real mass_min_kg;         /* MASS: bounds of m, for kp_min, kp_max (4.15) */
+    fc_real mass_max_kg;         /* MASS */
+    fc_real ground_gain_max;     /* RATIO: k_g_max, the ground-effect bound (k_g_min = 1) */
+    fc_real tilt_cos_min;        /* RATIO: k_h_min, tilt compensation stops here, (0, 1] */
+    fc_real thrust_min_n;        /* FORCE: body thrust limits */
+    fc_real thrust_max_n;        /* FORCE */
+
+    /* SSC */
+    fc_real l0_per_s;            /* GAIN: l0 (K1), sigma = e' + l0 e */
+    fc_real tau_av_s;            /* DT: averaging filter (4.7) */
+    fc_real a_m_per_s;           /* GAIN: prediction-error pole (4.5) */
+    fc_real kappa_m_per_kg;      /* GAIN: prediction-error gain (4.5) */
+    fc_real rho_n;               /* FORCE: constant modulation, and k of the sign/boundary baselines */
+    fc_real delta_n;             /* FORCE: margin delta of (4.39) */
+    fc_real k0_ns_per_m;         /* GAIN: k0 of rho = rho_bar + k0 |sigma_tilde| */
+    fc_real tau_f_s;             /* DT: lead filter (4.18), relative degree two */
+    fc_real eta_fast_rate_per_s; /* GAIN: l_f of the eta majorant (relative degree two) */
+    fc_real eta_slow_rate_per_s; /* GAIN: l_s */
+    fc_real eta_slow_gain_kg_per_s; /* GAIN: c_s, N per m/s (c_f = 1/(tau_f kappa_m) is computed) */
+    fc_real gamma;               /* GAIN: adaptation gain (4.83), kg s^2/m^2 */
+
+    /* baselines */
+    fc_real boundary_layer_mps;  /* VEL: phi_bl */
+    fc_real stw_k1;              /* GAIN: super-twisting, N/(m/s)^(1/2) */
+    fc_real stw_k2_nps;          /* GAIN: super-twisting, N/s */
+    fc_real pid_kp_z_per_s;      /* GAIN: position loop */
+    fc_real pid_ki_z_per_s2;     /* GAIN */
+    fc_real pid_kp_v_n_per_mps;  /* GAIN: velocity loop */
+    fc_real pid_ki_v_n_per_m;    /* GAIN */
+    fc_real pid_vel_limit_mps;   /* VEL: velocity setpoint limit */
+} fc_altitude_control_params;
+
+typedef struct fc_altitude_control_input {
+    fc_real z_m;                 /* LENGTH: measured altitude */
+    fc_real vz_mps;              /* VEL: measured vertical speed (ignored without velocity_measured) */
+    fc_vertical_trajectory reference; /* z_r, z_r', z_r'' */
+    fc_real tilt_cos;            /* RATIO: k_h = cos(roll) cos(pitch), measured */
+    uint8_t allocation_saturation; /* FC_SAT_THRUST_HIGH/LOW from the allocation */
+} fc_altitude_control_input;
+
+typedef struct fc_altitude_control_output {
+    fc_real thrust_n;            /* FORCE: body thrust command, inside the limits */
+    fc_real vertical_force_n;    /* FORCE: u, before tilt compensation and clamp */
+    /* telemetry */
+    fc_real error_m;             /* LENGTH: e */
+    fc_real sigma_mps;           /* VEL: sigma (or sigma_hat) */
+    fc_real sigma_tilde_mps;     /* VEL */
+    fc_real rho_n;               /* FORCE: modulation in use */
+    fc_real u0_av_n;             /* FORCE */
+    fc_real u_nom_n;             /* FORCE */
+    fc_real theta_kg;            /* MASS */
+    fc_real observer_bound_n;    /* FORCE: the norm observer's bound of the equivalent
+                                  * disturbance, rho - delta - k0 |sigma_tilde| (0 if none) */
+    bool clamped;                /* the thrust command was clamped */
+} fc_altitude_control_output;
+
+typedef struct fc_altitude_control {
+    fc_altitude_control_params p;
+    /* constants of the discretisation, computed at init */
+    fc_real avg_pole;            /* UNIT: a = e^(-dt/tau_av) */
+    fc_real avg_gain;            /* UNIT: 1 - a */
+    fc_real pred_pole;           /* UNIT: b = e^(-a_m dt) */
+    fc_real pred_gain;           /* RATIO: kappa_m c, 1/kg x s */
+    fc_real obs_pole;            /* UNIT: p */
+    fc_real obs_gain;            /* RATIO: (1 - p) kappa_m / kp_min */
+    fc_real lead_pole;           /* UNIT: f = e^(-dt/tau_f) */
+    fc_real lead_gain;           /* UNIT: 1 - f */
+    fc_real lead_inv_tau_per_s;  /* GAIN: 1/tau_f */
+    fc_real lead_state_coeff;    /* RATIO: 1 - tau_f l0 */
+    fc_real eta_fast_pole;       /* UNIT: e^(-l_f dt) */
+    fc_real eta_fast_in_gain;    /* DT: (1 - e^(-l_f dt))/l_f, s */
+    fc_real eta_slow_pole;       /* UNIT: e^(-l_s dt) */
+    fc_real eta_slow_in_gain;    /* DT */
+    fc_real eta_fast_gain_kg_per_s; /* GAIN: c_f = 1/(tau_f kappa_m) */
+    fc_real kp_max_over_kappa;   /* RATIO: kp_max / kappa_m */
+    fc_real inv_kappa_kg;        /* MASS: 1 / kappa_m */
+    fc_real a_m_over_kappa;      /* MASS: a_m / kappa_m, kg/s */
+    fc_real kp_max_per_kg;       /* RATIO: k_g_max / m_min (k_h <= 1) */
+    fc_real theta_min_kg;        /* MASS: 1 / kp_max */
+    fc_real theta_max_kg;        /* MASS: 1 / kp_min = m_max / (k_g_min k_h_min) */
+    fc_real gamma_dt;            /* RATIO: gamma dt */
+    fc_real l0_sq;               /* GAIN: l0^2 */
+    fc_real inv_boundary_layer;  /* GAIN: 1/phi_bl, s/m */
+    /* states */
+    fc_real u0_av_n;             /* FORCE */
+    fc_real sigma_bar_mps;       /* VEL */
+    fc_real omega5_n;            /* FORCE: norm observer (4.40) */
+    fc_real omega_eta_fast_mps;  /* VEL: eta norm observer states (integrals of |kp D|) */
+    fc_real omega_eta_slow_mps;  /* VEL */
+    fc_real lead_state_m;        /* LENGTH: x_f of (4.18) */
+    fc_real theta_kg;            /* MASS */
+    fc_real u0_n;                /* FORCE: the relay output held over the step */
+    fc_real stw_v_n;             /* FORCE: super-twisting integral */
+    fc_real pid_int_z_m;         /* LENGTH x s: position integral, as LENGTH */
+    fc_real pid_int_v_m;         /* LENGTH: velocity integral (of a velocity error) */
+    fc_real last_error_m;        /* LENGTH */
+    fc_real last_thrust_n;       /* FORCE */
+    bool lead_primed;
+    bool ready;
+    fc_arith ar;
+} fc_altitude_control;
+
+/* The variants the SIL and the platforms select by name or number. */
+typedef enum fc_altitude_variant {
+    FC_ALT_VARIANT_SSC = 0,            /* "ssc": rel. degree one, constant rho, Theta0 (4.4) */
+    FC_ALT_VARIANT_SSC_ADAPTIVE,       /* "ssc-adaptive": the same with the Theta law (4.4) */
+    FC_ALT_VARIANT_SSC_NORM,           /* "ssc-norm": rho from the norm observer (4.40)-(4.43) */
+    FC_ALT_VARIANT_SSC_NORM_ADAPTIVE,  /* "ssc-norm-adaptive" */
+    FC_ALT_VARIANT_SSC_EXTRA,          /* "ssc-extra": rho from u0_av (4.54)-(4.56) */
+    FC_ALT_VARIANT_SSC_REL2,           /* "ssc-rel2": z' not measured, lead filter (4.18), constant rho */
+    FC_ALT_VARIANT_SSC_REL2_ADAPTIVE,  /* "ssc-rel2-adaptive" */
+    FC_ALT_VARIANT_SSC_REL2_NORM,      /* "ssc-rel2-norm": eta norm observer (4.3.2) */
+    FC_ALT_VARIANT_PID,                /* "pid": the Crazyflie's cascade */
+    FC_ALT_VARIANT_SMC,                /* "smc": first-order sliding mode, sign */
+    FC_ALT_VARIANT_SMC_BOUNDARY,       /* "smc-boundary": boundary layer */
+    FC_ALT_VARIANT_SUPER_TWISTING,     /* "super-twisting" */
+    FC_ALT_VARIANT_COUNT
+} fc_altitude_variant;
+
+/* Default parameters (below) switched to variant v. Relative degree two uses
+ * kappa_m = 0.5: with kappa_m = 1 the eta-dynamics are not minimum phase for
+ * masses up to 5 kg (Remark 9, tau_av kappa_m l0 = 0.2 = kp_min). */
+void fc_altitude_control_variant_params(fc_altitude_control_params *p, fc_altitude_variant v, fc_real dt_s,
+                                        fc_real mass_kg);
+
+/* The parameters of the dissertation's 4.4 simulation for a vehicle of nominal
+ * mass mass_kg (rho = 50, tau_av = 0.1, l0 = 2, a_m = 5, kappa_m = 1, gamma = 5,
+ * thrust in [0, 2 m g]), with the law, modulation and adaptation given. */
+void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real dt_s, fc_real mass_kg);
+
+fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitude_control_params *p);
+
+/* Clear the states (filters, integrators, Theta back to Theta0). */
+void fc_altitude_control_reset(fc_altitude_control *c);
+
+fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
+                                        fc_altitude_control_output *out);
+
+#endif /* FC_ALTITUDE_CONTROL_H */

@@ -1,0 +1,572 @@
+/* altitude_control.c - SSC and baseline altitude laws (fc/altitude_control.h). */
+#include "fc/altitude_control.h"
+
+/* ---------------------------------------------------------------------- */
+/* parameters                                                              */
+/* ---------------------------------------------------------------------- */
+
+void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real dt_s, fc_real mass_kg)
+{
+    fc_arith ar = {0u};
+    p->law = FC_ALT_LAW_SSC;
+    p->modulation = FC_SSC_MODULATION_CONSTANT;
+    p->adaptive = false;
+    p->velocity_measured = true;
+    p->dt_s = dt_s;
+    p->gravity_mps2 = FC_C(9.81f, ACCEL);
+    p->theta0_kg = mass_kg;
+    /* payload changes of up to -25 % / +25 % around the nominal mass */
+    p->mass_min_kg = fc_mul(&ar, mass_kg, FC_C(0.75f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+    p->mass_max_kg = fc_mul(&ar, mass_kg, FC_C(1.25f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+    p->ground_gain_max = FC_C(1.1f, RATIO);
+    p->tilt_cos_min = FC_C(0.5f, RATIO);
+    /* thrust in [0, 2 x weight] as in the dissertation's simulation */
+    p->thrust_min_n = FC_INT(0, FORCE);
+    p->thrust_max_n = fc_mul(&ar, mass_kg, FC_C(2.0f * 9.81f, ACCEL), FC_SHIFT(MASS, ACCEL, FORCE));
+    /* 4.4: tau_av = 0.1, K1 = l0 = 2, a_m = 5, kappa_m = 1, rho = 50, gamma = 5 */
+    p->l0_per_s = FC_C(2.0f, GAIN);
+    p->tau_av_s = FC_C(0.1f, DT);
+    p->a_m_per_s = FC_C(5.0f, GAIN);
+    p->kappa_m_per_kg = FC_C(1.0f, GAIN);
+    p->rho_n = FC_C(50.0f, FORCE);
+    p->delta_n = FC_C(0.5f, FORCE);
+    p->k0_ns_per_m = FC_C(1.0f, GAIN);
+    p->tau_f_s = FC_C(0.01f, DT);
+    /* eta majorant for tau_f = 0.01 s, kappa_m = 0.5, kp in [1/5, 1.1/3] (the
+     * impulse response computed over that range; tests/unit/test_altitude_control.c
+     * checks the bound in closed loop) */
+    p->eta_fast_rate_per_s = FC_C(30.0f, GAIN);
+    p->eta_slow_rate_per_s = FC_C(0.7f, GAIN);
+    p->eta_slow_gain_kg_per_s = FC_C(25.0f, GAIN);
+    p->gamma = FC_C(5.0f, GAIN);
+    /* baselines, tuned by the rules in the header for w_v = 8 rad/s, zeta = 1,
+     * and the disturbance bounds of 4.4 */
+    p->boundary_layer_mps = FC_C(0.05f, VEL);
+    p->stw_k1 = fc_mul(&ar, mass_kg, FC_C(1.5f * 4.47f, GAIN), FC_SHIFT(MASS, GAIN, GAIN)); /* L = 20 m/s^3 */
+    p->stw_k2_nps = fc_mul(&ar, mass_kg, FC_C(1.1f * 20.0f, GAIN), FC_SHIFT(MASS, GAIN, GAIN));
+    p->pid_kp_v_n_per_mps = fc_mul(&ar, mass_kg, FC_C(16.0f, GAIN), FC_SHIFT(MASS, GAIN, GAIN));
+    p->pid_ki_v_n_per_m = fc_mul(&ar, mass_kg, FC_C(16.0f, GAIN), FC_SHIFT(MASS, GAIN, GAIN));
+    p->pid_kp_z_per_s = FC_C(2.0f, GAIN);
+    p->pid_ki_z_per_s2 = FC_C(0.5f, GAIN);
+    p->pid_vel_limit_mps = FC_C(3.0f, VEL);
+}
+
+static bool all_finite(const fc_altitude_control_params *p)
+{
+    const fc_real values[] = {
+        p->dt_s, p->gravity_mps2, p->theta0_kg, p->mass_min_kg, p->mass_max_kg,
+        p->ground_gain_max, p->tilt_cos_min, p->thrust_min_n, p->thrust_max_n, p->l0_per_s,
+        p->tau_av_s, p->a_m_per_s, p->kappa_m_per_kg, p->rho_n, p->delta_n, p->k0_ns_per_m,
+        p->tau_f_s, p->eta_fast_rate_per_s, p->eta_slow_rate_per_s, p->eta_slow_gain_kg_per_s, p->gamma, p->boundary_layer_mps,
+        p->stw_k1, p->stw_k2_nps, p->pid_kp_z_per_s, p->pid_ki_z_per_s2, p->pid_kp_v_n_per_mps,
+        p->pid_ki_v_n_per_m, p->pid_vel_limit_mps};
+    for (unsigned i = 0u; i < sizeof values / sizeof values[0]; i++) {
+        if (!fc_is_finite(values[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Remark 9: the eta-dynamics of relative degree two are minimum phase over
+ * kp in [kp_min, ...] (kp_min = 1/m_max) when these three hold. */
+static bool relative_degree_two_minimum_phase(const fc_altitude_control_params *p)
+{
+    fc_arith ar = {0u};
+    const fc_real kp_min = fc_div(&ar, FC_INT(1, MASS), p->mass_max_kg, FC_DIV_SHIFT(MASS, MASS, RATIO));
+    const fc_real tau_f_l0 = fc_mul(&ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO));
+    const fc_real tau_av_kappa_l0 =
+        fc_mul(&ar, fc_mul(&ar, p->tau_av_s, p->kappa_m_per_kg, FC_SHIFT(DT, GAIN, RATIO)), p->l0_per_s,
+               FC_SHIFT(RATIO, GAIN, RATIO));
+    const fc_real third = fc_add(
+        &ar, fc_mul(&ar, tau_av_kappa_l0, fc_sub(&ar, FC_INT(1, RATIO), tau_f_l0), FC_SHIFT(RATIO, RATIO, RATIO)),
+        fc_mul(&ar, fc_mul(&ar, p->tau_f_s, kp_min, FC_SHIFT(DT, RATIO, RATIO)),
+               fc_add(&ar, p->a_m_per_s, p->l0_per_s), FC_SHIFT(RATIO, GAIN, RATIO)));
+    return ar.saturated == 0u && tau_f_l0 < FC_INT(1, RATIO) && tau_av_kappa_l0 < kp_min && third < kp_min;
+}
+
+static bool params_valid(const fc_altitude_control_params *p)
+{
+    const fc_real zero = FC_INT(0, UNIT);
+    return all_finite(p) && p->law < FC_ALT_LAW_COUNT &&
+           p->modulation <= FC_SSC_MODULATION_EXTRA && p->dt_s > zero &&
+           p->dt_s <= FC_C(0.1f, DT) && p->gravity_mps2 > zero && p->mass_min_kg > zero &&
+           p->mass_min_kg <= p->theta0_kg && p->theta0_kg <= p->mass_max_kg &&
+           p->ground_gain_max >= FC_INT(1, RATIO) && p->tilt_cos_min > zero &&
+           p->tilt_cos_min <= FC_INT(1, RATIO) && p->thrust_min_n >= zero &&
+           p->thrust_max_n > p->thrust_min_n && p->l0_per_s > zero && p->tau_av_s > zero &&
+           p->a_m_per_s > zero && p->kappa_m_per_kg > zero && p->rho_n >= zero &&
+           p->delta_n >= zero && p->k0_ns_per_m >= zero &&
+           (p->velocity_measured || p->tau_f_s > zero) && p->eta_fast_rate_per_s > zero &&
+           p->eta_slow_rate_per_s > zero && p->eta_slow_gain_kg_per_s >= zero && p->gamma >= zero && p->boundary_layer_mps > zero &&
+           p->stw_k1 >= zero && p->stw_k2_nps >= zero && p->pid_kp_z_per_s >= zero &&
+           p->pid_ki_z_per_s2 >= zero && p->pid_kp_v_n_per_mps >= zero &&
+           p->pid_ki_v_n_per_m >= zero && p->pid_vel_limit_mps > zero &&
+           (p->velocity_measured || p->law != FC_ALT_LAW_SSC || relative_degree_two_minimum_phase(p));
+}
+
+void fc_altitude_control_variant_params(fc_altitude_control_params *p, fc_altitude_variant v, fc_real dt_s,
+                                        fc_real mass_kg)
+{
+    fc_altitude_control_default_params(p, dt_s, mass_kg);
+    switch (v) {
+    case FC_ALT_VARIANT_SSC_ADAPTIVE:
+        p->adaptive = true;
+        break;
+    case FC_ALT_VARIANT_SSC_NORM:
+        p->modulation = FC_SSC_MODULATION_NORM_OBSERVER;
+        break;
+    case FC_ALT_VARIANT_SSC_NORM_ADAPTIVE:
+        p->modulation = FC_SSC_MODULATION_NORM_OBSERVER;
+        p->adaptive = true;
+        break;
+    case FC_ALT_VARIANT_SSC_EXTRA:
+        p->modulation = FC_SSC_MODULATION_EXTRA;
+        break;
+    case FC_ALT_VARIANT_SSC_REL2:
+    case FC_ALT_VARIANT_SSC_REL2_ADAPTIVE:
+    case FC_ALT_VARIANT_SSC_REL2_NORM:
+        p->velocity_measured = false;
+        p->kappa_m_per_kg = FC_C(0.5f, GAIN);
+        p->adaptive = v == FC_ALT_VARIANT_SSC_REL2_ADAPTIVE;
+        if (v == FC_ALT_VARIANT_SSC_REL2_NORM) {
+            p->modulation = FC_SSC_MODULATION_NORM_OBSERVER;
+        }
+        break;
+    case FC_ALT_VARIANT_PID:
+        p->law = FC_ALT_LAW_PID;
+        break;
+    case FC_ALT_VARIANT_SMC:
+        p->law = FC_ALT_LAW_SMC_SIGN;
+        break;
+    case FC_ALT_VARIANT_SMC_BOUNDARY:
+        p->law = FC_ALT_LAW_SMC_BOUNDARY;
+        break;
+    case FC_ALT_VARIANT_SUPER_TWISTING:
+        p->law = FC_ALT_LAW_SUPER_TWISTING;
+        break;
+    case FC_ALT_VARIANT_SSC:
+    case FC_ALT_VARIANT_COUNT:
+    default:
+        break;
+    }
+}
+
+/* First-order pole e^(-dt/tau) and its input gain 1 - e^(-dt/tau), dt and tau in DT. */
+static void first_order_zoh(fc_arith *ar, fc_real dt_s, fc_real tau_s, fc_real *pole, fc_real *gain)
+{
+    const fc_real dt_over_tau = fc_div(ar, dt_s, tau_s, FC_DIV_SHIFT(DT, DT, RATIO));
+    *pole = fc_exp_neg(ar, dt_over_tau);
+    *gain = fc_sub(ar, FC_INT(1, UNIT), *pole);
+}
+
+static void eta_observer_zoh(fc_arith *ar, fc_real rate_per_s, fc_real dt_s, fc_real *pole, fc_real *in_gain_s)
+{
+    *pole = fc_exp_neg(ar, fc_mul(ar, rate_per_s, dt_s, FC_SHIFT(GAIN, DT, RATIO)));
+    *in_gain_s = fc_div(ar, fc_sub(ar, FC_INT(1, UNIT), *pole), rate_per_s, FC_DIV_SHIFT(UNIT, GAIN, DT));
+}
+
+static void compute_discretisation(fc_altitude_control *c)
+{
+    fc_arith *ar = &c->ar;
+    const fc_altitude_control_params *p = &c->p;
+    /* averaging filter (4.7): a = e^(-dt/tau_av) */
+    first_order_zoh(ar, p->dt_s, p->tau_av_s, &c->avg_pole, &c->avg_gain);
+    /* prediction-error loop (4.5): b = e^(-a_m dt), c = (a - b)/(a_m - 1/tau_av) */
+    const fc_real a_m_dt = fc_mul(ar, p->a_m_per_s, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    c->pred_pole = fc_exp_neg(ar, a_m_dt);
+    const fc_real inv_tau_av = fc_div(ar, FC_INT(1, DT), p->tau_av_s, FC_DIV_SHIFT(DT, DT, GAIN));
+    const fc_real pole_gap = fc_sub(ar, p->a_m_per_s, inv_tau_av); /* GAIN, 1/s */
+    const fc_real pole_gap_dt = fc_mul(ar, pole_gap, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    fc_real c_s; /* DT */
+    if (fc_abs(ar, pole_gap_dt) < FC_C(1.0e-3f, RATIO)) {
+        /* a_m ~ 1/tau_av: c = dt e^(-a_m dt) (1 + O(gap dt)), the average of both poles */
+        const fc_real mean_pole = fc_mul(ar, fc_add(ar, c->avg_pole, c->pred_pole), FC_C(0.5f, UNIT),
+                                         FC_SHIFT(UNIT, UNIT, UNIT));
+        c_s = fc_mul(ar, p->dt_s, mean_pole, FC_SHIFT(DT, UNIT, DT));
+    } else {
+        const fc_real pole_diff = fc_sub(ar, c->avg_pole, c->pred_pole);
+        c_s = fc_div(ar, pole_diff, pole_gap, FC_DIV_SHIFT(UNIT, GAIN, DT));
+    }
+    c->pred_gain = fc_mul(ar, p->kappa_m_per_kg, c_s, FC_SHIFT(GAIN, DT, RATIO));
+    /* plant gain bounds (4.15) with the tilt compensated: kp = k_g / m in
+     * [1/m_max, k_g_max/m_min]; Theta bounds are their inverses */
+    c->kp_max_per_kg = fc_div(ar, p->ground_gain_max, p->mass_min_kg, FC_DIV_SHIFT(RATIO, MASS, RATIO));
+    c->theta_min_kg = fc_div(ar, p->mass_min_kg, p->ground_gain_max, FC_DIV_SHIFT(MASS, RATIO, MASS));
+    c->theta_max_kg = p->mass_max_kg;
+    c->kp_max_over_kappa =
+        fc_div(ar, c->kp_max_per_kg, p->kappa_m_per_kg, FC_DIV_SHIFT(RATIO, GAIN, RATIO));
+    c->inv_kappa_kg = fc_div(ar, FC_INT(1, GAIN), p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
+    c->a_m_over_kappa = fc_div(ar, p->a_m_per_s, p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
+    /* norm observer (4.40): pole kp_min/(kappa_m tau_av) = 1/(kappa_m m_max tau_av);
+     * input w4 / tau_av, so the ZOH input gain is (1 - p) kappa_m / kp_min = (1 - p) kappa_m m_max */
+    const fc_real obs_tau_s = fc_mul(ar, fc_mul(ar, p->kappa_m_per_kg, p->mass_max_kg, FC_SHIFT(GAIN, MASS, RATIO)),
+                                     p->tau_av_s, FC_SHIFT(RATIO, DT, DT));
+    fc_real obs_in;
+    first_order_zoh(ar, p->dt_s, obs_tau_s, &c->obs_pole, &obs_in);
+    c->obs_gain = fc_mul(ar, obs_in, fc_mul(ar, p->kappa_m_per_kg, p->mass_max_kg, FC_SHIFT(GAIN, MASS, RATIO)),
+                         FC_SHIFT(UNIT, RATIO, RATIO));
+    /* lead filter (4.18) */
+    if (p->tau_f_s > FC_INT(0, DT)) {
+        first_order_zoh(ar, p->dt_s, p->tau_f_s, &c->lead_pole, &c->lead_gain);
+        c->lead_inv_tau_per_s = fc_div(ar, FC_INT(1, DT), p->tau_f_s, FC_DIV_SHIFT(DT, DT, GAIN));
+        c->lead_state_coeff =
+            fc_sub(ar, FC_INT(1, RATIO), fc_mul(ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO)));
+    }
+    /* eta norm observers: w' = -l w + |kp D|, ZOH input gain (1 - e^(-l dt))/l */
+    eta_observer_zoh(ar, p->eta_fast_rate_per_s, p->dt_s, &c->eta_fast_pole, &c->eta_fast_in_gain);
+    eta_observer_zoh(ar, p->eta_slow_rate_per_s, p->dt_s, &c->eta_slow_pole, &c->eta_slow_in_gain);
+    c->eta_fast_gain_kg_per_s = FC_INT(0, GAIN);
+    if (p->tau_f_s > FC_INT(0, DT)) {
+        /* c_f = h(0) = 1/(tau_f kappa_m) */
+        c->eta_fast_gain_kg_per_s =
+            fc_div(ar, FC_INT(1, GAIN), fc_mul(ar, p->tau_f_s, p->kappa_m_per_kg, FC_SHIFT(DT, GAIN, RATIO)),
+                   FC_DIV_SHIFT(GAIN, RATIO, GAIN));
+    }
+    c->gamma_dt = fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    c->l0_sq = fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
+    c->inv_boundary_layer = fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN));
+}
+
+void fc_altitude_control_reset(fc_altitude_control *c)
+{
+    c->u0_av_n = FC_INT(0, FORCE);
+    c->sigma_bar_mps = FC_INT(0, VEL);
+    c->omega5_n = FC_INT(0, FORCE);
+    c->omega_eta_fast_mps = FC_INT(0, VEL);
+    c->omega_eta_slow_mps = FC_INT(0, VEL);
+    c->lead_state_m = FC_INT(0, LENGTH);
+    c->theta_kg = c->p.theta0_kg;
+    c->u0_n = FC_INT(0, FORCE);
+    c->stw_v_n = FC_INT(0, FORCE);
+    c->pid_int_z_m = FC_INT(0, LENGTH);
+    c->pid_int_v_m = FC_INT(0, LENGTH);
+    c->last_error_m = FC_INT(0, LENGTH);
+    c->last_thrust_n = c->p.thrust_min_n;
+    c->lead_primed = false;
+}
+
+fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitude_control_params *p)
+{
+    c->ready = false;
+    c->ar.saturated = 0u;
+    c->p = *p;
+    if (!params_valid(p)) {
+        c->p.thrust_min_n = FC_INT(0, FORCE);
+        c->p.theta0_kg = FC_INT(0, MASS);
+        fc_altitude_control_reset(c);
+        return FC_INIT_BAD_PARAM;
+    }
+    compute_discretisation(c);
+    fc_altitude_control_reset(c);
+    if (c->ar.saturated != 0u) {
+        return FC_INIT_BAD_PARAM;
+    }
+    c->ready = true;
+    return FC_INIT_OK;
+}
+
+/* ---------------------------------------------------------------------- */
+/* one step                                                                */
+/* ---------------------------------------------------------------------- */
+
+/* What the measurements say this step: e, e', sigma_hat and phi. */
+typedef struct tracking_signals {
+    fc_real e_m;          /* LENGTH */
+    fc_real e_dot_mps;    /* VEL: measured, or estimated from the lead filter */
+    fc_real sigma_mps;    /* VEL: sigma (relative degree one) or sigma_hat (two) */
+    fc_real phi_mps2;     /* ACCEL: g + z_r'' - l0 e' */
+} tracking_signals;
+
+static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input *in)
+{
+    fc_arith *ar = &c->ar;
+    const fc_altitude_control_params *p = &c->p;
+    tracking_signals t;
+    t.e_m = fc_sub(ar, in->z_m, in->reference.z_m); /* (4.1) */
+    const fc_real l0_e = fc_mul(ar, p->l0_per_s, t.e_m, FC_SHIFT(GAIN, LENGTH, VEL));
+    if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
+        t.e_dot_mps = fc_sub(ar, in->vz_mps, in->reference.vz_mps);
+        t.sigma_mps = fc_add(ar, t.e_dot_mps, l0_e); /* (4.2) */
+    } else {
+        if (!c->lead_primed) {
+            c->lead_state_m = t.e_m; /* start in steady state: sigma_hat = l0 e */
+            c->lead_primed = true;
+        }
+        /* (4.18): sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f, then advance x_f */
+        const fc_real lead_in = fc_sub(ar, t.e_m, fc_mul(ar, c->lead_state_coeff, c->lead_state_m,
+                                                         FC_SHIFT(RATIO, LENGTH, LENGTH)));
+        t.sigma_mps = fc_mul(ar, c->lead_inv_tau_per_s, lead_in, FC_SHIFT(GAIN, LENGTH, VEL));
+        c->lead_state_m = fc_add(ar, fc_mul(ar, c->lead_pole, c->lead_state_m, FC_SHIFT(UNIT, LENGTH, LENGTH)),
+                                 fc_mul(ar, c->lead_gain, t.e_m, FC_SHIFT(UNIT, LENGTH, LENGTH)));
+        t.e_dot_mps = fc_sub(ar, t.sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
+    }
+    const fc_real l0_e_dot = fc_mul(ar, p->l0_per_s, t.e_dot_mps, FC_SHIFT(GAIN, VEL, ACCEL));
+    t.phi_mps2 = fc_sub(ar, fc_add(ar, p->gravity_mps2, in->reference.az_mps2), l0_e_dot); /* (4.83) */
+    return t;
+}
+
+/* w4 of (4.42), with w1 of (4.43) written as |-g - z_r'' + l0 e'|. */
+static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+                        fc_real u_nom_n)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real l0_e_dot = fc_mul(ar, c->p.l0_per_s, t->e_dot_mps, FC_SHIFT(GAIN, VEL, ACCEL));
+    const fc_real omega1 = fc_abs(ar, fc_sub(ar, l0_e_dot, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2)));
+    const fc_real from_u_nom = fc_mul(ar, c->kp_max_over_kappa, fc_abs(ar, u_nom_n), FC_SHIFT(RATIO, FORCE, FORCE));
+    const fc_real from_omega1 = fc_mul(ar, c->inv_kappa_kg, omega1, FC_SHIFT(MASS, ACCEL, FORCE));
+    const fc_real from_sigma = fc_mul(ar, c->a_m_over_kappa, fc_abs(ar, t->sigma_mps), FC_SHIFT(MASS, VEL, FORCE));
+    return fc_add(ar, fc_add(ar, from_u_nom, from_omega1), from_sigma);
+}
+
+/* The bound of |kp D| driving the eta norm observer (4.3.2):
+ * kp_max |u_nom| + |-g - z_r'' - l0^2 e|. */
+static fc_real eta_input_bound_mps2(fc_altitude_control *c, const fc_altitude_control_input *in,
+                                    const tracking_signals *t, fc_real u_nom_n)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real l0_sq_e = fc_mul(ar, c->l0_sq, t->e_m, FC_SHIFT(GAIN, LENGTH, ACCEL));
+    const fc_real omega1 =
+        fc_abs(ar, fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e));
+    return fc_add(ar, fc_mul(ar, c->kp_max_per_kg, fc_abs(ar, u_nom_n), FC_SHIFT(RATIO, FORCE, ACCEL)), omega1);
+}
+
+/* The modulation rho of the relay, and the advance of its observers. */
+static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+                            fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
+{
+    *observer_bound = FC_INT(0, FORCE);
+    fc_arith *ar = &c->ar;
+    const fc_altitude_control_params *p = &c->p;
+    const fc_real k0_term = fc_mul(ar, p->k0_ns_per_m, fc_abs(ar, sigma_tilde_mps), FC_SHIFT(GAIN, VEL, FORCE));
+    const fc_real one_plus_ratio = fc_add(ar, FC_INT(1, RATIO), c->kp_max_over_kappa);
+    switch (p->modulation) {
+    case FC_SSC_MODULATION_NORM_OBSERVER:
+        if (p->velocity_measured) {
+            /* (4.40)-(4.41) */
+            const fc_real omega4 = omega4_n(c, in, t, u_nom_n);
+            /* (4.38): |d_eq2| <= (1 + kp_max/kappa_m) w5 + w4 */
+            *observer_bound =
+                fc_add(ar, fc_mul(ar, one_plus_ratio, c->omega5_n, FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
+            const fc_real rho = fc_add(ar, *observer_bound, fc_add(ar, p->delta_n, k0_term));
+            c->omega5_n = fc_add(ar, fc_mul(ar, c->obs_pole, c->omega5_n, FC_SHIFT(UNIT, FORCE, FORCE)),
+                                 fc_mul(ar, c->obs_gain, omega4, FC_SHIFT(RATIO, FORCE, FORCE)));
+            return rho;
+        } else {
+            /* eta norm observers (4.3.2): rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde| */
+            const fc_real bound = eta_input_bound_mps2(c, in, t, u_nom_n);
+            const fc_real rho_bar = fc_add(
+                ar, fc_mul(ar, c->eta_fast_gain_kg_per_s, c->omega_eta_fast_mps, FC_SHIFT(GAIN, VEL, FORCE)),
+                fc_mul(ar, p->eta_slow_gain_kg_per_s, c->omega_eta_slow_mps, FC_SHIFT(GAIN, VEL, FORCE)));
+            c->omega_eta_fast_mps =
+                fc_add(ar, fc_mul(ar, c->eta_fast_pole, c->omega_eta_fast_mps, FC_SHIFT(UNIT, VEL, VEL)),
+                       fc_mul(ar, c->eta_fast_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
+            c->omega_eta_slow_mps =
+                fc_add(ar, fc_mul(ar, c->eta_slow_pole, c->omega_eta_slow_mps, FC_SHIFT(UNIT, VEL, VEL)),
+                       fc_mul(ar, c->eta_slow_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
+            *observer_bound = rho_bar;
+            return fc_add(ar, rho_bar, fc_add(ar, p->delta_n, k0_term));
+        }
+    case FC_SSC_MODULATION_EXTRA: {
+        /* (4.54): rho = (1 + kp_max/kappa_m) |u0_av| + w4 + delta */
+        const fc_real omega4 = omega4_n(c, in, t, u_nom_n);
+        *observer_bound =
+            fc_add(ar, fc_mul(ar, one_plus_ratio, fc_abs(ar, c->u0_av_n), FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
+        return fc_add(ar, *observer_bound, p->delta_n);
+    }
+    case FC_SSC_MODULATION_CONSTANT:
+    default:
+        return p->rho_n;
+    }
+}
+
+/* The SSC: returns the vertical force u = u_nom - u0_av and advances the
+ * relay, the prediction-error loop and the averaging filter. */
+static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
+                                  const tracking_signals *t, fc_real u_nom_n, fc_altitude_control_output *out)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real sigma_tilde = fc_sub(ar, t->sigma_mps, c->sigma_bar_mps); /* (4.4) */
+    fc_real observer_bound;
+    const fc_real rho = modulation_n(c, in, t, u_nom_n, sigma_tilde, &observer_bound);
+    const fc_real u0 = fc_mul(ar, rho, fc_sign_unit(sigma_tilde), FC_SHIFT(FORCE, UNIT, FORCE)); /* (4.8) */
+    const fc_real u = fc_sub(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
+    /* exact ZOH of (4.5) and (4.7) with u0 held over the step (see the header) */
+    const fc_real relay_minus_average = fc_sub(ar, u0, c->u0_av_n);
+    c->sigma_bar_mps = fc_add(ar, fc_mul(ar, c->pred_pole, c->sigma_bar_mps, FC_SHIFT(UNIT, VEL, VEL)),
+                              fc_mul(ar, c->pred_gain, relay_minus_average, FC_SHIFT(RATIO, FORCE, VEL)));
+    c->u0_av_n = fc_add(ar, fc_mul(ar, c->avg_pole, c->u0_av_n, FC_SHIFT(UNIT, FORCE, FORCE)),
+                        fc_mul(ar, c->avg_gain, u0, FC_SHIFT(UNIT, FORCE, FORCE)));
+    c->u0_n = u0;
+    out->sigma_tilde_mps = sigma_tilde;
+    out->rho_n = rho;
+    out->observer_bound_n = observer_bound;
+    return u;
+}
+
+/* Baseline: first-order sliding mode, sign or boundary-layer relay. */
+static fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n)
+{
+    fc_arith *ar = &c->ar;
+    fc_real switching; /* UNIT in [-1, 1] */
+    if (c->p.law == FC_ALT_LAW_SMC_SIGN) {
+        switching = fc_sign_unit(t->sigma_mps);
+    } else {
+        const fc_real ratio = fc_mul(ar, t->sigma_mps, c->inv_boundary_layer, FC_SHIFT(VEL, GAIN, UNIT));
+        switching = fc_clamp(ratio, FC_INT(-1, UNIT), FC_INT(1, UNIT));
+    }
+    return fc_sub(ar, u_nom_n, fc_mul(ar, c->p.rho_n, switching, FC_SHIFT(FORCE, UNIT, FORCE)));
+}
+
+/* Baseline: super-twisting. v is integrated only while the thrust is free. */
+static fc_real super_twisting_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n,
+                                             bool integrate)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real sqrt_abs_sigma = fc_sqrt(ar, fc_abs(ar, t->sigma_mps), FC_VEL_FRAC);
+    const fc_real sign = fc_sign_unit(t->sigma_mps);
+    const fc_real proportional = fc_mul(ar, fc_mul(ar, c->p.stw_k1, sqrt_abs_sigma, FC_SHIFT(GAIN, VEL, FORCE)),
+                                        sign, FC_SHIFT(FORCE, UNIT, FORCE));
+    const fc_real u = fc_add(ar, fc_sub(ar, u_nom_n, proportional), c->stw_v_n);
+    if (integrate) {
+        const fc_real step_n = fc_mul(ar, c->p.stw_k2_nps, c->p.dt_s, FC_SHIFT(GAIN, DT, FORCE));
+        c->stw_v_n = fc_sub(ar, c->stw_v_n, fc_mul(ar, step_n, sign, FC_SHIFT(FORCE, UNIT, FORCE)));
+    }
+    return u;
+}
+
+/* Baseline: the Crazyflie's cascade, position PID -> velocity PID. */
+static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
+                                  const tracking_signals *t, bool integrate)
+{
+    fc_arith *ar = &c->ar;
+    const fc_altitude_control_params *p = &c->p;
+    /* position loop: velocity setpoint = z_r' - kp_z e - ki_z int e */
+    const fc_real position_term = fc_add(ar, fc_mul(ar, p->pid_kp_z_per_s, t->e_m, FC_SHIFT(GAIN, LENGTH, VEL)),
+                                         fc_mul(ar, p->pid_ki_z_per_s2, c->pid_int_z_m, FC_SHIFT(GAIN, LENGTH, VEL)));
+    const fc_real velocity_setpoint =
+        fc_clamp(fc_sub(ar, in->reference.vz_mps, position_term), fc_neg(ar, p->pid_vel_limit_mps), p->pid_vel_limit_mps);
+    const fc_real velocity_error = fc_sub(ar, in->vz_mps, velocity_setpoint);
+    /* velocity loop: u = Theta0 (g + z_r'') - kp_v ev - ki_v int ev */
+    const fc_real feed_forward = fc_mul(ar, p->theta0_kg, fc_add(ar, p->gravity_mps2, in->reference.az_mps2),
+                                        FC_SHIFT(MASS, ACCEL, FORCE));
+    const fc_real velocity_term =
+        fc_add(ar, fc_mul(ar, p->pid_kp_v_n_per_mps, velocity_error, FC_SHIFT(GAIN, VEL, FORCE)),
+               fc_mul(ar, p->pid_ki_v_n_per_m, c->pid_int_v_m, FC_SHIFT(GAIN, LENGTH, FORCE)));
+    if (integrate) {
+        c->pid_int_z_m = fc_add(ar, c->pid_int_z_m, fc_mul(ar, t->e_m, p->dt_s, FC_SHIFT(LENGTH, DT, LENGTH)));
+        c->pid_int_v_m =
+            fc_add(ar, c->pid_int_v_m, fc_mul(ar, velocity_error, p->dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+    }
+    return fc_sub(ar, feed_forward, velocity_term);
+}
+
+/* Theta' = -gamma sigma phi (4.83), projected onto [Theta_min, Theta_max]. */
+static void adapt_theta(fc_altitude_control *c, const tracking_signals *t)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real sigma_phi = fc_mul(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
+    const fc_real step_kg = fc_mul(ar, c->gamma_dt, sigma_phi, FC_SHIFT(RATIO, SIGMA_PHI, MASS));
+    c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
+}
+
+static void safe_output(const fc_altitude_control *c, fc_altitude_control_output *out)
+{
+    out->thrust_n = c->p.thrust_min_n;
+    out->vertical_force_n = c->p.thrust_min_n;
+    out->error_m = FC_INT(0, LENGTH);
+    out->sigma_mps = FC_INT(0, VEL);
+    out->sigma_tilde_mps = FC_INT(0, VEL);
+    out->rho_n = FC_INT(0, FORCE);
+    out->u0_av_n = FC_INT(0, FORCE);
+    out->u_nom_n = FC_INT(0, FORCE);
+    out->theta_kg = c->theta_kg;
+    out->observer_bound_n = FC_INT(0, FORCE);
+    out->clamped = false;
+}
+
+static bool input_valid(const fc_altitude_control_input *in)
+{
+    return fc_is_finite(in->z_m) && fc_is_finite(in->vz_mps) && fc_is_finite(in->reference.z_m) &&
+           fc_is_finite(in->reference.vz_mps) && fc_is_finite(in->reference.az_mps2) &&
+           fc_is_finite(in->tilt_cos);
+}
+
+fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
+                                        fc_altitude_control_output *out)
+{
+    if (!c->ready) {
+        safe_output(c, out);
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &c->ar;
+    ar->saturated = 0u;
+    const fc_altitude_control_params *p = &c->p;
+    if (!input_valid(in)) {
+        /* hold the last thrust command: the filters and Theta are not fed garbage */
+        safe_output(c, out);
+        out->thrust_n = c->last_thrust_n;
+        out->vertical_force_n = c->last_thrust_n;
+        return FC_STEP_BAD_INPUT;
+    }
+    fc_step_status status = FC_STEP_OK;
+    safe_output(c, out);
+
+    const tracking_signals t = tracking(c, in);
+    const fc_real u_nom = fc_mul(ar, c->theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)); /* Theta phi */
+    /* the thrust that can be delivered, as a vertical force at the current tilt */
+    const fc_real tilt_cos = fc_clamp(in->tilt_cos, p->tilt_cos_min, FC_INT(1, RATIO));
+    const fc_real u_max = fc_mul(ar, p->thrust_max_n, tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real u_min = fc_mul(ar, p->thrust_min_n, tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const bool was_clamped_high = c->last_thrust_n >= p->thrust_max_n ||
+                                  (in->allocation_saturation & FC_SAT_THRUST_HIGH) != 0u;
+    const bool was_clamped_low = c->last_thrust_n <= p->thrust_min_n ||
+                                 (in->allocation_saturation & FC_SAT_THRUST_LOW) != 0u;
+    const bool integrate = !was_clamped_high && !was_clamped_low;
+
+    fc_real u;
+    switch (p->law) {
+    case FC_ALT_LAW_PID:
+        u = pid_vertical_force(c, in, &t, integrate);
+        break;
+    case FC_ALT_LAW_SMC_SIGN:
+    case FC_ALT_LAW_SMC_BOUNDARY:
+        u = smc_vertical_force(c, &t, u_nom);
+        break;
+    case FC_ALT_LAW_SUPER_TWISTING:
+        u = super_twisting_vertical_force(c, &t, u_nom, integrate);
+        break;
+    case FC_ALT_LAW_SSC:
+    default:
+        u = ssc_vertical_force(c, in, &t, u_nom, out);
+        /* anti-windup: the averaging filter's state stays inside the band the
+         * actuator can deliver next step, u_nom - u0_av in [u_min, u_max] */
+        c->u0_av_n = fc_clamp(c->u0_av_n, fc_sub(ar, u_nom, u_max), fc_sub(ar, u_nom, u_min));
+        if (p->adaptive && integrate) {
+            adapt_theta(c, &t);
+        }
+        break;
+    }
+    /* tilt compensation: F = u / k_h, then the actuator's range */
+    const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
+    out->thrust_n = fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n);
+    /* at a limit counts as clamped: the anti-windup holds u0_av so that u lands
+     * exactly on the limit while the loop still asks for more */
+    out->clamped = thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
+    if (out->clamped) {
+        status |= FC_STEP_OUTPUT_LIMITED;
+    }
+    c->last_thrust_n = out->thrust_n;
+    c->last_error_m = t.e_m;
+
+    out->vertical_force_n = u;
+    out->error_m = t.e_m;
+    out->sigma_mps = t.sigma_mps;
+    out->u0_av_n = c->u0_av_n;
+    out->u_nom_n = u_nom;
+    out->theta_kg = c->theta_kg;
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
