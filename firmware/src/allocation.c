@@ -1,2 +1,880 @@
+/*
+ * allocation.c - control allocation for any rotor geometry (fc/allocation.h),
+ * dissertation 2.4, (2.2)-(2.6). One source for both backends.
+ *
+ * Rows of the controlled wrench: 0 = F_z, 1 = M_x, 2 = M_y, 3 = M_z.
+ */
 #include "fc/allocation.h"
-typedef int fc_allocation_placeholder;
+
+#include <stddef.h>
+
+/* Local Q-formats: a rotor's T_max times a moment row's scale 2^e, in 1/m
+ * (about 1 / the longest lever of that row): Q11.20 ([-2048, 2048) 1/m) for
+ * e >= 0 and Q7.24 ([-128, 128) 1/m) for e < 0 (scaled_entry). */
+#define FC_PER_M_FRAC 20
+#define FC_PER_M_FINE_FRAC 24
+
+#define ROTOR_SQRT (1u << 0)          /* r_i = 2: u = sqrt(v), u^r = u u */
+#define ROTOR_SQUARE_TORQUE (1u << 1) /* s_i = 2: u^s = u u */
+#define ROTOR_NONLINEAR (1u << 2)     /* r_i != s_i: the torque correction applies */
+#define ROTOR_SHIFTS (1u << 3)        /* |P_i0| >= 1/32: takes part in the thrust shift */
+
+#define ROWS 4
+
+/* Ranges checked at init (fc/allocation.h). */
+#define AXIS_NORM_SQ_TOLERANCE FC_C(1.0e-4f, UNIT)
+#define POSITION_MAX FC_C(16.0f, LENGTH)
+#define THRUST_MAX_LIMIT FC_C(250.0f, FORCE)
+#define TORQUE_MAX_LIMIT FC_C(16.0f, MOMENT)
+#define EXPONENT_LOW FC_C(0.5f, RATIO)
+#define EXPONENT_HIGH FC_C(4.0f, RATIO)
+#define FORCE_ROW_SUM_LIMIT FC_C(1500.0f, FORCE)
+#define MOMENT_ROW_SUM_LIMIT FC_C(100.0f, MOMENT)
+/* Bounds of the scaled intermediates of D A (kept well inside their formats). */
+#define SCALED_THRUST_F_LIMIT FC_C(100.0f, RATIO)   /* T 2^e0, row 0 */
+#define SCALED_THRUST_M_LIMIT FC_C(1000.0f, PER_M)            /* T 2^ek, e >= 0 */
+#define SCALED_THRUST_M_FINE_LIMIT FC_C(100.0f, PER_M_FINE)  /* T 2^ek, e < 0 */
+#define SCALED_TORQUE_LIMIT FC_C(100.0f, MAT)       /* Q 2^ek */
+/* Row scales 2^e, e in [-16, 14] (exact in GAIN). */
+#define ROW_SCALE_MIN FC_C(1.0f / 65536.0f, GAIN)
+#define ROW_SCALE_MAX FC_INT(16384, GAIN)
+/* A pinv entry above this is a geometry too close to rank loss for the formats. */
+#define PINV_ENTRY_LIMIT FC_C(16.0f, MAT)
+/* Share of the collective below which a rotor does not take part in the shift. */
+#define SHIFT_SHARE_MIN FC_C(1.0f / 32.0f, MAT)
+
+/* ---- helpers ----------------------------------------------------------- */
+
+static fc_real component(fc_vec3 v, int k)
+{
+    return k == 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+static bool rotor_is_finite(const fc_rotor_params *r)
+{
+    return fc_vec3_is_finite(r->axis_unit) && fc_vec3_is_finite(r->position_m) &&
+           fc_is_finite(r->thrust_max_n) && fc_is_finite(r->torque_max_nm) &&
+           fc_is_finite(r->thrust_exponent) && fc_is_finite(r->torque_exponent) &&
+           fc_is_finite(r->speed_min);
+}
+
+static bool within(fc_arith *ar, fc_real x, fc_real limit)
+{
+    return fc_abs(ar, x) <= limit;
+}
+
+static bool rotor_params_valid(fc_arith *ar, const fc_rotor_params *r)
+{
+    if (!rotor_is_finite(r)) {
+        return false;
+    }
+    /* |d|^2 within 1e-4 of 1; a component of 2 or more saturates the dot in
+     * fixed (and so fails too) */
+    const fc_real norm_sq = fc_vec3_dot(ar, r->axis_unit, r->axis_unit, FC_SHIFT(UNIT, UNIT, UNIT));
+    if (!within(ar, fc_sub(ar, norm_sq, FC_INT(1, UNIT)), AXIS_NORM_SQ_TOLERANCE)) {
+        return false;
+    }
+    if (!within(ar, r->position_m.x, POSITION_MAX) || !within(ar, r->position_m.y, POSITION_MAX) ||
+        !within(ar, r->position_m.z, POSITION_MAX)) {
+        return false;
+    }
+    if (!(r->thrust_max_n > FC_INT(0, FORCE)) || !(r->thrust_max_n <= THRUST_MAX_LIMIT)) {
+        return false;
+    }
+    if (!within(ar, r->torque_max_nm, TORQUE_MAX_LIMIT)) {
+        return false;
+    }
+    if (!(r->thrust_exponent > EXPONENT_LOW) || !(r->thrust_exponent <= EXPONENT_HIGH) ||
+        !(r->torque_exponent > EXPONENT_LOW) || !(r->torque_exponent <= EXPONENT_HIGH)) {
+        return false;
+    }
+    return r->speed_min >= FC_INT(0, UNIT) && r->speed_min < FC_INT(1, UNIT);
+}
+
+/* x^e for a UNIT x, with the exact square for e = 2. */
+static fc_real power(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio, bool square)
+{
+    if (square) {
+        return fc_mul(ar, x_unit, x_unit, FC_SHIFT(UNIT, UNIT, UNIT));
+    }
+    return fc_pow_unit(ar, x_unit, exponent_ratio);
+}
+
+/* Entry (row, rotor) of A in its own format: FORCE for row 0, MOMENT for the others. */
+static fc_real physical_entry(fc_arith *ar, const fc_allocation_rotor *r, int row)
+{
+    if (row == 0) {
+        return fc_mul(ar, r->thrust_max_n, r->axis_unit.z, FC_SHIFT(FORCE, UNIT, FORCE));
+    }
+    /* (2.5): T_max (l x d) + Q_max d */
+    return fc_add(ar,
+                  fc_mul(ar, r->thrust_max_n, component(r->lever_m, row - 1),
+                         FC_SHIFT(FORCE, LEVER, MOMENT)),
+                  fc_mul(ar, r->torque_max_nm, component(r->axis_unit, row - 1),
+                         FC_SHIFT(MOMENT, UNIT, MOMENT)));
+}
+
+/* The scaled thrust and torque of a rotor for a row, checked against their limits. */
+static bool scaled_entry(fc_arith *ar, const fc_allocation_rotor *r, int row, fc_real scale,
+                         fc_real *entry)
+{
+    if (row == 0) {
+        /* T 2^e0 (exact in fixed for e0 >= -4), then times d_z */
+        const fc_real thrust = fc_mul(ar, r->thrust_max_n, scale, FC_SHIFT(FORCE, GAIN, RATIO));
+        *entry = fc_mul(ar, thrust, r->axis_unit.z, FC_SHIFT(RATIO, UNIT, MAT));
+        return within(ar, thrust, SCALED_THRUST_F_LIMIT);
+    }
+    /* scale first, multiply second: one rounding of each product in MAT, not a
+     * rounding in MOMENT blown up by 2^e (Crazyflie yaw row: 2^10). T 2^e (1/m)
+     * is exact in PER_M (Q20, up to 2048 1/m) for e >= 0; for e < 0 it is
+     * below T and PER_M_FINE (Q24) keeps the bits Q20 would round away. */
+    const fc_real lever = component(r->lever_m, row - 1);
+    fc_real lever_part;
+    bool ok;
+    if (scale >= FC_INT(1, GAIN)) {
+        const fc_real thrust = fc_mul(ar, r->thrust_max_n, scale, FC_SHIFT(FORCE, GAIN, PER_M));
+        lever_part = fc_mul(ar, thrust, lever, FC_SHIFT(PER_M, LEVER, MAT));
+        ok = within(ar, thrust, SCALED_THRUST_M_LIMIT);
+    } else {
+        const fc_real thrust = fc_mul(ar, r->thrust_max_n, scale, FC_SHIFT(FORCE, GAIN, PER_M_FINE));
+        lever_part = fc_mul(ar, thrust, lever, FC_SHIFT(PER_M_FINE, LEVER, MAT));
+        ok = within(ar, thrust, SCALED_THRUST_M_FINE_LIMIT);
+    }
+    const fc_real torque = fc_mul(ar, r->torque_max_nm, scale, FC_SHIFT(MOMENT, GAIN, MAT));
+    *entry = fc_add(ar, lever_part,
+                    fc_mul(ar, torque, component(r->axis_unit, row - 1), FC_SHIFT(MAT, UNIT, MAT)));
+    /* a rotor whose lever has no component on this row needs no bound on T 2^e */
+    return (ok || lever == FC_INT(0, LEVER)) && within(ar, torque, SCALED_TORQUE_LIMIT);
+}
+
+/* D A into out; false when a scaled intermediate leaves its bound. */
+static bool build_normalised(fc_arith *ar, const fc_allocation *a, fc_mat *out)
+{
+    bool ok = true;
+    (void)fc_mat_zero(out, ROWS, a->rotor_count);
+    for (int k = 0; k < ROWS; k++) {
+        for (int i = 0; i < a->rotor_count; i++) {
+            ok = scaled_entry(ar, &a->rotor[i], k, a->row_scale[k], &out->a[k][i]) && ok;
+        }
+    }
+    return ok;
+}
+
+/* The power of two 2^e (GAIN) that puts row_max 2^e in (0.5, 1]; false when e
+ * would leave [-16, 14] (a row that is zero or too small to resolve).
+ * shift_to_ratio names the product row_max (its format) x GAIN -> RATIO. */
+static bool choose_row_scale(fc_arith *ar, fc_real row_max, int shift_to_ratio, fc_real *scale_out)
+{
+    fc_real scale = FC_INT(1, GAIN);
+    for (int step = 0; step < 40; step++) {
+        const fc_real scaled = fc_mul(ar, row_max, scale, shift_to_ratio);
+        if (scaled > FC_INT(1, RATIO)) {
+            if (scale <= ROW_SCALE_MIN) {
+                return false;
+            }
+            scale = fc_mul(ar, scale, FC_C(0.5f, UNIT), FC_SHIFT(GAIN, UNIT, GAIN)); /* exact */
+        } else if (scaled <= FC_C(0.5f, RATIO)) {
+            if (scale >= ROW_SCALE_MAX) {
+                return false;
+            }
+            scale = fc_add(ar, scale, scale);
+        } else {
+            *scale_out = scale;
+            return true;
+        }
+    }
+    return false;
+}
+
+/* ---- init -------------------------------------------------------------- */
+
+static void clear(fc_allocation *a)
+{
+    *a = (fc_allocation){0};
+    a->last_good.thrust_n = FC_INT(0, FORCE);
+    a->last_good.moment_nm = fc_vec3_zero();
+    a->delta_warm_nm = fc_vec3_zero();
+}
+
+static void derive_rotor(fc_arith *ar, const fc_rotor_params *p, fc_allocation_rotor *r)
+{
+    r->axis_unit = p->axis_unit;
+    r->lever_m = fc_vec3_cross(ar, p->position_m, p->axis_unit, FC_SHIFT(LENGTH, UNIT, LEVER));
+    r->thrust_max_n = p->thrust_max_n;
+    r->torque_max_nm = p->torque_max_nm;
+    r->thrust_exponent = p->thrust_exponent;
+    r->torque_exponent = p->torque_exponent;
+    r->speed_min = p->speed_min;
+    r->flags = 0u;
+    if (p->thrust_exponent == FC_C(2.0f, RATIO)) {
+        r->flags |= ROTOR_SQRT;
+    }
+    if (p->torque_exponent == FC_C(2.0f, RATIO)) {
+        r->flags |= ROTOR_SQUARE_TORQUE;
+    }
+    if (p->thrust_exponent != p->torque_exponent) {
+        r->flags |= ROTOR_NONLINEAR;
+    }
+    r->inv_thrust_exponent =
+        fc_div(ar, FC_INT(1, RATIO), p->thrust_exponent, FC_DIV_SHIFT(RATIO, RATIO, RATIO));
+    r->exponent_ratio =
+        fc_div(ar, p->torque_exponent, p->thrust_exponent, FC_DIV_SHIFT(RATIO, RATIO, RATIO));
+    const fc_real v_min = power(ar, p->speed_min, p->thrust_exponent, (r->flags & ROTOR_SQRT) != 0u);
+    r->v_min = fc_convert(ar, v_min, FC_UNIT_FRAC, FC_RATIO_FRAC);
+}
+
+/* Row sums (the demand limits) and row scales; false: rank deficient or out of range. */
+static fc_init_result derive_rows(fc_arith *ar, fc_allocation *a)
+{
+    for (int k = 0; k < ROWS; k++) {
+        fc_real sum = FC_INT(0, MOMENT);
+        fc_real largest = FC_INT(0, MOMENT);
+        for (int i = 0; i < a->rotor_count; i++) {
+            const fc_real entry = fc_abs(ar, physical_entry(ar, &a->rotor[i], k));
+            sum = fc_add(ar, sum, entry);
+            largest = fc_max(largest, entry);
+        }
+        a->demand_limit[k] = sum;
+        if (k == 0) {
+            if (!(sum <= FORCE_ROW_SUM_LIMIT)) {
+                return FC_INIT_BAD_PARAM;
+            }
+            if (!choose_row_scale(ar, largest, FC_SHIFT(FORCE, GAIN, RATIO), &a->row_scale[k])) {
+                return FC_INIT_RANK_DEFICIENT;
+            }
+        } else {
+            if (!(sum <= MOMENT_ROW_SUM_LIMIT)) {
+                return FC_INIT_BAD_PARAM;
+            }
+            if (!choose_row_scale(ar, largest, FC_SHIFT(MOMENT, GAIN, RATIO), &a->row_scale[k])) {
+                return FC_INIT_RANK_DEFICIENT;
+            }
+        }
+    }
+    return FC_INIT_OK;
+}
+
+/* Newton-Schulz steps P <- P (2 I - A P). fc_mat_pinv solves the normal
+ * equations, whose error grows with cond(A)^2 but lies in the row space of A,
+ * where each step squares it away; what is left is the rounding of the
+ * products (fixed: a few LSB of MAT instead of up to 10 cond^2). */
+static void refine_pinv(fc_arith *ar, const fc_mat *a, fc_mat *p)
+{
+    fc_mat product;
+    fc_mat next;
+    for (int step = 0; step < 2; step++) {
+        (void)fc_mat_mul(ar, a, p, &product); /* A P: 4 x 4, near I */
+        for (int i = 0; i < product.rows; i++) {
+            for (int j = 0; j < product.cols; j++) {
+                product.a[i][j] = fc_sub(ar, i == j ? FC_INT(2, MAT) : FC_INT(0, MAT), product.a[i][j]);
+            }
+        }
+        (void)fc_mat_mul(ar, p, &product, &next);
+        *p = next;
+    }
+}
+
+/* P = pinv(D A) and what the thrust shift needs per rotor. */
+static fc_init_result derive_inverse(fc_arith *ar, fc_allocation *a)
+{
+    fc_mat normalised;
+    fc_mat inverse;
+    if (!build_normalised(ar, a, &normalised)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    if (a->rotor_count < ROWS) {
+        return FC_INIT_RANK_DEFICIENT;
+    }
+    fc_arith inv_ar = {0u};
+    if (fc_mat_pinv(&inv_ar, &normalised, &inverse) != FC_MAT_OK || inv_ar.saturated != 0u) {
+        return FC_INIT_RANK_DEFICIENT;
+    }
+    refine_pinv(&inv_ar, &normalised, &inverse);
+    if (inv_ar.saturated != 0u) {
+        return FC_INIT_RANK_DEFICIENT;
+    }
+    for (int i = 0; i < a->rotor_count; i++) {
+        fc_allocation_rotor *r = &a->rotor[i];
+        for (int k = 0; k < ROWS; k++) {
+            r->pinv[k] = inverse.a[i][k];
+            if (!within(ar, r->pinv[k], PINV_ENTRY_LIMIT)) {
+                return FC_INIT_RANK_DEFICIENT;
+            }
+        }
+        /* rotor i bounds the collective t: v_min <= t P_i0 + a R_i <= 1, i.e. with
+         * q = 1/P_i0,  t in [low - a q R_i, high - a q R_i] where (low, high) is
+         * (q v_min, q) for P_i0 > 0 and (q, q v_min) for P_i0 < 0 */
+        const fc_real share = r->pinv[0];
+        if (fc_abs(ar, share) < SHIFT_SHARE_MIN) {
+            continue;
+        }
+        r->flags |= ROTOR_SHIFTS;
+        r->shift_gain = fc_div(ar, FC_INT(1, RATIO), share, FC_DIV_SHIFT(RATIO, MAT, RATIO));
+        const fc_real at_min = fc_mul(ar, r->shift_gain, r->v_min, FC_SHIFT(RATIO, RATIO, RATIO));
+        r->shift_low = share > FC_INT(0, MAT) ? at_min : r->shift_gain;
+        r->shift_high = share > FC_INT(0, MAT) ? r->shift_gain : at_min;
+    }
+    return FC_INIT_OK;
+}
+
+fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *p)
+{
+    if (a == NULL) {
+        return FC_INIT_BAD_PARAM;
+    }
+    clear(a);
+    if (p == NULL || p->rotor_count < 1u || p->rotor_count > FC_MAX_ROTORS ||
+        p->newton_iterations > FC_ALLOCATION_MAX_ITERATIONS) {
+        return FC_INIT_BAD_PARAM;
+    }
+    fc_arith ar = {0u};
+    for (int i = 0; i < p->rotor_count; i++) {
+        if (!rotor_params_valid(&ar, &p->rotor[i])) {
+            return FC_INIT_BAD_PARAM;
+        }
+    }
+    a->rotor_count = p->rotor_count;
+    a->newton_iterations = p->newton_iterations;
+    for (int i = 0; i < a->rotor_count; i++) {
+        derive_rotor(&ar, &p->rotor[i], &a->rotor[i]);
+        if ((a->rotor[i].flags & ROTOR_NONLINEAR) != 0u) {
+            a->nonlinear = 1u;
+        }
+    }
+    fc_init_result result = derive_rows(&ar, a);
+    if (result == FC_INIT_OK) {
+        result = derive_inverse(&ar, a);
+    }
+    if (result != FC_INIT_OK) {
+        clear(a);
+        return result;
+    }
+    a->ready = 1u;
+    return FC_INIT_OK;
+}
+
+void fc_allocation_reset(fc_allocation *a)
+{
+    a->delta_warm_nm = fc_vec3_zero();
+    a->last_good.thrust_n = FC_INT(0, FORCE);
+    a->last_good.moment_nm = fc_vec3_zero();
+}
+
+/* ---- the forward model (2.2)-(2.3) -------------------------------------- */
+
+static void forward_model(fc_allocation *a, const fc_real *speed, fc_vec3 *force_n,
+                          fc_vec3 *moment_nm, fc_real *rotor_thrust_n)
+{
+    fc_arith *ar = &a->ar;
+    fc_acc force[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    fc_acc lever_moment[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    fc_acc torque_moment[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        const fc_real u = fc_clamp(speed[i], FC_INT(0, UNIT), FC_INT(1, UNIT));
+        const fc_real u_r = power(ar, u, r->thrust_exponent, (r->flags & ROTOR_SQRT) != 0u);
+        const fc_real u_s = power(ar, u, r->torque_exponent, (r->flags & ROTOR_SQUARE_TORQUE) != 0u);
+        const fc_real thrust = fc_mul(ar, r->thrust_max_n, u_r, FC_SHIFT(FORCE, UNIT, FORCE));
+        const fc_real torque = fc_mul(ar, r->torque_max_nm, u_s, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        if (rotor_thrust_n != NULL) {
+            rotor_thrust_n[i] = thrust;
+        }
+        for (int k = 0; k < 3; k++) {
+            force[k] = fc_acc_mac(force[k], thrust, component(r->axis_unit, k));
+            lever_moment[k] = fc_acc_mac(lever_moment[k], thrust, component(r->lever_m, k));
+            torque_moment[k] = fc_acc_mac(torque_moment[k], torque, component(r->axis_unit, k));
+        }
+    }
+    fc_real f[3];
+    fc_real m[3];
+    for (int k = 0; k < 3; k++) {
+        f[k] = fc_acc_result(ar, force[k], FC_SHIFT(FORCE, UNIT, FORCE));
+        m[k] = fc_add(ar, fc_acc_result(ar, lever_moment[k], FC_SHIFT(FORCE, LEVER, MOMENT)),
+                      fc_acc_result(ar, torque_moment[k], FC_SHIFT(MOMENT, UNIT, MOMENT)));
+    }
+    *force_n = fc_vec3_make(f[0], f[1], f[2]);
+    *moment_nm = fc_vec3_make(m[0], m[1], m[2]);
+}
+
+void fc_allocation_forward_wrench(fc_allocation *a, const fc_real *speed, fc_vec3 *force_n,
+                                  fc_vec3 *moment_nm)
+{
+    if (a->ready == 0u) {
+        *force_n = fc_vec3_zero();
+        *moment_nm = fc_vec3_zero();
+        return;
+    }
+    forward_model(a, speed, force_n, moment_nm, NULL);
+}
+
+void fc_allocation_forward(fc_allocation *a, const fc_real *speed, fc_real *thrust_n,
+                           fc_vec3 *moment_nm)
+{
+    fc_vec3 force;
+    fc_allocation_forward_wrench(a, speed, &force, moment_nm);
+    *thrust_n = force.z;
+}
+
+/* delta(v) = sum Q_max,i d_i (v_i^(s/r) - v_i): the reaction torque the linear
+ * model misses when r != s (rotors with r = s add nothing). */
+static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
+{
+    fc_arith *ar = &a->ar;
+    fc_acc sum[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        if ((r->flags & ROTOR_NONLINEAR) == 0u) {
+            continue;
+        }
+        const fc_real v_unit = fc_convert(ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
+        const fc_real excess =
+            fc_sub(ar, fc_pow_unit(ar, v_unit, r->exponent_ratio), v_unit); /* u^s - u^r */
+        const fc_real torque = fc_mul(ar, r->torque_max_nm, excess, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        for (int k = 0; k < 3; k++) {
+            sum[k] = fc_acc_mac(sum[k], torque, component(r->axis_unit, k));
+        }
+    }
+    return fc_vec3_make(fc_acc_result(ar, sum[0], FC_SHIFT(MOMENT, UNIT, MOMENT)),
+                        fc_acc_result(ar, sum[1], FC_SHIFT(MOMENT, UNIT, MOMENT)),
+                        fc_acc_result(ar, sum[2], FC_SHIFT(MOMENT, UNIT, MOMENT)));
+}
+
+/* ---- the desaturating linear allocation --------------------------------- */
+
+/* A ratio num/den with den > 0 (both RATIO), kept as the pair: ratios are
+ * compared by cross products and divided once, at the end. */
+typedef struct ratio {
+    fc_real num, den;
+} ratio;
+
+/* The sign of p - q. The products of two RATIO values (below 2^14) fit GAIN. */
+static int ratio_compare(fc_arith *ar, ratio p, ratio q)
+{
+    const fc_real diff = fc_dot2(ar, p.num, q.den, fc_neg(ar, q.num), p.den, FC_SHIFT(RATIO, RATIO, GAIN));
+    return diff < FC_INT(0, GAIN) ? -1 : (diff > FC_INT(0, GAIN) ? 1 : 0);
+}
+
+static fc_real ratio_unit(fc_arith *ar, ratio r)
+{
+    return fc_clamp(fc_div(ar, r.num, r.den, FC_DIV_SHIFT(RATIO, RATIO, UNIT)), FC_INT(0, UNIT),
+                    FC_INT(1, UNIT));
+}
+
+/* The scales s in [0, 1] that satisfy a set of constraints s c <= e. */
+typedef struct scale_interval {
+    ratio low, high;
+    bool zero_violates; /* some constraint fails even at s = 0 (e < 0 <= c) */
+} scale_interval;
+
+static scale_interval interval_full(void)
+{
+    const scale_interval s = {{FC_INT(0, RATIO), FC_INT(1, RATIO)},
+                              {FC_INT(1, RATIO), FC_INT(1, RATIO)},
+                              false};
+    return s;
+}
+
+static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_real e)
+{
+    if (c > FC_INT(0, RATIO)) {
+        /* s <= e / c; below zero it leaves no room at all (s = 0 the least bad) */
+        ratio bound = {fc_max(e, FC_INT(0, RATIO)), c};
+        if (e < FC_INT(0, RATIO)) {
+            s->zero_violates = true;
+        }
+        if (ratio_compare(ar, bound, s->high) < 0) {
+            s->high = bound;
+        }
+    } else if (c < FC_INT(0, RATIO)) {
+        /* s >= e / c = (-e) / (-c), a bound only when above zero */
+        if (e < FC_INT(0, RATIO)) {
+            const ratio bound = {fc_neg(ar, e), fc_neg(ar, c)};
+            if (ratio_compare(ar, bound, s->low) > 0) {
+                s->low = bound;
+            }
+        }
+    } else if (e < FC_INT(0, RATIO)) {
+        s->zero_violates = true;
+        s->high.num = FC_INT(0, RATIO);
+    }
+}
+
+static bool interval_feasible(fc_arith *ar, const scale_interval *s)
+{
+    return !s->zero_violates && ratio_compare(ar, s->low, s->high) <= 0;
+}
+
+/* The room for the yaw scale b: every rotor v_min <= base_i + b Y_i <= 1. */
+static scale_interval yaw_room(fc_allocation *a, const fc_real *base, const fc_real *yaw)
+{
+    fc_arith *ar = &a->ar;
+    scale_interval room = interval_full();
+    for (int i = 0; i < a->rotor_count; i++) {
+        interval_constrain(ar, &room, yaw[i], fc_sub(ar, FC_INT(1, RATIO), base[i]));
+        interval_constrain(ar, &room, fc_neg(ar, yaw[i]), fc_sub(ar, base[i], a->rotor[i].v_min));
+    }
+    return room;
+}
+
+/* The FC_SAT_* bit of a row (0 F_z, 1 M_x, 2 M_y, 3 M_z) short in the positive
+ * (demand above what was given) or negative direction. */
+static uint8_t sat_bit(int row, bool positive)
+{
+    switch (row) {
+    case 0:
+        return positive ? FC_SAT_THRUST_HIGH : FC_SAT_THRUST_LOW;
+    case 1:
+        return positive ? FC_SAT_ROLL_POS : FC_SAT_ROLL_NEG;
+    case 2:
+        return positive ? FC_SAT_PITCH_POS : FC_SAT_PITCH_NEG;
+    default:
+        return positive ? FC_SAT_YAW_POS : FC_SAT_YAW_NEG;
+    }
+}
+
+static uint8_t direction_bit(fc_real demand, int row)
+{
+    if (demand > FC_INT(0, RATIO)) {
+        return sat_bit(row, true);
+    }
+    if (demand < FC_INT(0, RATIO)) {
+        return sat_bit(row, false);
+    }
+    return 0u;
+}
+
+/* The demand clamped to what all rotors together can give per axis (roll and
+ * pitch scaled together), then normalised: x = D w (exact in fixed, D holds
+ * powers of two). Returns the bits of the clamped axes. */
+static uint8_t normalise_demand(fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm, fc_real *x)
+{
+    fc_arith *ar = &a->ar;
+    uint8_t saturation = 0u;
+    fc_real w[ROWS] = {thrust_n, moment_nm.x, moment_nm.y, moment_nm.z};
+    for (int k = 0; k < ROWS; k += 3) { /* F_z and M_z on their own */
+        const fc_real limit = a->demand_limit[k];
+        if (w[k] > limit) {
+            w[k] = limit;
+            saturation |= sat_bit(k, true);
+        } else if (w[k] < fc_neg(ar, limit)) {
+            w[k] = fc_neg(ar, limit);
+            saturation |= sat_bit(k, false);
+        }
+    }
+    fc_real keep = FC_INT(1, UNIT); /* roll/pitch: one factor, the direction kept */
+    for (int k = 1; k <= 2; k++) {
+        const fc_real size = fc_abs(ar, w[k]);
+        if (size > a->demand_limit[k]) {
+            keep = fc_min(keep, fc_div(ar, a->demand_limit[k], size, FC_DIV_SHIFT(MOMENT, MOMENT, UNIT)));
+        }
+    }
+    if (keep < FC_INT(1, UNIT)) {
+        saturation |= direction_bit(w[1], 1) | direction_bit(w[2], 2);
+        w[1] = fc_mul(ar, w[1], keep, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        w[2] = fc_mul(ar, w[2], keep, FC_SHIFT(MOMENT, UNIT, MOMENT));
+    }
+    x[0] = fc_mul(ar, w[0], a->row_scale[0], FC_SHIFT(FORCE, GAIN, RATIO));
+    for (int k = 1; k < ROWS; k++) {
+        x[k] = fc_mul(ar, w[k], a->row_scale[k], FC_SHIFT(MOMENT, GAIN, RATIO));
+    }
+    return saturation;
+}
+
+/* v (RATIO, in [v_min, 1]) for the wrench [thrust_n; moment_nm], with the
+ * priorities of fc/allocation.h; returns the FC_SAT_* bits. */
+static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm, fc_real *v)
+{
+    fc_arith *ar = &a->ar;
+    const int n = a->rotor_count;
+    fc_real x[ROWS];
+    uint8_t saturation = normalise_demand(a, thrust_n, moment_nm, x);
+
+    /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
+    fc_real roll_pitch[FC_MAX_ROTORS] = {0};
+    fc_real yaw[FC_MAX_ROTORS] = {0};
+    for (int i = 0; i < n; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        roll_pitch[i] =
+            fc_dot2(ar, r->pinv[1], x[1], r->pinv[2], x[2], FC_SHIFT(MAT, RATIO, RATIO));
+        yaw[i] = fc_mul(ar, r->pinv[3], x[3], FC_SHIFT(MAT, RATIO, RATIO));
+        v[i] = fc_add(ar, fc_mul(ar, x[0], r->pinv[0], FC_SHIFT(RATIO, MAT, RATIO)), roll_pitch[i]);
+    }
+
+    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
+    scale_interval room = yaw_room(a, v, yaw);
+    fc_real roll_pitch_scale = FC_INT(1, UNIT);
+    if (!interval_feasible(ar, &room)) {
+        /* 3. roll/pitch last: the largest a in [0, 1] for which some t fits
+         * every rotor with no yaw. Rotor i bounds t to [low_i - a s_i,
+         * high_i - a s_i] with s_i = q_i R_i (derive_inverse); every lower bound
+         * must stay below every upper one: a (s_j - s_i) <= high_j - low_i */
+        fc_real shift_rate[FC_MAX_ROTORS];
+        for (int i = 0; i < n; i++) {
+            shift_rate[i] =
+                fc_mul(ar, a->rotor[i].shift_gain, roll_pitch[i], FC_SHIFT(RATIO, RATIO, RATIO));
+        }
+        scale_interval fit = interval_full();
+        for (int j = 0; j < n; j++) {
+            if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
+                continue;
+            }
+            for (int i = 0; i < n; i++) {
+                if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
+                    interval_constrain(ar, &fit, fc_sub(ar, shift_rate[j], shift_rate[i]),
+                                       fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low));
+                }
+            }
+        }
+        roll_pitch_scale = ratio_unit(ar, fit.high);
+
+        /* 2. then the collective: the demand clamped to the interval that fits a R */
+        fc_real t_low = FC_REAL_MIN;
+        fc_real t_high = FC_REAL_MAX;
+        for (int i = 0; i < n; i++) {
+            const fc_allocation_rotor *r = &a->rotor[i];
+            if ((r->flags & ROTOR_SHIFTS) != 0u) {
+                const fc_real moved =
+                    fc_mul(ar, roll_pitch_scale, shift_rate[i], FC_SHIFT(UNIT, RATIO, RATIO));
+                t_low = fc_max(t_low, fc_sub(ar, r->shift_low, moved));
+                t_high = fc_min(t_high, fc_sub(ar, r->shift_high, moved));
+            }
+        }
+        fc_real t;
+        if (t_low > t_high) {
+            /* empty by a rounding (or a geometry that cannot hover): the middle */
+            t = fc_mul(ar, fc_add(ar, t_low, t_high), FC_C(0.5f, UNIT), FC_SHIFT(RATIO, UNIT, RATIO));
+        } else {
+            t = fc_clamp(x[0], t_low, t_high);
+        }
+        if (t < x[0]) {
+            saturation |= FC_SAT_THRUST_HIGH;
+        } else if (t > x[0]) {
+            saturation |= FC_SAT_THRUST_LOW;
+        }
+        if (roll_pitch_scale < FC_INT(1, UNIT)) {
+            saturation |= direction_bit(x[1], 1) | direction_bit(x[2], 2);
+        }
+        for (int i = 0; i < n; i++) {
+            v[i] = fc_add(ar, fc_mul(ar, t, a->rotor[i].pinv[0], FC_SHIFT(RATIO, MAT, RATIO)),
+                          fc_mul(ar, roll_pitch_scale, roll_pitch[i], FC_SHIFT(UNIT, RATIO, RATIO)));
+        }
+        /* b = 0 fits by construction: only the upper bounds of b matter */
+        room = yaw_room(a, v, yaw);
+    }
+    /* 1. yaw: the largest b that fits */
+    const fc_real yaw_scale = ratio_unit(ar, room.high);
+    if (yaw_scale < FC_INT(1, UNIT)) {
+        saturation |= direction_bit(x[3], 3);
+    }
+    for (int i = 0; i < n; i++) {
+        v[i] = fc_add(ar, v[i], fc_mul(ar, yaw_scale, yaw[i], FC_SHIFT(UNIT, RATIO, RATIO)));
+        v[i] = fc_clamp(v[i], a->rotor[i].v_min, FC_INT(1, RATIO));
+    }
+    return saturation;
+}
+
+/* ---- step -------------------------------------------------------------- */
+
+static bool demand_is_finite(const fc_allocation_demand *d)
+{
+    return fc_is_finite(d->thrust_n) && fc_vec3_is_finite(d->moment_nm);
+}
+
+fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
+                                  fc_allocation_output *out)
+{
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        out->speed[i] = FC_INT(0, UNIT);
+        out->rotor_thrust_n[i] = FC_INT(0, FORCE);
+    }
+    out->thrust_n = FC_INT(0, FORCE);
+    out->moment_nm = fc_vec3_zero();
+    out->saturation = 0u;
+    if (a->ready == 0u) {
+        return FC_STEP_NOT_READY;
+    }
+    a->ar.saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+
+    fc_allocation_demand demand;
+    if (d == NULL || !demand_is_finite(d)) {
+        demand = a->last_good;
+        status |= FC_STEP_BAD_INPUT;
+    } else {
+        demand = *d;
+        a->last_good = *d;
+    }
+
+    fc_real v[FC_MAX_ROTORS];
+    uint8_t saturation;
+    if (a->nonlinear != 0u) {
+        /* r != s: iterate on the linear solution with the torque correction,
+         * warm-started from the last step's (fc/allocation.h) */
+        fc_vec3 delta = a->delta_warm_nm;
+        saturation = allocate_linear(a, demand.thrust_n,
+                                     fc_vec3_sub(&a->ar, demand.moment_nm, delta), v);
+        for (int pass = 0; pass < a->newton_iterations; pass++) {
+            delta = torque_correction(a, v);
+            saturation = allocate_linear(a, demand.thrust_n,
+                                         fc_vec3_sub(&a->ar, demand.moment_nm, delta), v);
+        }
+        a->delta_warm_nm = torque_correction(a, v);
+    } else {
+        saturation = allocate_linear(a, demand.thrust_n, demand.moment_nm, v);
+    }
+
+    /* u = v^(1/r) */
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        const fc_real v_unit = fc_convert(&a->ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u
+                              ? fc_sqrt(&a->ar, v_unit, FC_UNIT_FRAC)
+                              : fc_pow_unit(&a->ar, v_unit, r->inv_thrust_exponent);
+        out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+    }
+
+    fc_vec3 force;
+    forward_model(a, out->speed, &force, &out->moment_nm, out->rotor_thrust_n);
+    out->thrust_n = force.z;
+    out->saturation = saturation;
+    if (saturation != 0u) {
+        status |= FC_STEP_OUTPUT_LIMITED;
+    }
+    if (a->ar.saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
+
+/* ---- matrices for the oracle --------------------------------------------- */
+
+fc_mat_status fc_allocation_effectiveness(const fc_allocation *a, fc_mat *out)
+{
+    if (a->ready == 0u) {
+        (void)fc_mat_zero(out, 0, 0);
+        return FC_MAT_BAD_SIZE;
+    }
+    fc_arith ar = {0u};
+    (void)fc_mat_zero(out, ROWS, a->rotor_count);
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        out->a[0][i] = fc_mul(&ar, r->thrust_max_n, r->axis_unit.z, FC_SHIFT(FORCE, UNIT, MAT));
+        for (int k = 1; k < ROWS; k++) {
+            out->a[k][i] = fc_add(&ar,
+                                  fc_mul(&ar, r->thrust_max_n, component(r->lever_m, k - 1),
+                                         FC_SHIFT(FORCE, LEVER, MAT)),
+                                  fc_mul(&ar, r->torque_max_nm, component(r->axis_unit, k - 1),
+                                         FC_SHIFT(MOMENT, UNIT, MAT)));
+        }
+    }
+    return FC_MAT_OK;
+}
+
+fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out,
+                                                     fc_real *row_scale)
+{
+    if (a->ready == 0u) {
+        (void)fc_mat_zero(out, 0, 0);
+        return FC_MAT_BAD_SIZE;
+    }
+    fc_arith ar = {0u};
+    (void)build_normalised(&ar, a, out);
+    if (row_scale != NULL) {
+        for (int k = 0; k < ROWS; k++) {
+            row_scale[k] = a->row_scale[k];
+        }
+    }
+    return FC_MAT_OK;
+}
+
+fc_mat_status fc_allocation_pinv_normalised(const fc_allocation *a, fc_mat *out)
+{
+    if (a->ready == 0u) {
+        (void)fc_mat_zero(out, 0, 0);
+        return FC_MAT_BAD_SIZE;
+    }
+    (void)fc_mat_zero(out, a->rotor_count, ROWS);
+    for (int i = 0; i < a->rotor_count; i++) {
+        for (int k = 0; k < ROWS; k++) {
+            out->a[i][k] = a->rotor[i].pinv[k];
+        }
+    }
+    return FC_MAT_OK;
+}
+
+/* ---- presets (FC_C constants only) -------------------------------------- */
+
+/* A rotor in the body xy-plane, thrust along +z, r = s = 2. */
+static void planar_rotor(fc_rotor_params *r, fc_real x_m, fc_real y_m, fc_real thrust_max_n,
+                         fc_real torque_max_nm, fc_real speed_min)
+{
+    r->axis_unit = fc_vec3_make(FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(1, UNIT));
+    r->position_m = fc_vec3_make(x_m, y_m, FC_INT(0, LENGTH));
+    r->thrust_max_n = thrust_max_n;
+    r->torque_max_nm = torque_max_nm;
+    r->thrust_exponent = FC_C(2.0f, RATIO);
+    r->torque_exponent = FC_C(2.0f, RATIO);
+    r->speed_min = speed_min;
+}
+
+static void clear_params(fc_allocation_params *p)
+{
+    *p = (fc_allocation_params){0};
+    p->newton_iterations = 2u;
+}
+
+/* Quad-X, rotors front-right, back-right, back-left, front-left (Crazyflie
+ * M1..M4); M1 and M3 react along -z. */
+static void quad_x(fc_allocation_params *p, fc_real half_span_m, fc_real minus_half_span_m,
+                   fc_real thrust_max_n, fc_real torque_max_nm, fc_real minus_torque_max_nm,
+                   fc_real speed_min)
+{
+    clear_params(p);
+    p->rotor_count = 4u;
+    planar_rotor(&p->rotor[0], half_span_m, minus_half_span_m, thrust_max_n, minus_torque_max_nm,
+                 speed_min);
+    planar_rotor(&p->rotor[1], minus_half_span_m, minus_half_span_m, thrust_max_n, torque_max_nm,
+                 speed_min);
+    planar_rotor(&p->rotor[2], minus_half_span_m, half_span_m, thrust_max_n, minus_torque_max_nm,
+                 speed_min);
+    planar_rotor(&p->rotor[3], half_span_m, half_span_m, thrust_max_n, torque_max_nm, speed_min);
+}
+
+void fc_allocation_preset_crazyflie2(fc_allocation_params *p)
+{
+    /* arm 0.046 m at 45 deg; THRUST_MAX 0.12 N; torque/thrust 0.00699 m;
+     * u_min = sqrt(THRUST_MIN / THRUST_MAX) = sqrt(0.0128 / 0.12) */
+    quad_x(p, FC_C(0.046f * 0.70710678f, LENGTH), FC_C(-0.046f * 0.70710678f, LENGTH),
+           FC_C(0.12f, FORCE), FC_C(0.12f * 0.00699f, MOMENT), FC_C(-0.12f * 0.00699f, MOMENT),
+           FC_C(0.32659863f, UNIT));
+}
+
+void fc_allocation_preset_f450(fc_allocation_params *p)
+{
+    quad_x(p, FC_C(0.225f * 0.70710678f, LENGTH), FC_C(-0.225f * 0.70710678f, LENGTH),
+           FC_C(8.0f, FORCE), FC_C(8.0f * 0.016f, MOMENT), FC_C(-8.0f * 0.016f, MOMENT),
+           FC_C(0.15f, UNIT));
+}
+
+void fc_allocation_preset_hexa_x_4kg(fc_allocation_params *p)
+{
+    /* 0.45 m arms at -30, 30, 90, 150, 210, 270 deg from the nose (counter-
+     * clockwise seen from above); T_max = 2 * 4 kg * 9.81 m/s^2 / 6 = 13.08 N */
+    clear_params(p);
+    p->rotor_count = 6u;
+    const fc_real thrust = FC_C(13.08f, FORCE);
+    const fc_real torque = FC_C(13.08f * 0.016f, MOMENT);
+    const fc_real minus_torque = FC_C(-13.08f * 0.016f, MOMENT);
+    const fc_real speed_min = FC_C(0.15f, UNIT);
+    const fc_real x_far = FC_C(0.45f * 0.86602540f, LENGTH); /* 0.45 cos 30 deg */
+    const fc_real x_far_neg = FC_C(-0.45f * 0.86602540f, LENGTH);
+    const fc_real y_near = FC_C(0.225f, LENGTH); /* 0.45 sin 30 deg */
+    const fc_real y_near_neg = FC_C(-0.225f, LENGTH);
+    planar_rotor(&p->rotor[0], x_far, y_near_neg, thrust, minus_torque, speed_min);
+    planar_rotor(&p->rotor[1], x_far, y_near, thrust, torque, speed_min);
+    planar_rotor(&p->rotor[2], FC_INT(0, LENGTH), FC_C(0.45f, LENGTH), thrust, minus_torque,
+                 speed_min);
+    planar_rotor(&p->rotor[3], x_far_neg, y_near, thrust, torque, speed_min);
+    planar_rotor(&p->rotor[4], x_far_neg, y_near_neg, thrust, minus_torque, speed_min);
+    planar_rotor(&p->rotor[5], FC_INT(0, LENGTH), FC_C(-0.45f, LENGTH), thrust, torque, speed_min);
+}

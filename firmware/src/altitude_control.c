@@ -23,22 +23,27 @@ void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real d
     /* thrust in [0, 2 x weight] as in the dissertation's simulation */
     p->thrust_min_n = FC_INT(0, FORCE);
     p->thrust_max_n = fc_mul(&ar, mass_kg, FC_C(2.0f * 9.81f, ACCEL), FC_SHIFT(MASS, ACCEL, FORCE));
-    /* 4.4: tau_av = 0.1, K1 = l0 = 2, a_m = 5, kappa_m = 1, rho = 50, gamma = 5 */
+    /* 4.4: tau_av = 0.1, K1 = l0 = 2, a_m = 5, kappa_m = 1, rho = 50, gamma = 5, for
+     * its 4 kg vehicle. For another mass the law is scaled so that the closed
+     * loop is the same in accelerations: forces (rho, delta, k0 |sigma|) and
+     * Theta's gain gamma scale with m / 4 kg, kappa_m (acceleration per newton)
+     * with 4 kg / m; l0, a_m and tau_av are rates and stay. */
+    const fc_real mass_ratio = fc_mul(&ar, mass_kg, FC_C(0.25f, RATIO), FC_SHIFT(MASS, RATIO, RATIO));
     p->l0_per_s = FC_C(2.0f, GAIN);
     p->tau_av_s = FC_C(0.1f, DT);
     p->a_m_per_s = FC_C(5.0f, GAIN);
-    p->kappa_m_per_kg = FC_C(1.0f, GAIN);
-    p->rho_n = FC_C(50.0f, FORCE);
-    p->delta_n = FC_C(0.5f, FORCE);
-    p->k0_ns_per_m = FC_C(1.0f, GAIN);
+    p->kappa_m_per_kg = fc_div(&ar, FC_C(1.0f, GAIN), mass_ratio, FC_DIV_SHIFT(GAIN, RATIO, GAIN));
+    p->rho_n = fc_mul(&ar, FC_C(50.0f, FORCE), mass_ratio, FC_SHIFT(FORCE, RATIO, FORCE));
+    p->delta_n = fc_mul(&ar, FC_C(0.5f, FORCE), mass_ratio, FC_SHIFT(FORCE, RATIO, FORCE));
+    p->k0_ns_per_m = fc_mul(&ar, FC_C(1.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     p->tau_f_s = FC_C(0.01f, DT);
-    /* eta majorant for tau_f = 0.01 s, kappa_m = 0.5, kp in [1/5, 1.1/3] (the
+    /* eta majorant for tau_f = 0.01 s, kappa_m = 0.5 (4 kg), kp in [1/5, 1.1/3] (the
      * impulse response computed over that range; tests/unit/test_altitude_control.c
-     * checks the bound in closed loop) */
+     * checks the bound in closed loop); c_s scales like 1/kappa_m */
     p->eta_fast_rate_per_s = FC_C(30.0f, GAIN);
     p->eta_slow_rate_per_s = FC_C(0.7f, GAIN);
-    p->eta_slow_gain_kg_per_s = FC_C(25.0f, GAIN);
-    p->gamma = FC_C(5.0f, GAIN);
+    p->eta_slow_gain_kg_per_s = fc_mul(&ar, FC_C(25.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
+    p->gamma = fc_mul(&ar, FC_C(5.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     /* baselines, tuned by the rules in the header for w_v = 8 rad/s, zeta = 1,
      * and the disturbance bounds of 4.4 */
     p->boundary_layer_mps = FC_C(0.05f, VEL);
@@ -108,6 +113,7 @@ static bool params_valid(const fc_altitude_control_params *p)
 void fc_altitude_control_variant_params(fc_altitude_control_params *p, fc_altitude_variant v, fc_real dt_s,
                                         fc_real mass_kg)
 {
+    fc_arith ar = {0u};
     fc_altitude_control_default_params(p, dt_s, mass_kg);
     switch (v) {
     case FC_ALT_VARIANT_SSC_ADAPTIVE:
@@ -127,7 +133,7 @@ void fc_altitude_control_variant_params(fc_altitude_control_params *p, fc_altitu
     case FC_ALT_VARIANT_SSC_REL2_ADAPTIVE:
     case FC_ALT_VARIANT_SSC_REL2_NORM:
         p->velocity_measured = false;
-        p->kappa_m_per_kg = FC_C(0.5f, GAIN);
+        p->kappa_m_per_kg = fc_mul(&ar, p->kappa_m_per_kg, FC_C(0.5f, RATIO), FC_SHIFT(GAIN, RATIO, GAIN));
         p->adaptive = v == FC_ALT_VARIANT_SSC_REL2_ADAPTIVE;
         if (v == FC_ALT_VARIANT_SSC_REL2_NORM) {
             p->modulation = FC_SSC_MODULATION_NORM_OBSERVER;

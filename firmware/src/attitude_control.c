@@ -1,2 +1,271 @@
+/* attitude_control.c - quaternion attitude control (fc/attitude_control.h).
+ * One source for both backends; the math is written out in the header. */
 #include "fc/attitude_control.h"
-typedef int fc_attitude_control_placeholder;
+
+#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
+
+/* Parameter ranges: inside the fixed format of each field, in both backends
+ * (so the float build cannot overflow to inf either). */
+#define MAX_DT_S FC_C(1.0f, DT)
+#define MAX_INERTIA_KGM2 FC_C(1.99f, INERTIA)
+#define MAX_GAIN FC_C(30000.0f, GAIN)
+#define MAX_INTEGRAL_LIMIT FC_C(4.0f, ANGLE)
+#define MAX_MOMENT_LIMIT_NM FC_C(100.0f, MOMENT)
+/* Rates beyond this are out of range (a gyro reads up to 35 rad/s). */
+#define MAX_RATE_RADPS FC_C(100.0f, RATE)
+/* Below this |w^2 + z^2| of the error the heading is undefined (header). */
+#define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT)
+/* A held moment below this is zero (fixed rounding would stall the decay). */
+#define HOLD_ZERO_NM FC_C(1.0e-6f, MOMENT)
+
+static bool finite_in(fc_real x, fc_real lo, fc_real hi)
+{
+    return fc_is_finite(x) && x >= lo && x <= hi;
+}
+
+static bool positive_upto(fc_real x, fc_real max)
+{
+    return fc_is_finite(x) && x > FC_INT(0, UNIT) && x <= max;
+}
+
+static bool vec_positive_upto(fc_vec3 v, fc_real max)
+{
+    return positive_upto(v.x, max) && positive_upto(v.y, max) && positive_upto(v.z, max);
+}
+
+static bool vec_in(fc_vec3 v, fc_real lo, fc_real hi)
+{
+    return finite_in(v.x, lo, hi) && finite_in(v.y, lo, hi) && finite_in(v.z, lo, hi);
+}
+
+static bool params_valid(const fc_attitude_control_params *p)
+{
+    const fc_real zero = FC_INT(0, UNIT);
+    return positive_upto(p->dt_s, MAX_DT_S) && vec_positive_upto(p->inertia_kgm2, MAX_INERTIA_KGM2) &&
+           vec_in(p->kp_per_s2, zero, MAX_GAIN) && vec_in(p->kd_per_s, zero, MAX_GAIN) &&
+           vec_in(p->ki_per_s3, zero, MAX_GAIN) &&
+           vec_positive_upto(p->integral_limit_rad, MAX_INTEGRAL_LIMIT) &&
+           finite_in(p->yaw_weight, FC_INT(0, RATIO), FC_INT(1, RATIO)) &&
+           vec_positive_upto(p->moment_limit_nm, MAX_MOMENT_LIMIT_NM);
+}
+
+fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitude_control_params *p)
+{
+    c->ready = 0u;
+    c->ar.saturated = 0u;
+    c->p = *p;
+    c->integral_rad_s = fc_vec3_zero();
+    c->last_moment_nm = fc_vec3_zero();
+    c->last_error_rad = fc_vec3_zero();
+    c->inertia_diff_kgm2 = fc_vec3_zero();
+    c->hold_decay = FC_INT(0, UNIT);
+    if (!params_valid(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    fc_arith ar = {0u};
+    const fc_vec3 j = p->inertia_kgm2;
+    /* w x J w = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for diagonal J */
+    c->inertia_diff_kgm2 = fc_vec3_make(fc_sub(&ar, j.z, j.y), fc_sub(&ar, j.x, j.z), fc_sub(&ar, j.y, j.x));
+    /* ZOH pole of the decay of the held moment: e^(-dt/tau) */
+    const fc_real dt_over_tau =
+        fc_mul(&ar, p->dt_s, FC_C(1.0f / FC_ATTITUDE_CONTROL_HOLD_TAU_S, RATIO), FC_SHIFT(DT, RATIO, RATIO));
+    c->hold_decay = fc_exp_neg(&ar, dt_over_tau);
+    if (ar.saturated != 0u) {
+        return FC_INIT_BAD_PARAM;
+    }
+    c->ready = 1u;
+    return FC_INIT_OK;
+}
+
+void fc_attitude_control_reset(fc_attitude_control *c)
+{
+    c->integral_rad_s = fc_vec3_zero();
+}
+
+void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real dt_s, fc_vec3 inertia_kgm2)
+{
+    fc_arith ar = {0u};
+    const fc_real kp_tilt =
+        FC_C(FC_ATTITUDE_CONTROL_DEFAULT_WN_TILT * FC_ATTITUDE_CONTROL_DEFAULT_WN_TILT, GAIN);
+    const fc_real kd_tilt =
+        FC_C(2.0f * FC_ATTITUDE_CONTROL_DEFAULT_ZETA_TILT * FC_ATTITUDE_CONTROL_DEFAULT_WN_TILT, GAIN);
+    const fc_real kp_yaw =
+        FC_C(FC_ATTITUDE_CONTROL_DEFAULT_WN_YAW * FC_ATTITUDE_CONTROL_DEFAULT_WN_YAW, GAIN);
+    const fc_real kd_yaw =
+        FC_C(2.0f * FC_ATTITUDE_CONTROL_DEFAULT_ZETA_YAW * FC_ATTITUDE_CONTROL_DEFAULT_WN_YAW, GAIN);
+    p->dt_s = dt_s;
+    p->inertia_kgm2 = inertia_kgm2;
+    p->kp_per_s2 = fc_vec3_make(kp_tilt, kp_tilt, kp_yaw);
+    p->kd_per_s = fc_vec3_make(kd_tilt, kd_tilt, kd_yaw);
+    p->ki_per_s3 = fc_vec3_make(FC_INT(0, GAIN), FC_INT(0, GAIN), FC_INT(0, GAIN));
+    p->integral_limit_rad = fc_vec3_make(FC_C(0.2f, ANGLE), FC_C(0.2f, ANGLE), FC_C(0.2f, ANGLE));
+    p->yaw_weight = FC_INT(1, RATIO);
+    p->moment_limit_nm = fc_vec3_scale(&ar, inertia_kgm2, FC_C(FC_ATTITUDE_CONTROL_DEFAULT_ALPHA_MAX, GAIN),
+                                       FC_SHIFT(INERTIA, GAIN, MOMENT));
+}
+
+static bool rate_valid(fc_vec3 r)
+{
+    return vec_in(r, -MAX_RATE_RADPS, MAX_RATE_RADPS);
+}
+
+/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. */
+static fc_vec3 attitude_error(fc_arith *ar, fc_quat q, fc_quat qd)
+{
+    /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
+    const fc_quat e = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, qd), q));
+    /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
+    const fc_real n_sq = fc_dot2(ar, e.w, e.w, e.z, e.z, UNIT_X_UNIT);
+    fc_real c = FC_INT(1, UNIT);
+    fc_real s = FC_INT(0, UNIT);
+    if (n_sq >= MIN_HEADING_NORM_SQ) {
+        /* 1/N in [1, 100]: RATIO */
+        const fc_real inv_n = fc_rsqrt(ar, n_sq, FC_UNIT_FRAC, FC_RATIO_FRAC);
+        c = fc_mul(ar, e.w, inv_n, FC_SHIFT(UNIT, RATIO, UNIT));
+        s = fc_mul(ar, e.z, inv_n, FC_SHIFT(UNIT, RATIO, UNIT));
+    }
+    /* tilt: the vector part (x, y) turned by -psi_e/2, i.e. the vector part of
+     * the reduced-attitude quaternion; products of UNIT values taken to ANGLE */
+    const int to_angle = FC_SHIFT(UNIT, UNIT, ANGLE);
+    const fc_real half_tx = fc_dot2(ar, e.x, c, e.y, s, to_angle);
+    const fc_real half_ty = fc_dot2(ar, e.y, c, fc_neg(ar, e.x), s, to_angle);
+    const fc_real half_hz = fc_convert(ar, s, FC_UNIT_FRAC, FC_ANGLE_FRAC);
+    return fc_vec3_make(fc_add(ar, half_tx, half_tx), fc_add(ar, half_ty, half_ty),
+                        fc_add(ar, half_hz, half_hz));
+}
+
+/* alpha = -(kp e + ki I + kd r): rad/s^2 in GAIN. */
+static fc_real angular_accel(fc_arith *ar, fc_real kp, fc_real e, fc_real ki, fc_real integral, fc_real kd,
+                             fc_real rate_err)
+{
+    const fc_real pi = fc_dot2(ar, kp, e, ki, integral, FC_SHIFT(GAIN, ANGLE, GAIN));
+    const fc_real d = fc_mul(ar, kd, rate_err, FC_SHIFT(GAIN, RATE, GAIN));
+    return fc_neg(ar, fc_add(ar, pi, d));
+}
+
+/* Conditional integration of one axis (header: anti-windup). The integral acts
+ * as -ki I on the moment: a positive step of I pushes the moment negative. */
+static fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real e, fc_real dt, fc_real ki,
+                              fc_real limit, bool blocked_pos, bool blocked_neg)
+{
+    if (!(ki > FC_INT(0, GAIN))) {
+        return FC_INT(0, ANGLE);
+    }
+    const fc_real step = fc_mul(ar, e, dt, FC_SHIFT(ANGLE, DT, ANGLE));
+    if ((step > FC_INT(0, ANGLE) && blocked_neg) || (step < FC_INT(0, ANGLE) && blocked_pos)) {
+        return integral;
+    }
+    return fc_clamp(fc_add(ar, integral, step), fc_neg(ar, limit), limit);
+}
+
+/* Roll and pitch scaled down together into their box (the tilt axis is kept);
+ * yaw clamped on its own. */
+static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
+{
+    const fc_real abs_x = fc_abs(ar, m.x);
+    const fc_real abs_y = fc_abs(ar, m.y);
+    if (abs_x > limit.x || abs_y > limit.y) {
+        const int ratio_shift = FC_DIV_SHIFT(MOMENT, MOMENT, UNIT);
+        fc_real f = FC_INT(1, UNIT);
+        if (abs_x > limit.x) {
+            f = fc_min(f, fc_div(ar, limit.x, abs_x, ratio_shift));
+        }
+        if (abs_y > limit.y) {
+            f = fc_min(f, fc_div(ar, limit.y, abs_y, ratio_shift));
+        }
+        m.x = fc_mul(ar, m.x, f, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        m.y = fc_mul(ar, m.y, f, FC_SHIFT(MOMENT, UNIT, MOMENT));
+    }
+    /* the hard clamp catches the last rounding of the scaling */
+    return fc_vec3_make(fc_clamp(m.x, fc_neg(ar, limit.x), limit.x),
+                        fc_clamp(m.y, fc_neg(ar, limit.y), limit.y),
+                        fc_clamp(m.z, fc_neg(ar, limit.z), limit.z));
+}
+
+static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
+{
+    const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(MOMENT, UNIT, MOMENT));
+    return fc_abs(ar, d) < HOLD_ZERO_NM ? FC_INT(0, MOMENT) : d;
+}
+
+fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
+                                        fc_attitude_control_output *out)
+{
+    c->ar.saturated = 0u;
+    if (c->ready == 0u) {
+        out->moment_nm = fc_vec3_zero();
+        out->attitude_error_rad = fc_vec3_zero();
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &c->ar;
+    const fc_attitude_control_params *p = &c->p;
+    fc_step_status status = FC_STEP_OK;
+
+    bool q_ok = false;
+    bool qd_ok = false;
+    const fc_quat q = fc_quat_normalize(ar, in->attitude, &q_ok);
+    const fc_quat qd = fc_quat_normalize(ar, in->attitude_desired, &qd_ok);
+    const fc_vec3 rate = in->rate_radps;
+    fc_vec3 rate_ff = in->rate_ff_radps;
+    if (!rate_valid(rate_ff)) {
+        rate_ff = fc_vec3_zero(); /* ignored */
+        status |= FC_STEP_BAD_INPUT;
+    }
+
+    fc_vec3 moment;
+    if (!q_ok || !qd_ok || !rate_valid(rate)) {
+        /* hold the last good moment, decaying to zero; integrals frozen */
+        moment = fc_vec3_make(hold_decayed(ar, c->last_moment_nm.x, c->hold_decay),
+                              hold_decayed(ar, c->last_moment_nm.y, c->hold_decay),
+                              hold_decayed(ar, c->last_moment_nm.z, c->hold_decay));
+        status |= FC_STEP_BAD_INPUT;
+    } else {
+        const fc_vec3 err = attitude_error(ar, q, qd);
+        c->last_error_rad = err;
+        const fc_vec3 e =
+            fc_vec3_make(err.x, err.y, fc_mul(ar, err.z, p->yaw_weight, FC_SHIFT(ANGLE, RATIO, ANGLE)));
+        const fc_vec3 rate_err = fc_vec3_sub(ar, rate, rate_ff);
+        const fc_vec3 i = c->integral_rad_s;
+        const fc_vec3 kp = p->kp_per_s2, ki = p->ki_per_s3, kd = p->kd_per_s;
+        const fc_vec3 alpha = fc_vec3_make(angular_accel(ar, kp.x, e.x, ki.x, i.x, kd.x, rate_err.x),
+                                           angular_accel(ar, kp.y, e.y, ki.y, i.y, kd.y, rate_err.y),
+                                           angular_accel(ar, kp.z, e.z, ki.z, i.z, kd.z, rate_err.z));
+        /* M = J alpha + w x J w, each component one rounding; w_i w_j in GAIN (rad^2/s^2) */
+        const int ww_shift = FC_SHIFT(RATE, RATE, GAIN);
+        const fc_vec3 ww =
+            fc_vec3_make(fc_mul(ar, rate.y, rate.z, ww_shift), fc_mul(ar, rate.z, rate.x, ww_shift),
+                         fc_mul(ar, rate.x, rate.y, ww_shift));
+        const fc_vec3 j = p->inertia_kgm2, dj = c->inertia_diff_kgm2;
+        const int m_shift = FC_SHIFT(INERTIA, GAIN, MOMENT);
+        const fc_vec3 raw = fc_vec3_make(fc_dot2(ar, j.x, alpha.x, dj.x, ww.x, m_shift),
+                                         fc_dot2(ar, j.y, alpha.y, dj.y, ww.y, m_shift),
+                                         fc_dot2(ar, j.z, alpha.z, dj.z, ww.z, m_shift));
+        moment = limit_moment(ar, raw, p->moment_limit_nm);
+        if (!fc_vec3_is_finite(moment)) {
+            /* cannot happen with validated parameters and bounded inputs */
+            moment = fc_vec3_zero();
+            ar->saturated = 1u;
+        }
+        if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
+            status |= FC_STEP_OUTPUT_LIMITED;
+        }
+        /* anti-windup: the allocation's report and this step's own clamp */
+        const uint8_t sat = in->allocation_saturation;
+        const fc_vec3 lim = p->integral_limit_rad;
+        const fc_real dt = p->dt_s;
+        c->integral_rad_s = fc_vec3_make(
+            integrate_axis(ar, i.x, e.x, dt, ki.x, lim.x, (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x,
+                           (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x),
+            integrate_axis(ar, i.y, e.y, dt, ki.y, lim.y, (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y,
+                           (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y),
+            integrate_axis(ar, i.z, e.z, dt, ki.z, lim.z, (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z,
+                           (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z));
+    }
+    c->last_moment_nm = moment;
+    out->moment_nm = moment;
+    out->attitude_error_rad = c->last_error_rad;
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}

@@ -1,2 +1,345 @@
+/*
+ * attitude_estimator.c - complementary attitude filter (fc/attitude_estimator.h).
+ * One source for both backends.
+ *
+ * The dissertation (§2.5) names the design: gyro integration corrected by the
+ * accelerometer's vertical, with the gyro bias estimated and less trust in the
+ * accelerometer while the vehicle accelerates. The correction is the explicit
+ * complementary filter with bias correction (Mahony, Hamel and Pflimlin,
+ * IEEE TAC 53(5), 2008) with a single vector measurement, the up direction; the kinematics are the
+ * quaternion form under (2.1), q' = 1/2 q (x) [0, w_body], integrated by the
+ * exponential map.
+ *
+ * Formats of the step's intermediates (fixed backend):
+ *   a          ACCEL  |a_i| <= accel_range <= 256, |a| <= 444 < 512
+ *   1/|a|      RATIO  |a| >= 0.01 m/s2 where it is formed, so <= 100 < 128
+ *   v_a, v_hat UNIT   unit vectors
+ *   e, w e     UNIT   |e| = sin(tilt error) <= 1
+ *   Kp w e     RATE   <= 20 rad/s
+ *   gyro - b + Kp w e  RATE  <= 100 + 0.8 + 20 < 128; times dt <= 2.6 rad per
+ *              component (ANGLE, < 8) inside fc_quat_integrate_body_rate
+ *   b, Ki dt   UNIT   Q30 holding rad/s: |b| <= 0.8, Ki dt = w_c (w_c dt) <= 1, so
+ *              |b - Ki dt w e| <= 1.8 < 2
+ *   weight     RATIO  in [0, 1]
+ *   alignment  ACCEL x UNIT products summed in fc_acc (64 bits in fixed), mean in ACCEL
+ */
 #include "fc/attitude_estimator.h"
-typedef int fc_attitude_estimator_placeholder;
+
+#include <stddef.h>
+
+#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
+
+/* Below this length the accelerometer's direction is not formed (1/|a| would
+ * leave RATIO); with the trust band below g the weight is 0 there anyway. */
+#define MIN_DIRECTION_NORM_MPS2 FC_C(0.01f, ACCEL)
+
+/* ---- defaults and init ------------------------------------------------ */
+
+void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_real dt_s)
+{
+    if (p == NULL) {
+        return;
+    }
+    p->dt_s = dt_s;
+    p->crossover_radps = FC_C(1.0f, RATE);
+    p->damping = FC_C(0.70710678f, RATIO);
+    p->gyro_bias_limit_radps = FC_C(0.2f, RATE);
+    p->gravity_mps2 = FC_C(9.81f, ACCEL);
+    p->accel_trust_band_mps2 = FC_C(2.0f, ACCEL);
+    p->gyro_range_radps = FC_C(35.0f, RATE);              /* 2000 deg/s */
+    p->accel_range_mps2 = FC_C(16.0f * 9.80665f, ACCEL); /* 16 g */
+    p->alignment_samples = 100u;
+}
+
+static bool in_range(fc_real x, fc_real lo, fc_real hi)
+{
+    return fc_is_finite(x) && x >= lo && x <= hi;
+}
+
+static bool params_in_range(const fc_attitude_estimator_params *p)
+{
+    if (!in_range(p->dt_s, FC_INT(0, DT), FC_C(0.1f, DT)) || !(p->dt_s > FC_INT(0, DT))) {
+        return false;
+    }
+    if (!in_range(p->crossover_radps, FC_INT(0, RATE), FC_C(10.0f, RATE)) ||
+        !(p->crossover_radps > FC_INT(0, RATE))) {
+        return false;
+    }
+    if (!in_range(p->damping, FC_INT(0, RATIO), FC_C(10.0f, RATIO)) ||
+        !(p->damping > FC_INT(0, RATIO))) {
+        return false;
+    }
+    if (!in_range(p->gyro_bias_limit_radps, FC_INT(0, RATE), FC_C(0.8f, RATE))) {
+        return false;
+    }
+    if (!in_range(p->gravity_mps2, FC_C(1.0f, ACCEL), FC_C(100.0f, ACCEL))) {
+        return false;
+    }
+    /* the trust reaches 0 before free fall, where the direction is meaningless */
+    if (!in_range(p->accel_trust_band_mps2, FC_C(0.01f, ACCEL), p->gravity_mps2) ||
+        !(p->accel_trust_band_mps2 < p->gravity_mps2)) {
+        return false;
+    }
+    if (!in_range(p->gyro_range_radps, FC_INT(0, RATE), FC_C(100.0f, RATE)) ||
+        !(p->gyro_range_radps > FC_INT(0, RATE))) {
+        return false;
+    }
+    /* a range below g would reject the accelerometer at rest */
+    if (!in_range(p->accel_range_mps2, p->gravity_mps2, FC_C(256.0f, ACCEL)) ||
+        !(p->accel_range_mps2 > p->gravity_mps2)) {
+        return false;
+    }
+    return p->alignment_samples >= 1u && p->alignment_samples <= 32767u;
+}
+
+static void reset_state(fc_attitude_estimator *est)
+{
+    est->ar.saturated = 0u;
+    est->attitude = fc_quat_identity();
+    est->gyro_bias_fine = fc_vec3_zero();
+    est->rate_radps = fc_vec3_zero();
+    est->alignment_sum[0] = fc_acc_zero();
+    est->alignment_sum[1] = fc_acc_zero();
+    est->alignment_sum[2] = fc_acc_zero();
+    est->accel_weight = FC_INT(0, RATIO);
+    est->alignment_count = 0u;
+    est->aligned = false;
+}
+
+fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
+                                          const fc_attitude_estimator_params *p)
+{
+    if (est == NULL) {
+        return FC_INIT_BAD_PARAM;
+    }
+    est->ready = false;
+    reset_state(est);
+    est->kp_radps = FC_INT(0, RATE);
+    est->ki_dt_fine = FC_INT(0, UNIT);
+    est->inv_band_s2pm = FC_INT(0, RATIO);
+    est->inv_alignment_samples = FC_INT(0, UNIT);
+    est->gyro_bias_limit_fine = FC_INT(0, UNIT);
+    if (p == NULL || !params_in_range(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+
+    fc_arith ar = {0u};
+    /* zeta w_c <= 100 and w_c dt <= 1 cannot leave RATE and RATIO */
+    const fc_real zeta_wc = fc_mul(&ar, p->damping, p->crossover_radps, FC_SHIFT(RATIO, RATE, RATE));
+    const fc_real wc_dt = fc_mul(&ar, p->crossover_radps, p->dt_s, FC_SHIFT(RATE, DT, RATIO));
+    const fc_real range_dt = fc_mul(&ar, p->gyro_range_radps, p->dt_s, FC_SHIFT(RATE, DT, RATIO));
+    if (zeta_wc > FC_C(10.0f, RATE) || wc_dt > FC_C(0.1f, RATIO) || range_dt > FC_C(2.0f, RATIO)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    /* Kp = 2 zeta w_c (the factor 2 as an addition: the float backend ignores shifts) */
+    const fc_real kp = fc_add(&ar, zeta_wc, zeta_wc);
+    const fc_real kp_dt = fc_mul(&ar, kp, p->dt_s, FC_SHIFT(RATE, DT, RATIO));
+    if (kp_dt > FC_C(0.5f, RATIO)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    /* Ki = w_c^2 <= 100 (RATE format, s^-2); Ki dt = w_c (w_c dt) <= 1: UNIT format,
+     * rad/s per unit of |e| */
+    const fc_real ki = fc_mul(&ar, p->crossover_radps, p->crossover_radps, FC_SHIFT(RATE, RATE, RATE));
+    const fc_real ki_dt = fc_mul(&ar, ki, p->dt_s, FC_SHIFT(RATE, DT, UNIT));
+    /* 1/band <= 100 (band >= 0.01 m/s2) */
+    const fc_real inv_band =
+        fc_div(&ar, FC_INT(1, RATIO), p->accel_trust_band_mps2, FC_DIV_SHIFT(RATIO, ACCEL, RATIO));
+    /* 1/N as UNIT; N <= 32767 is exact in GAIN */
+    const fc_real inv_n = fc_div(&ar, FC_INT(1, GAIN), FC_INT(p->alignment_samples, GAIN),
+                                 FC_DIV_SHIFT(GAIN, GAIN, UNIT));
+    const fc_real bias_limit = fc_convert(&ar, p->gyro_bias_limit_radps, FC_RATE_FRAC, FC_UNIT_FRAC);
+    if (ar.saturated != 0u) {
+        return FC_INIT_BAD_PARAM;
+    }
+
+    est->p = *p;
+    est->kp_radps = kp;
+    est->ki_dt_fine = ki_dt;
+    est->inv_band_s2pm = inv_band;
+    est->inv_alignment_samples = inv_n;
+    est->gyro_bias_limit_fine = bias_limit;
+    est->ready = true;
+    return FC_INIT_OK;
+}
+
+/* ---- the step ---------------------------------------------------------- */
+
+static bool vec3_within(fc_arith *ar, fc_vec3 v, fc_real range)
+{
+    const fc_real lo = fc_neg(ar, range);
+    return v.x >= lo && v.x <= range && v.y >= lo && v.y <= range && v.z >= lo && v.z <= range;
+}
+
+static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
+{
+    return fc_vec3_is_finite(gyro) && vec3_within(&est->ar, gyro, est->p.gyro_range_radps);
+}
+
+/* A valid accelerometer sample also gives its length (ACCEL). */
+static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_real *norm_mps2)
+{
+    *norm_mps2 = FC_INT(0, ACCEL);
+    if (!fc_vec3_is_finite(accel) || !vec3_within(&est->ar, accel, est->p.accel_range_mps2)) {
+        return false;
+    }
+    /* the one square root of the step */
+    *norm_mps2 = fc_vec3_norm(&est->ar, accel, FC_ACCEL_FRAC);
+    return fc_is_finite(*norm_mps2) && *norm_mps2 > FC_INT(0, ACCEL);
+}
+
+/* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
+static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
+{
+    fc_arith *ar = &est->ar;
+    const fc_real deviation = fc_abs(ar, fc_sub(ar, norm_mps2, est->p.gravity_mps2));
+    if (!(deviation < est->p.accel_trust_band_mps2) || norm_mps2 < MIN_DIRECTION_NORM_MPS2) {
+        return FC_INT(0, RATIO);
+    }
+    /* deviation < band, so the product stays below 1 */
+    const fc_real falloff = fc_mul(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
+    return fc_clamp(fc_sub(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
+}
+
+/* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third
+ * row of the rotation matrix of q. */
+static fc_vec3 estimated_up_body(fc_arith *ar, fc_quat q)
+{
+    const fc_real half_x = fc_dot2(ar, q.x, q.z, fc_neg(ar, q.w), q.y, UNIT_X_UNIT); /* xz - wy */
+    const fc_real half_y = fc_dot2(ar, q.y, q.z, q.w, q.x, UNIT_X_UNIT);             /* yz + wx */
+    const fc_real half_xx_yy = fc_dot2(ar, q.x, q.x, q.y, q.y, UNIT_X_UNIT);         /* x^2 + y^2 */
+    return fc_vec3_make(fc_add(ar, half_x, half_x), fc_add(ar, half_y, half_y),
+                        fc_sub(ar, FC_INT(1, UNIT), fc_add(ar, half_xx_yy, half_xx_yy)));
+}
+
+static fc_vec3 clamp_vec3(fc_arith *ar, fc_vec3 v, fc_real limit)
+{
+    const fc_real lo = fc_neg(ar, limit);
+    return fc_vec3_make(fc_clamp(v.x, lo, limit), fc_clamp(v.y, lo, limit), fc_clamp(v.z, lo, limit));
+}
+
+/* Alignment: accumulate a / N; after N valid samples, roll and pitch of the
+ * mean. The products a_i (1/N) enter the accumulators unrounded: each is at
+ * most max |a| / N, so the sum of N of them stays below max |a| and cannot
+ * wrap, and the mean is rounded once (N roundings of a / N would add up to
+ * N/2 ACCEL LSB). The up direction in the body of q = q_z(yaw) q_y(pitch)
+ * q_x(roll) is (-sin pitch, sin roll cos pitch, cos roll cos pitch). */
+static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
+{
+    fc_arith *ar = &est->ar;
+    const fc_real inv_n = est->inv_alignment_samples;
+    est->alignment_sum[0] = fc_acc_mac(est->alignment_sum[0], accel_mps2.x, inv_n);
+    est->alignment_sum[1] = fc_acc_mac(est->alignment_sum[1], accel_mps2.y, inv_n);
+    est->alignment_sum[2] = fc_acc_mac(est->alignment_sum[2], accel_mps2.z, inv_n);
+    est->alignment_count++;
+    if (est->alignment_count < est->p.alignment_samples) {
+        return;
+    }
+    const int mean_shift = FC_SHIFT(ACCEL, UNIT, ACCEL);
+    const fc_vec3 m = fc_vec3_make(fc_acc_result(ar, est->alignment_sum[0], mean_shift),
+                                   fc_acc_result(ar, est->alignment_sum[1], mean_shift),
+                                   fc_acc_result(ar, est->alignment_sum[2], mean_shift));
+    const fc_real roll = fc_atan2(ar, m.y, m.z);
+    const fc_real pitch = fc_atan2(ar, fc_neg(ar, m.x), fc_hypot3(ar, m.y, m.z, FC_INT(0, ACCEL)));
+    est->attitude = fc_quat_from_rpy(ar, roll, pitch, FC_INT(0, ANGLE));
+    est->aligned = true;
+}
+
+/* One corrected integration step; returns the weight used (RATIO). */
+static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3 accel_mps2,
+                                     fc_real norm_mps2)
+{
+    fc_arith *ar = &est->ar;
+    fc_vec3 rate = est->rate_radps; /* gyro - b, RATE */
+    fc_real weight = FC_INT(0, RATIO);
+    if (accel_ok) {
+        weight = accel_trust(est, norm_mps2);
+    }
+    if (weight > FC_INT(0, RATIO)) {
+        /* v_a = a / |a|: one reciprocal, three products */
+        const fc_real inv_norm =
+            fc_div(ar, FC_INT(1, UNIT), norm_mps2, FC_DIV_SHIFT(UNIT, ACCEL, RATIO));
+        const fc_vec3 up_measured =
+            fc_vec3_scale(ar, accel_mps2, inv_norm, FC_SHIFT(ACCEL, RATIO, UNIT));
+        const fc_vec3 up_estimated = estimated_up_body(ar, est->attitude);
+        /* e = v_a x v_hat, weighted by the trust */
+        const fc_vec3 e = fc_vec3_cross(ar, up_measured, up_estimated, UNIT_X_UNIT);
+        const fc_vec3 we = fc_vec3_scale(ar, e, weight, FC_SHIFT(UNIT, RATIO, UNIT));
+        /* proportional action: Kp w e joins the rate that is integrated */
+        const fc_vec3 proportional = fc_vec3_scale(ar, we, est->kp_radps, FC_SHIFT(UNIT, RATE, RATE));
+        rate = fc_vec3_add(ar, rate, proportional);
+        /* integral action: b' = -Ki w e, forward Euler, clamped per component */
+        const fc_vec3 bias_step = fc_vec3_scale(ar, we, est->ki_dt_fine, UNIT_X_UNIT);
+        est->gyro_bias_fine = clamp_vec3(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step),
+                                         est->gyro_bias_limit_fine);
+    }
+    /* q <- q (x) exp(rate dt / 2), renormalised inside */
+    est->attitude = fc_quat_integrate_body_rate(ar, est->attitude, rate, est->p.dt_s);
+    return weight;
+}
+
+static void write_output(const fc_attitude_estimator *est, fc_arith *ar, fc_attitude_estimate *out)
+{
+    out->attitude = est->aligned ? est->attitude : fc_quat_identity();
+    out->rate_radps = est->rate_radps;
+    out->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+    out->accel_weight = est->accel_weight;
+    out->aligned = est->aligned;
+}
+
+static void write_safe_output(fc_attitude_estimate *out)
+{
+    out->attitude = fc_quat_identity();
+    out->rate_radps = fc_vec3_zero();
+    out->gyro_bias_radps = fc_vec3_zero();
+    out->accel_weight = FC_INT(0, RATIO);
+    out->aligned = false;
+}
+
+fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
+                                          fc_attitude_estimate *out)
+{
+    if (est == NULL || !est->ready) {
+        if (out != NULL) {
+            write_safe_output(out);
+        }
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &est->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+
+    fc_real norm_mps2 = FC_INT(0, ACCEL);
+    const bool gyro_ok = imu != NULL && gyro_valid(est, imu->gyro_radps);
+    const bool accel_ok = imu != NULL && accel_valid(est, imu->accel_mps2, &norm_mps2);
+    if (!gyro_ok || !accel_ok) {
+        status |= FC_STEP_BAD_INPUT;
+    }
+    if (gyro_ok) {
+        /* the bias of the previous step corrects this sample */
+        const fc_vec3 bias = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+        est->rate_radps = fc_vec3_sub(ar, imu->gyro_radps, bias);
+    }
+
+    fc_real weight = FC_INT(0, RATIO);
+    if (!est->aligned) {
+        if (accel_ok) {
+            align(est, imu->accel_mps2);
+        }
+    } else if (gyro_ok) {
+        weight = correct_and_integrate(est, accel_ok, imu->accel_mps2, norm_mps2);
+        if (!(weight > FC_INT(0, RATIO))) {
+            status |= FC_STEP_DEGRADED; /* gyro only */
+        }
+    } else {
+        status |= FC_STEP_DEGRADED; /* attitude held */
+    }
+    est->accel_weight = weight;
+
+    if (out != NULL) {
+        write_output(est, ar, out);
+    }
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}

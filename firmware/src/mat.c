@@ -149,6 +149,67 @@ fc_mat_status fc_mat_solve(fc_arith *ar, const fc_mat *a, const fc_mat *b, fc_ma
     return FC_MAT_OK;
 }
 
+/* sum_k<count a[ra][k] b[rb][k] in MAT (one rounding) */
+static fc_real row_dot(fc_arith *ar, const fc_mat *a, int ra, const fc_mat *b, int rb, int count)
+{
+    fc_acc sum = fc_acc_zero();
+    for (int k = 0; k < count; k++) {
+        sum = fc_acc_mac(sum, a->a[ra][k], b->a[rb][k]);
+    }
+    return fc_acc_result(ar, sum, MAT_X_MAT);
+}
+
+/*
+ * x = G^-1 B for a symmetric positive definite G by Cholesky, G = L L^T, then
+ * L y = B and L^T x = y. Unlike Gauss-Jordan, every intermediate is bounded:
+ * |l_ij| <= sqrt(max g_ii) and |y| <= |B| / sqrt(lambda_min(G)), so a Gram
+ * matrix whose inverse fits MAT is solved without leaving the format. A pivot
+ * g_jj - sum l_jk^2 below 1e-5 of the largest entry of G is rank deficiency.
+ */
+static fc_mat_status solve_symmetric_positive_definite(fc_arith *ar, const fc_mat *g, const fc_mat *b, fc_mat *x)
+{
+    const int n = g->rows;
+    fc_mat l;       /* the Cholesky factor, lower triangle */
+    fc_mat y_t;     /* y transposed: row c is the solution column c */
+    (void)fc_mat_zero(&l, n, n);
+    (void)fc_mat_zero(&y_t, b->cols, n);
+    const fc_real tolerance = fc_mul(ar, largest_magnitude(ar, g), FC_C(1.0e-5f, UNIT), FC_SHIFT(MAT, UNIT, MAT));
+    fc_real inv_diag[FC_MAT_MAX_ROWS];
+    for (int j = 0; j < n; j++) {
+        const fc_real pivot = fc_sub(ar, g->a[j][j], row_dot(ar, &l, j, &l, j, j));
+        if (!(pivot > tolerance) || !fc_is_finite(pivot)) {
+            (void)fc_mat_zero(x, b->rows, b->cols);
+            return FC_MAT_RANK_DEFICIENT;
+        }
+        l.a[j][j] = fc_sqrt(ar, pivot, FC_MAT_FRAC);
+        inv_diag[j] = fc_div(ar, FC_INT(1, MAT), l.a[j][j], FC_DIV_SHIFT(MAT, MAT, MAT));
+        for (int i = j + 1; i < n; i++) {
+            const fc_real residual = fc_sub(ar, g->a[i][j], row_dot(ar, &l, i, &l, j, j));
+            l.a[i][j] = fc_mul(ar, residual, inv_diag[j], MAT_X_MAT);
+        }
+    }
+    /* forward: L y = b, one right-hand column at a time */
+    for (int c = 0; c < b->cols; c++) {
+        for (int i = 0; i < n; i++) {
+            const fc_real residual = fc_sub(ar, b->a[i][c], row_dot(ar, &l, i, &y_t, c, i));
+            y_t.a[c][i] = fc_mul(ar, residual, inv_diag[i], MAT_X_MAT);
+        }
+    }
+    /* backward: L^T x = y */
+    (void)fc_mat_zero(x, n, b->cols);
+    for (int c = 0; c < b->cols; c++) {
+        for (int i = n - 1; i >= 0; i--) {
+            fc_acc sum = fc_acc_zero();
+            for (int k = i + 1; k < n; k++) {
+                sum = fc_acc_mac(sum, l.a[k][i], x->a[k][c]);
+            }
+            const fc_real residual = fc_sub(ar, y_t.a[c][i], fc_acc_result(ar, sum, MAT_X_MAT));
+            x->a[i][c] = fc_mul(ar, residual, inv_diag[i], MAT_X_MAT);
+        }
+    }
+    return FC_MAT_OK;
+}
+
 fc_mat_status fc_mat_pinv(fc_arith *ar, const fc_mat *a, fc_mat *out)
 {
     fc_mat a_t;
@@ -158,7 +219,7 @@ fc_mat_status fc_mat_pinv(fc_arith *ar, const fc_mat *a, fc_mat *out)
         /* full row rank: A+ = A^T (A A^T)^-1 = ((A A^T)^-1 A)^T, A A^T symmetric */
         fc_mat gram_inv_a;
         (void)fc_mat_mul(ar, a, &a_t, &gram);
-        const fc_mat_status status = fc_mat_solve(ar, &gram, a, &gram_inv_a);
+        const fc_mat_status status = solve_symmetric_positive_definite(ar, &gram, a, &gram_inv_a);
         if (status != FC_MAT_OK) {
             (void)fc_mat_zero(out, a->cols, a->rows);
             return status;
@@ -168,7 +229,7 @@ fc_mat_status fc_mat_pinv(fc_arith *ar, const fc_mat *a, fc_mat *out)
     }
     /* full column rank: A+ = (A^T A)^-1 A^T */
     (void)fc_mat_mul(ar, &a_t, a, &gram);
-    const fc_mat_status status = fc_mat_solve(ar, &gram, &a_t, out);
+    const fc_mat_status status = solve_symmetric_positive_definite(ar, &gram, &a_t, out);
     if (status != FC_MAT_OK) {
         (void)fc_mat_zero(out, a->cols, a->rows);
     }

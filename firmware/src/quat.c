@@ -4,6 +4,11 @@
 /* shift of a product of two UNIT values giving a UNIT value */
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
+static fc_real twice(fc_arith *ar, fc_real a)
+{
+    return fc_add(ar, a, a);
+}
+
 fc_quat fc_quat_mul(fc_arith *ar, fc_quat p, fc_quat q)
 {
     /* (2.8): each component is a 4-term dot product, rounded once */
@@ -77,12 +82,26 @@ fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q)
 
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v)
 {
-    /* v' = v + w t + q_v x t with t = 2 q_v x v: two cross products, no matrix */
-    const fc_vec3 qv = fc_quat_vector_part(q);
-    const fc_vec3 half_t = fc_vec3_cross(ar, qv, v, FC_UNIT_FRAC);
-    const fc_vec3 t = fc_vec3_add(ar, half_t, half_t);
-    const fc_vec3 wt = fc_vec3_scale(ar, t, q.w, FC_UNIT_FRAC);
-    return fc_vec3_add(ar, fc_vec3_add(ar, v, wt), fc_vec3_cross(ar, qv, t, FC_UNIT_FRAC));
+    /* v' = R(q) v with R's entries in UNIT (|r_ij| <= 1): one 64-bit dot product
+     * per component, so a vector anywhere in its format rotates without an
+     * intermediate leaving it (the two-cross-product form's 2 q_v x v does) */
+    const fc_real xx = fc_mul(ar, q.x, q.x, UNIT_X_UNIT);
+    const fc_real yy = fc_mul(ar, q.y, q.y, UNIT_X_UNIT), zz = fc_mul(ar, q.z, q.z, UNIT_X_UNIT);
+    const fc_real xy = fc_mul(ar, q.x, q.y, UNIT_X_UNIT), xz = fc_mul(ar, q.x, q.z, UNIT_X_UNIT);
+    const fc_real yz = fc_mul(ar, q.y, q.z, UNIT_X_UNIT), wx = fc_mul(ar, q.w, q.x, UNIT_X_UNIT);
+    const fc_real wy = fc_mul(ar, q.w, q.y, UNIT_X_UNIT), wz = fc_mul(ar, q.w, q.z, UNIT_X_UNIT);
+    /* diagonal 1 - 2(..): the same matrix as v + 2w (u x v) + 2 u x (u x v),
+     * also for a q that is unit only to its rounding */
+    const fc_real half = FC_C(0.5f, UNIT); /* 2 (1/2 - ..) keeps every intermediate in [-1, 1] */
+    const fc_real r00 = twice(ar, fc_sub(ar, half, fc_add(ar, yy, zz)));
+    const fc_real r11 = twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
+    const fc_real r22 = twice(ar, fc_sub(ar, half, fc_add(ar, xx, yy)));
+    const fc_real r01 = twice(ar, fc_sub(ar, xy, wz)), r10 = twice(ar, fc_add(ar, xy, wz));
+    const fc_real r02 = twice(ar, fc_add(ar, xz, wy)), r20 = twice(ar, fc_sub(ar, xz, wy));
+    const fc_real r12 = twice(ar, fc_sub(ar, yz, wx)), r21 = twice(ar, fc_add(ar, yz, wx));
+    return fc_vec3_make(fc_dot3(ar, r00, v.x, r01, v.y, r02, v.z, FC_UNIT_FRAC),
+                        fc_dot3(ar, r10, v.x, r11, v.y, r12, v.z, FC_UNIT_FRAC),
+                        fc_dot3(ar, r20, v.x, r21, v.y, r22, v.z, FC_UNIT_FRAC));
 }
 
 fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v)
@@ -159,11 +178,6 @@ fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_r
                         fc_dot2(ar, sr, cp_cy, fc_neg(ar, cr), sp_sy, UNIT_X_UNIT),
                         fc_dot2(ar, cr, sp_cy, sr, cp_sy, UNIT_X_UNIT),
                         fc_dot2(ar, cr, cp_sy, fc_neg(ar, sr), sp_cy, UNIT_X_UNIT));
-}
-
-static fc_real twice(fc_arith *ar, fc_real a)
-{
-    return fc_add(ar, a, a);
 }
 
 fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q)

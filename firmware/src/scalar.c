@@ -24,6 +24,11 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     }
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
+    if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
+        /* |quotient| >= 2^62 / 2^31: saturated whatever the divisor; this also
+         * keeps the rounding below from overflowing */
+        return fc_fx_saturate(ar, (scaled_num > 0) == (den > 0) ? INT64_MAX : -INT64_MAX);
+    }
     const int64_t half_den = (den64 > 0 ? den64 : -den64) / 2;
     /* round to nearest: push the dividend half a divisor away from zero */
     const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
@@ -146,8 +151,8 @@ static void sincos_octant_q30(fc_arith *ar, int32_t r, int32_t *sin_out, int32_t
  * remainder r in [-pi/4, pi/4]. */
 static void sincos_fixed(fc_arith *ar, fc_real angle, fc_real *sin_out, fc_real *cos_out)
 {
-    const int32_t two_pi = FC_C(6.28318531f, ANGLE);
-    const int32_t half_pi = FC_C(1.57079633f, ANGLE);
+    const int32_t two_pi = FC_TWO_PI;
+    const int32_t half_pi = FC_HALF_PI;
     int32_t a = angle;
     while (a > FC_PI) {
         a -= two_pi;
@@ -229,8 +234,9 @@ fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
     const int32_t tan_pi_8 = Q30(0.41421356f);
     int32_t angle;
     if (ratio > tan_pi_8) {
-        const int32_t t = fc_div(ar, ratio - Q30(1.0f), ratio + Q30(1.0f), 30);
-        angle = FC_C(0.78539816f, ANGLE) + atan_small_angle(ar, t);
+        /* both halved: ratio + 1 reaches 2^31 at 45 degrees */
+        const int32_t t = fc_div(ar, (ratio - Q30(1.0f)) / 2, ratio / 2 + Q30(0.5f), 30);
+        angle = FC_QUARTER_PI + atan_small_angle(ar, t);
     } else {
         angle = atan_small_angle(ar, ratio);
     }
@@ -303,7 +309,11 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
         return Q30(1.0f);
     }
     const int32_t ln_x = log_unit_ratio(ar, x_unit); /* <= 0 */
-    const int32_t minus_e_ln_x = -fc_mul(ar, exponent_ratio, ln_x, FC_RATIO_FRAC);
+    fc_arith probe = {0u};
+    const int32_t minus_e_ln_x = -fc_mul(&probe, exponent_ratio, ln_x, FC_RATIO_FRAC);
+    if (probe.saturated != 0u) {
+        return 0; /* e ln x below -128: x^e < 1e-55, zero in any format */
+    }
     return fc_exp_neg(ar, minus_e_ln_x);
 }
 

@@ -63,12 +63,21 @@ fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok)
 
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 {
-    const fc_real norm = fc_vec3_norm(ar, v, frac);
-    if (!(norm > max_norm)) {
+    fc_arith probe = {0u};
+    fc_real norm = fc_vec3_norm(&probe, v, frac);
+    fc_real limit = max_norm;
+    if (probe.saturated != 0u) {
+        /* |v| of a vector near the corners of its format does not fit the format
+         * (fixed only): compare and divide with |v|/2 and max_norm/2 instead */
+        const fc_real half = FC_C(0.5f, UNIT);
+        norm = fc_vec3_norm(ar, fc_vec3_scale(ar, v, half, FC_UNIT_FRAC), frac);
+        limit = fc_mul(ar, max_norm, half, FC_UNIT_FRAC);
+    }
+    if (!(norm > limit)) {
         return v;
     }
     /* max_norm / |v| < 1 as UNIT; the direction of v is kept */
-    const fc_real ratio = fc_div(ar, max_norm, norm, FC_UNIT_FRAC);
+    const fc_real ratio = fc_div(ar, limit, norm, FC_UNIT_FRAC);
     return fc_vec3_scale(ar, v, ratio, FC_UNIT_FRAC);
 }
 

@@ -1,18 +1,919 @@
+/*
+ * test_allocation.c - control allocation (fc/allocation.h), both backends.
+ *
+ * Round trips: a feasible demand is made by the library's own forward model
+ * from random speeds (xorshift32, fixed seed), allocated, and the achieved
+ * wrench (the forward model of the allocated speeds, out->thrust_n and
+ * out->moment_nm) compared with it. Tolerances:
+ *   fixed  in LSB of the output format (FORCE 2^-20 N, MOMENT 2^-24 N m);
+ *   float  relative to the axis' authority sum_i |A_ki| (the most all rotors
+ *          together give on that axis).
+ */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
+#include <stdio.h>
+#include <math.h>
 #include <cmocka.h>
+
 #include "fc/allocation.h"
 
-static void test_placeholder(void **state)
+/* ---- helpers ----------------------------------------------------------- */
+
+#define FIXED (FC_NUMERIC_FIXED != 0)
+
+static float to_f(fc_real x, int frac)
+{
+    return fc_to_float(x, frac);
+}
+
+static fc_real from_f(float x, int frac)
+{
+    return fc_from_float(x, frac);
+}
+
+static uint32_t rng_state = 0x2545F491u;
+
+static void rng_seed(uint32_t seed)
+{
+    rng_state = seed;
+}
+
+static float uniform(float lo, float hi)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 17;
+    rng_state ^= rng_state << 5;
+    return lo + (hi - lo) * (float)(rng_state >> 8) * (1.0f / 16777216.0f);
+}
+
+typedef void (*preset_fn)(fc_allocation_params *);
+
+static const preset_fn presets[] = {fc_allocation_preset_crazyflie2, fc_allocation_preset_f450,
+                                    fc_allocation_preset_hexa_x_4kg};
+static const char *const preset_names[] = {"crazyflie2", "f450", "hexa_x_4kg"};
+#define PRESET_COUNT 3
+
+static fc_allocation_demand demand_make(float thrust_n, float mx, float my, float mz)
+{
+    fc_allocation_demand d;
+    d.thrust_n = from_f(thrust_n, FC_FORCE_FRAC);
+    d.moment_nm = fc_vec3_make(from_f(mx, FC_MOMENT_FRAC), from_f(my, FC_MOMENT_FRAC),
+                               from_f(mz, FC_MOMENT_FRAC));
+    return d;
+}
+
+static float achieved(const fc_allocation_output *out, int row)
+{
+    switch (row) {
+    case 0:
+        return to_f(out->thrust_n, FC_FORCE_FRAC);
+    case 1:
+        return to_f(out->moment_nm.x, FC_MOMENT_FRAC);
+    case 2:
+        return to_f(out->moment_nm.y, FC_MOMENT_FRAC);
+    default:
+        return to_f(out->moment_nm.z, FC_MOMENT_FRAC);
+    }
+}
+
+static float demanded(const fc_allocation_demand *d, int row)
+{
+    switch (row) {
+    case 0:
+        return to_f(d->thrust_n, FC_FORCE_FRAC);
+    case 1:
+        return to_f(d->moment_nm.x, FC_MOMENT_FRAC);
+    case 2:
+        return to_f(d->moment_nm.y, FC_MOMENT_FRAC);
+    default:
+        return to_f(d->moment_nm.z, FC_MOMENT_FRAC);
+    }
+}
+
+static float row_lsb(int row)
+{
+    return row == 0 ? 1.0f / 1048576.0f : 1.0f / 16777216.0f;
+}
+
+/* sum_i |A_ki| in N or N m */
+static float authority(const fc_allocation *a, int row)
+{
+    const int frac = row == 0 ? FC_FORCE_FRAC : FC_MOMENT_FRAC;
+    return to_f(a->demand_limit[row], frac);
+}
+
+/* |error| in the unit of the bounds: LSB in fixed, relative to the authority in float */
+static float error_units(const fc_allocation *a, int row, float error)
+{
+    return FIXED ? fabsf(error) / row_lsb(row) : fabsf(error) / authority(a, row);
+}
+
+/* The bound of a round trip in the unit of error_units: fixed 8 LSB of the
+ * output plus 4 LSB of v (RATIO, 2^-24) on every rotor, i.e. 4 2^-24 times the
+ * authority (the allocation resolves v, not the wrench: a 4 kg hexa's 23 N m
+ * of roll authority makes that 6 LSB of MOMENT per LSB of v); float relative. */
+static float round_trip_bound(const fc_allocation *a, int row, float float_rel)
+{
+    if (FIXED) {
+        return 8.0f + 4.0f * authority(a, row) * (1.0f / 16777216.0f) / row_lsb(row);
+    }
+    return float_rel;
+}
+
+/* Every output finite, speeds inside [u_min, 1] and zero above the count. */
+static void assert_outputs_valid(const fc_allocation_params *p, const fc_allocation_output *out)
+{
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        const float u = to_f(out->speed[i], FC_UNIT_FRAC);
+        assert_true(isfinite(u));
+        assert_true(isfinite(to_f(out->rotor_thrust_n[i], FC_FORCE_FRAC)));
+        if (i < p->rotor_count) {
+            assert_true(out->speed[i] >= p->rotor[i].speed_min);
+            assert_true(out->speed[i] <= FC_INT(1, UNIT));
+        } else {
+            assert_true(out->speed[i] == FC_INT(0, UNIT));
+        }
+    }
+    assert_true(isfinite(achieved(out, 0)) && isfinite(achieved(out, 1)) &&
+                isfinite(achieved(out, 2)) && isfinite(achieved(out, 3)));
+}
+
+/* Random speeds whose v = u^r lie in [c - w, c + w], c the middle of [v_min, 1]
+ * and w = spread * (1 - v_min) / 2 (r = 2 here). */
+static void random_speeds(const fc_allocation_params *p, float spread, fc_real *speed)
+{
+    for (int i = 0; i < p->rotor_count; i++) {
+        const float u_min = to_f(p->rotor[i].speed_min, FC_UNIT_FRAC);
+        const float v_min = u_min * u_min;
+        const float centre = 0.5f * (1.0f + v_min);
+        const float half = spread * 0.5f * (1.0f - v_min);
+        speed[i] = from_f(sqrtf(uniform(centre - half, centre + half)), FC_UNIT_FRAC);
+    }
+}
+
+static fc_allocation_demand demand_of_speeds(fc_allocation *a, const fc_real *speed)
+{
+    fc_allocation_demand d;
+    fc_allocation_forward(a, speed, &d.thrust_n, &d.moment_nm);
+    return d;
+}
+
+/* ---- init --------------------------------------------------------------- */
+
+static void test_presets_init(void **state)
 {
     (void)state;
-    assert_true(1);
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        fc_allocation_params p;
+        fc_allocation a;
+        presets[k](&p);
+        assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+        assert_int_equal(a.ready, 1);
+        /* hover: every rotor at the same speed, nothing saturated */
+        const float hover_n = 0.5f * authority(&a, 0);
+        const fc_allocation_demand d = demand_make(hover_n, 0.0f, 0.0f, 0.0f);
+        fc_allocation_output out;
+        assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
+        assert_int_equal(out.saturation, 0);
+        assert_outputs_valid(&p, &out);
+        for (int i = 1; i < p.rotor_count; i++) {
+            assert_true(fabsf(to_f(out.speed[i], FC_UNIT_FRAC) - to_f(out.speed[0], FC_UNIT_FRAC)) <=
+                        (FIXED ? 1e-7f : 1e-7f));
+        }
+        assert_true(fabsf(achieved(&out, 0) - hover_n) <= (FIXED ? 4.0f * row_lsb(0) : 1e-6f * hover_n));
+    }
+}
+
+static void test_crazyflie_effectiveness(void **state)
+{
+    (void)state;
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_crazyflie2(&p);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    fc_mat m;
+    assert_int_equal(fc_allocation_effectiveness(&a, &m), FC_MAT_OK);
+    assert_int_equal(m.rows, 4);
+    assert_int_equal(m.cols, 4);
+    const float arm = 0.046f * 0.70710678f;
+    const float q = 0.12f * 0.00699f;
+    /* M1 front-right, M2 back-right, M3 back-left, M4 front-left */
+    const float want[4][4] = {{0.12f, 0.12f, 0.12f, 0.12f},
+                              {-0.12f * arm, -0.12f * arm, 0.12f * arm, 0.12f * arm},
+                              {-0.12f * arm, 0.12f * arm, 0.12f * arm, -0.12f * arm},
+                              {-q, q, -q, q}};
+    for (int k = 0; k < 4; k++) {
+        for (int i = 0; i < 4; i++) {
+            assert_true(fabsf(to_f(m.a[k][i], FC_MAT_FRAC) - want[k][i]) <= 2e-7f);
+        }
+    }
+    /* row scales: powers of two with the largest entry of D A in (0.5, 1] */
+    fc_real scale[4];
+    fc_mat n;
+    assert_int_equal(fc_allocation_effectiveness_normalised(&a, &n, scale), FC_MAT_OK);
+    const float expect_scale[4] = {8.0f, 256.0f, 256.0f, 1024.0f};
+    for (int k = 0; k < 4; k++) {
+        assert_true(to_f(scale[k], FC_GAIN_FRAC) == expect_scale[k]);
+        float largest = 0.0f;
+        for (int i = 0; i < 4; i++) {
+            largest = fmaxf(largest, fabsf(to_f(n.a[k][i], FC_MAT_FRAC)));
+        }
+        assert_true(largest > 0.5f && largest <= 1.0f);
+    }
+}
+
+static fc_init_result init_planar(fc_allocation *a, int count, const float xy[][2],
+                                  const float *torque_sign)
+{
+    fc_allocation_params p;
+    fc_allocation_preset_f450(&p);
+    p.rotor_count = (uint8_t)count;
+    for (int i = 0; i < count; i++) {
+        p.rotor[i] = p.rotor[0];
+        p.rotor[i].position_m = fc_vec3_make(from_f(xy[i][0], FC_LENGTH_FRAC),
+                                             from_f(xy[i][1], FC_LENGTH_FRAC), FC_INT(0, LENGTH));
+        p.rotor[i].torque_max_nm = from_f(0.128f * torque_sign[i], FC_MOMENT_FRAC);
+    }
+    return fc_allocation_init(a, &p);
+}
+
+static void test_rank_deficient(void **state)
+{
+    (void)state;
+    fc_allocation a;
+    const float alternate[6] = {1.0f, -1.0f, 1.0f, -1.0f, 1.0f, -1.0f};
+    const float same[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    /* all rotors on the body x axis: no roll moment */
+    const float on_x[4][2] = {{-0.3f, 0.0f}, {-0.1f, 0.0f}, {0.1f, 0.0f}, {0.3f, 0.0f}};
+    assert_int_equal(init_planar(&a, 4, on_x, alternate), FC_INIT_RANK_DEFICIENT);
+    assert_int_equal(a.ready, 0);
+    /* all on the diagonal y = x: M_x = -M_y, the rows are dependent (not zero) */
+    const float diagonal[4][2] = {{-0.3f, -0.3f}, {-0.1f, -0.1f}, {0.1f, 0.1f}, {0.3f, 0.3f}};
+    assert_int_equal(init_planar(&a, 4, diagonal, alternate), FC_INIT_RANK_DEFICIENT);
+    /* quad-X with one spin direction: the yaw row is the thrust row times Q/T */
+    const float quad[4][2] = {{0.16f, -0.16f}, {-0.16f, -0.16f}, {-0.16f, 0.16f}, {0.16f, 0.16f}};
+    assert_int_equal(init_planar(&a, 4, quad, same), FC_INIT_RANK_DEFICIENT);
+    assert_int_equal(init_planar(&a, 4, quad, alternate), FC_INIT_OK);
+    /* three rotors: rank 3 at most */
+    const float tri[3][2] = {{0.2f, 0.0f}, {-0.1f, 0.17f}, {-0.1f, -0.17f}};
+    assert_int_equal(init_planar(&a, 3, tri, alternate), FC_INIT_RANK_DEFICIENT);
+    /* coaxial only: six rotors stacked on the z axis */
+    fc_allocation_params p;
+    fc_allocation_preset_hexa_x_4kg(&p);
+    for (int i = 0; i < 6; i++) {
+        p.rotor[i].position_m = fc_vec3_make(FC_INT(0, LENGTH), FC_INT(0, LENGTH),
+                                             from_f(0.05f * (float)i - 0.1f, FC_LENGTH_FRAC));
+    }
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_RANK_DEFICIENT);
+    /* not ready: motors stopped */
+    fc_allocation_output out;
+    const fc_allocation_demand d = demand_make(10.0f, 0.0f, 0.0f, 0.0f);
+    assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_NOT_READY);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.speed[i] == FC_INT(0, UNIT));
+    }
+    fc_mat m;
+    assert_int_equal(fc_allocation_effectiveness(&a, &m), FC_MAT_BAD_SIZE);
+    assert_int_equal(m.rows, 0);
+}
+
+static void expect_bad(const fc_allocation_params *p)
+{
+    fc_allocation a;
+    assert_int_equal(fc_allocation_init(&a, p), FC_INIT_BAD_PARAM);
+    assert_int_equal(a.ready, 0);
+    fc_allocation_output out;
+    const fc_allocation_demand d = demand_make(1.0f, 0.0f, 0.0f, 0.0f);
+    assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_NOT_READY);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.speed[i] == FC_INT(0, UNIT));
+        assert_true(out.rotor_thrust_n[i] == FC_INT(0, FORCE));
+    }
+}
+
+static void test_bad_params(void **state)
+{
+    (void)state;
+    fc_allocation_params good;
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_f450(&good);
+    assert_int_equal(fc_allocation_init(&a, &good), FC_INIT_OK);
+    assert_int_equal(fc_allocation_init(&a, NULL), FC_INIT_BAD_PARAM);
+    assert_int_equal(fc_allocation_init(NULL, &good), FC_INIT_BAD_PARAM);
+
+    p = good;
+    p.rotor_count = 0u;
+    expect_bad(&p);
+    p = good;
+    p.rotor_count = FC_MAX_ROTORS + 1u;
+    expect_bad(&p);
+    p = good;
+    p.newton_iterations = FC_ALLOCATION_MAX_ITERATIONS + 1u;
+    expect_bad(&p);
+    p = good;
+    p.rotor[2].axis_unit = fc_vec3_make(FC_INT(0, UNIT), FC_INT(0, UNIT), FC_C(0.99f, UNIT));
+    expect_bad(&p);
+    p = good;
+    p.rotor[1].axis_unit = fc_vec3_zero();
+    expect_bad(&p);
+    p = good;
+    p.rotor[3].thrust_max_n = FC_INT(0, FORCE);
+    expect_bad(&p);
+    p = good;
+    p.rotor[3].thrust_max_n = FC_C(-1.0f, FORCE);
+    expect_bad(&p);
+    p = good;
+    p.rotor[0].thrust_exponent = FC_C(0.5f, RATIO);
+    expect_bad(&p);
+    p = good;
+    p.rotor[0].thrust_exponent = FC_C(4.01f, RATIO);
+    expect_bad(&p);
+    p = good;
+    p.rotor[1].torque_exponent = FC_C(0.4f, RATIO);
+    expect_bad(&p);
+    p = good;
+    p.rotor[1].torque_exponent = FC_C(4.5f, RATIO);
+    expect_bad(&p);
+    p = good;
+    p.rotor[2].speed_min = FC_INT(1, UNIT);
+    expect_bad(&p);
+    p = good;
+    p.rotor[2].speed_min = FC_C(-0.01f, UNIT);
+    expect_bad(&p);
+    p = good;
+    p.rotor[0].position_m.x = FC_C(20.0f, LENGTH);
+    expect_bad(&p);
+    /* exponents at the edges of (0.5, 4] are fine */
+    p = good;
+    p.rotor[0].thrust_exponent = FC_C(4.0f, RATIO);
+    p.rotor[1].torque_exponent = FC_C(0.51f, RATIO);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+#if !FC_NUMERIC_FIXED
+    p = good;
+    p.rotor[1].position_m.y = NAN;
+    expect_bad(&p);
+    p = good;
+    p.rotor[2].torque_max_nm = INFINITY;
+    expect_bad(&p);
+    p = good;
+    p.rotor[3].speed_min = NAN;
+    expect_bad(&p);
+    p = good;
+    p.rotor[0].thrust_exponent = NAN;
+    expect_bad(&p);
+#endif
+}
+
+/* ---- round trips -------------------------------------------------------- */
+
+/* Worst error per row over `cases` feasible random demands; cold = reset the
+ * warm start before every step. */
+static void round_trip(const fc_allocation_params *p, int cases, float spread, bool cold,
+                       float worst[4], int *saturated_steps, float bound[4])
+{
+    fc_allocation a;
+    assert_int_equal(fc_allocation_init(&a, p), FC_INIT_OK);
+    for (int k = 0; k < 4; k++) {
+        worst[k] = 0.0f;
+    }
+    *saturated_steps = 0;
+    for (int c = 0; c < cases; c++) {
+        fc_real speed[FC_MAX_ROTORS];
+        random_speeds(p, spread, speed);
+        const fc_allocation_demand d = demand_of_speeds(&a, speed);
+        if (cold) {
+            fc_allocation_reset(&a);
+        }
+        fc_allocation_output out;
+        const fc_step_status status = fc_allocation_step(&a, &d, &out);
+        assert_int_equal(status & (fc_step_status)~FC_STEP_OUTPUT_LIMITED, FC_STEP_OK);
+        assert_outputs_valid(p, &out);
+        if (out.saturation != 0u) {
+            (*saturated_steps)++;
+        }
+        for (int k = 0; k < 4; k++) {
+            worst[k] = fmaxf(worst[k], error_units(&a, k, achieved(&out, k) - demanded(&d, k)));
+        }
+    }
+    for (int k = 0; k < 4; k++) {
+        bound[k] = round_trip_bound(&a, k, 1e-6f);
+    }
+}
+
+static void test_round_trip_r_equals_s(void **state)
+{
+    (void)state;
+    /* measured (fixed, LSB of F_z/M_x/M_y/M_z): crazyflie 1/1/1/1, f450 4/8/8/1,
+     * hexa 12/32/24/3 (bounds 8.1/8.0/8.0/8.0, 28/8.5/8.5/8.0, 28/102/102/11);
+     * float, relative to the authority: below 2e-7 (bound 1e-6) */
+    rng_seed(0x0A110C01u);
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        fc_allocation_params p;
+        presets[k](&p);
+        /* the hexa's least-norm solution is a projection of the random v: a
+         * narrower spread keeps it inside the bounds */
+        const float spread = p.rotor_count == 4 ? 0.9f : 0.35f;
+        float worst[4], bound[4];
+        int saturated;
+        round_trip(&p, 2000, spread, false, worst, &saturated, bound);
+        print_message("round trip r=s %-11s worst F_z %.3g M_x %.3g M_y %.3g M_z %.3g %s "
+                      "(bounds %.3g %.3g %.3g %.3g)\n",
+                      preset_names[k], (double)worst[0], (double)worst[1], (double)worst[2],
+                      (double)worst[3], FIXED ? "LSB" : "rel", (double)bound[0], (double)bound[1],
+                      (double)bound[2], (double)bound[3]);
+        assert_int_equal(saturated, 0);
+        for (int r = 0; r < 4; r++) {
+            assert_true(worst[r] <= bound[r]);
+        }
+    }
+}
+
+static void test_round_trip_other_exponents(void **state)
+{
+    (void)state;
+    /* r = s != 2 (u = v^(1/r) through fc_pow_unit), linear in v = u^r */
+    rng_seed(0x0A110C06u);
+    const float exponents[2] = {1.5f, 3.0f};
+    for (int e = 0; e < 2; e++) {
+        fc_allocation_params p;
+        fc_allocation_preset_f450(&p);
+        for (int i = 0; i < 4; i++) {
+            p.rotor[i].thrust_exponent = from_f(exponents[e], FC_RATIO_FRAC);
+            p.rotor[i].torque_exponent = from_f(exponents[e], FC_RATIO_FRAC);
+        }
+        float worst[4], bound[4];
+        int saturated;
+        round_trip(&p, 1000, 0.6f, false, worst, &saturated, bound);
+        print_message("round trip r=s=%.1f f450 worst F_z %.3g M_x %.3g M_y %.3g M_z %.3g %s\n",
+                      (double)exponents[e], (double)worst[0], (double)worst[1], (double)worst[2],
+                      (double)worst[3], FIXED ? "LSB" : "rel");
+        assert_int_equal(saturated, 0);
+        for (int r = 0; r < 4; r++) {
+            assert_true(worst[r] <= (FIXED ? 4.0f : 1.0f) * bound[r]);
+        }
+    }
+}
+
+static void test_round_trip_quad_speeds_unique(void **state)
+{
+    (void)state;
+    /* a quad's A is square: the allocation must return the speeds that made the demand */
+    rng_seed(0x0A110C02u);
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_f450(&p);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    float worst = 0.0f;
+    for (int c = 0; c < 1000; c++) {
+        fc_real speed[FC_MAX_ROTORS];
+        random_speeds(&p, 0.9f, speed);
+        const fc_allocation_demand d = demand_of_speeds(&a, speed);
+        fc_allocation_output out;
+        (void)fc_allocation_step(&a, &d, &out);
+        for (int i = 0; i < 4; i++) {
+            worst = fmaxf(worst, fabsf(to_f(out.speed[i], FC_UNIT_FRAC) - to_f(speed[i], FC_UNIT_FRAC)));
+        }
+    }
+    print_message("quad speeds recovered: worst |u - u_gen| %.3g\n", (double)worst);
+    assert_true(worst <= (FIXED ? 2e-5f : 2e-6f));
+}
+
+/* A hexa with its rotors tilted 15 deg sideways, alternately (a 3-fold
+ * symmetric pattern that adds yaw authority) and the whole frame's rotors
+ * 10 deg forward: the body-x force is the by-product. */
+static void tilted_hexa(fc_allocation_params *p)
+{
+    fc_allocation_preset_hexa_x_4kg(p);
+    const float tilt = 0.25881905f;    /* sin 15 deg, tangential */
+    const float forward = 0.17364818f; /* sin 10 deg */
+    for (int i = 0; i < 6; i++) {
+        const float x = to_f(p->rotor[i].position_m.x, FC_LENGTH_FRAC);
+        const float y = to_f(p->rotor[i].position_m.y, FC_LENGTH_FRAC);
+        const float r = sqrtf(x * x + y * y);
+        const float sign = (i % 2 == 0) ? 1.0f : -1.0f;
+        /* tangential direction (-y, x)/r */
+        float d[3] = {-sign * tilt * y / r + forward, sign * tilt * x / r, 1.0f};
+        const float norm = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        p->rotor[i].axis_unit = fc_vec3_make(from_f(d[0] / norm, FC_UNIT_FRAC),
+                                             from_f(d[1] / norm, FC_UNIT_FRAC),
+                                             from_f(d[2] / norm, FC_UNIT_FRAC));
+    }
+}
+
+static void test_round_trip_tilted(void **state)
+{
+    (void)state;
+    rng_seed(0x0A110C03u);
+    fc_allocation_params p;
+    tilted_hexa(&p);
+    float worst[4], bound[4];
+    int saturated;
+    round_trip(&p, 2000, 0.35f, false, worst, &saturated, bound);
+    print_message("round trip tilted hexa worst F_z %.3g M_x %.3g M_y %.3g M_z %.3g %s\n",
+                  (double)worst[0], (double)worst[1], (double)worst[2], (double)worst[3],
+                  FIXED ? "LSB" : "rel");
+    assert_int_equal(saturated, 0);
+    for (int r = 0; r < 4; r++) {
+        assert_true(worst[r] <= bound[r]);
+    }
+    /* the by-product: the body-x force, sum T_i d_i over the rotors */
+    fc_allocation a;
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    fc_allocation_output out;
+    const fc_allocation_demand d = demand_make(40.0f, 0.0f, -3.0f, 0.0f);
+    assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
+    fc_vec3 force, moment;
+    fc_allocation_forward_wrench(&a, out.speed, &force, &moment);
+    float want[3] = {0.0f, 0.0f, 0.0f};
+    for (int i = 0; i < 6; i++) {
+        const float t = to_f(out.rotor_thrust_n[i], FC_FORCE_FRAC);
+        want[0] += t * to_f(p.rotor[i].axis_unit.x, FC_UNIT_FRAC);
+        want[1] += t * to_f(p.rotor[i].axis_unit.y, FC_UNIT_FRAC);
+        want[2] += t * to_f(p.rotor[i].axis_unit.z, FC_UNIT_FRAC);
+    }
+    print_message("tilted hexa, pitch -3 N m at 40 N: by-product force (%.4g, %.4g) N\n",
+                  (double)to_f(force.x, FC_FORCE_FRAC), (double)to_f(force.y, FC_FORCE_FRAC));
+    assert_true(force.z == out.thrust_n);
+    assert_true(moment.x == out.moment_nm.x && moment.y == out.moment_nm.y && moment.z == out.moment_nm.z);
+    assert_true(fabsf(to_f(force.x, FC_FORCE_FRAC) - want[0]) <= 1e-5f);
+    assert_true(fabsf(to_f(force.y, FC_FORCE_FRAC) - want[1]) <= 1e-5f);
+    assert_true(fabsf(to_f(force.z, FC_FORCE_FRAC) - want[2]) <= 1e-5f);
+    assert_true(to_f(force.x, FC_FORCE_FRAC) > 5.0f);
+}
+
+/* r and s on every rotor, and the passes of the correction. */
+static void with_exponents(fc_allocation_params *p, float r, float s, int iterations)
+{
+    for (int i = 0; i < p->rotor_count; i++) {
+        p->rotor[i].thrust_exponent = from_f(r, FC_RATIO_FRAC);
+        p->rotor[i].torque_exponent = from_f(s, FC_RATIO_FRAC);
+    }
+    p->newton_iterations = (uint8_t)iterations;
+}
+
+static void with_torque_exponent(fc_allocation_params *p, float s, int iterations)
+{
+    with_exponents(p, 2.0f, s, iterations);
+}
+
+/* Worst |M_z - M_z,d| / sum|Q_max| over feasible random demands, cold start
+ * (the warm start reset before every step), per number of passes; F_z, M_x and
+ * M_y must stay within the r = s bounds (planar rotors: the correction is
+ * along z). Returns nothing; asserts the bounds and that every pass helps. */
+static void r_not_s_case(float r_exp, float s_exp, const float *bound_yaw)
+{
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        float previous = 1.0f;
+        for (int n_iter = 0; n_iter <= FC_ALLOCATION_MAX_ITERATIONS; n_iter++) {
+            fc_allocation_params p;
+            presets[k](&p);
+            with_exponents(&p, r_exp, s_exp, n_iter);
+            rng_seed(0x0A110C04u);
+            float worst[4], bound[4];
+            int saturated;
+            const float spread = p.rotor_count == 4 ? 0.6f : 0.25f;
+            round_trip(&p, 1000, spread, true, worst, &saturated, bound);
+            fc_allocation a;
+            assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+            float yaw_authority = 0.0f;
+            for (int i = 0; i < p.rotor_count; i++) {
+                yaw_authority += fabsf(to_f(p.rotor[i].torque_max_nm, FC_MOMENT_FRAC));
+            }
+            /* back from the error unit to N m, then relative to sum |Q_max| */
+            const float yaw_nm = FIXED ? worst[3] * row_lsb(3) : worst[3] * authority(&a, 3);
+            const float yaw_rel = yaw_nm / yaw_authority;
+            /* fixed: nothing below 4 LSB of MOMENT */
+            const float floor_rel = FIXED ? 4.0f * row_lsb(3) / yaw_authority : 0.0f;
+            print_message("r=%.1f s=%.1f %-11s passes %d: worst yaw residual %.3g of sum|Q_max| "
+                          "(bound %.3g; F_z %.3g M_x %.3g M_y %.3g %s)\n",
+                          (double)r_exp, (double)s_exp, preset_names[k], n_iter, (double)yaw_rel,
+                          (double)fmaxf(bound_yaw[n_iter], floor_rel), (double)worst[0],
+                          (double)worst[1], (double)worst[2], FIXED ? "LSB" : "rel");
+            assert_int_equal(saturated, 0);
+            assert_true(yaw_rel <= fmaxf(bound_yaw[n_iter], floor_rel));
+            assert_true(yaw_rel <= fmaxf(previous, floor_rel));
+            previous = yaw_rel;
+            for (int r = 0; r < 3; r++) {
+                assert_true(worst[r] <= bound[r]);
+            }
+        }
+    }
+}
+
+static void test_round_trip_r_not_s(void **state)
+{
+    (void)state;
+    /* measured (float), crazyflie / f450 / hexa:
+     *   0 passes 1.3e-2 / 1.2e-2 / 3.7e-3, 1: 9.4e-4 / 7.9e-4 / 1.8e-4,
+     *   2: 7.1e-5 / 6.0e-5 / 8.4e-6,       3: 6.4e-6 / 5.3e-6 / 4.6e-7,
+     *   4: 6.0e-7 / 4.5e-7 / 6.5e-8 (fixed: the same down to 2 LSB of MOMENT) */
+    const float bound_yaw[FC_ALLOCATION_MAX_ITERATIONS + 1] = {2.5e-2f, 2e-3f, 1.5e-4f, 1.5e-5f,
+                                                               1.5e-6f};
+    r_not_s_case(2.0f, 2.3f, bound_yaw);
+}
+
+static void test_round_trip_r_not_s_pow(void **state)
+{
+    (void)state;
+    /* neither exponent 2 (fc_pow_unit everywhere), s < r */
+    const float bound_yaw[FC_ALLOCATION_MAX_ITERATIONS + 1] = {5e-2f, 5e-3f, 5e-4f, 5e-5f, 5e-6f};
+    r_not_s_case(2.2f, 1.8f, bound_yaw);
+}
+
+static void test_r_not_s_warm_start(void **state)
+{
+    (void)state;
+    /* a slowly varying demand (a 1 Hz wobble at 500 Hz) with one pass per step:
+     * the warm start makes it two */
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_f450(&p);
+    with_torque_exponent(&p, 2.3f, 1);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    float worst = 0.0f;
+    for (int step = 0; step < 1000; step++) {
+        const float phase = 6.2831853f * (float)step / 500.0f;
+        const fc_allocation_demand d =
+            demand_make(16.0f + 3.0f * sinf(phase), 0.3f * sinf(phase), 0.2f * cosf(phase),
+                        0.15f * sinf(0.5f * phase));
+        fc_allocation_output out;
+        assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
+        if (step >= 10) {
+            worst = fmaxf(worst, fabsf(achieved(&out, 3) - demanded(&d, 3)));
+        }
+    }
+    const float rel = worst / (4.0f * 0.128f);
+    print_message("r=2 s=2.3 f450, 1 pass, warm-started sequence: worst yaw residual %.3g of "
+                  "sum|Q_max|\n",
+                  (double)rel);
+    assert_true(rel <= 2e-4f);
+}
+
+/* ---- saturation priorities ---------------------------------------------- */
+
+static void step_crazyflie(const fc_allocation_demand *d, fc_allocation_output *out,
+                           fc_step_status *status)
+{
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_crazyflie2(&p);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    *status = fc_allocation_step(&a, d, out);
+    assert_outputs_valid(&p, out);
+    assert_int_equal(*status & FC_STEP_ARITH_SATURATED, 0);
+}
+
+/* some rotor at a bound: the axis that gave way gave no more than it had to */
+static bool some_rotor_at_bound(const fc_allocation_output *out)
+{
+    const fc_real u_min = FC_C(0.32659863f, UNIT);
+    for (int i = 0; i < 4; i++) {
+        if (out->speed[i] >= FC_C(0.99999f, UNIT) || out->speed[i] <= u_min + FC_C(1e-5f, UNIT)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+static float kept_tolerance(int row)
+{
+    return FIXED ? 8.0f * row_lsb(row) : (row == 0 ? 1e-6f : 1e-8f);
+}
+
+static void test_saturation_yaw(void **state)
+{
+    (void)state;
+    /* Crazyflie at 0.3 N with a small roll: about 1.3e-3 N m of yaw is possible */
+    const fc_allocation_demand d = demand_make(0.3f, 0.001f, -0.0005f, 0.003f);
+    fc_allocation_output out;
+    fc_step_status status;
+    step_crazyflie(&d, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_YAW_POS);
+    assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
+    for (int r = 0; r < 3; r++) {
+        assert_true(fabsf(achieved(&out, r) - demanded(&d, r)) <= kept_tolerance(r));
+    }
+    assert_true(achieved(&out, 3) > 0.0005f && achieved(&out, 3) < 0.003f);
+    assert_true(some_rotor_at_bound(&out));
+    /* near full thrust: yaw gives way before the thrust does */
+    const fc_allocation_demand top = demand_make(0.46f, 0.0f, 0.0f, 0.001f);
+    step_crazyflie(&top, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_YAW_POS);
+    for (int r = 0; r < 3; r++) {
+        assert_true(fabsf(achieved(&out, r) - demanded(&top, r)) <= kept_tolerance(r));
+    }
+    assert_true(achieved(&out, 3) > 0.0f && achieved(&out, 3) < 0.001f);
+    /* the other way */
+    const fc_allocation_demand d2 = demand_make(0.3f, 0.0f, 0.0f, -0.01f);
+    step_crazyflie(&d2, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_YAW_NEG);
+    assert_true(achieved(&out, 3) < -0.0005f);
+}
+
+static void test_saturation_thrust(void **state)
+{
+    (void)state;
+    /* more than 4 x 0.12 N: thrust down to what fits, the moments kept */
+    const fc_allocation_demand high = demand_make(0.7f, 0.0005f, -0.0007f, 0.0f);
+    fc_allocation_output out;
+    fc_step_status status;
+    step_crazyflie(&high, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_THRUST_HIGH);
+    assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
+    assert_true(achieved(&out, 0) < 0.48f && achieved(&out, 0) > 0.4f);
+    for (int r = 1; r < 4; r++) {
+        assert_true(fabsf(achieved(&out, r) - demanded(&high, r)) <= kept_tolerance(r));
+    }
+    assert_true(some_rotor_at_bound(&out));
+    /* within the thrust range but not with this moment: the thrust shifts down */
+    const fc_allocation_demand near_top = demand_make(0.46f, 0.002f, 0.0f, 0.0f);
+    step_crazyflie(&near_top, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_THRUST_HIGH);
+    assert_true(fabsf(achieved(&out, 1) - 0.002f) <= kept_tolerance(1));
+    /* zero thrust demanded with a pitch moment: the thrust shifts up */
+    const fc_allocation_demand low = demand_make(0.0f, 0.0f, 0.001f, 0.0f);
+    step_crazyflie(&low, &out, &status);
+    assert_int_equal(out.saturation, FC_SAT_THRUST_LOW);
+    assert_true(achieved(&out, 0) > 0.05f);
+    for (int r = 1; r < 4; r++) {
+        assert_true(fabsf(achieved(&out, r) - demanded(&low, r)) <= kept_tolerance(r));
+    }
+    assert_true(some_rotor_at_bound(&out));
+}
+
+static void test_saturation_roll_pitch(void **state)
+{
+    (void)state;
+    /* far more roll and pitch than the Crazyflie has, with some yaw: yaw gives
+     * way entirely, the thrust moves to where roll/pitch get the most, and
+     * roll/pitch are scaled together */
+    const fc_allocation_demand d = demand_make(0.3f, 0.02f, 0.01f, 0.0005f);
+    fc_allocation_output out;
+    fc_step_status status;
+    step_crazyflie(&d, &out, &status);
+    assert_true((out.saturation & (FC_SAT_ROLL_POS | FC_SAT_PITCH_POS)) ==
+                (FC_SAT_ROLL_POS | FC_SAT_PITCH_POS));
+    assert_true((out.saturation & FC_SAT_YAW_POS) != 0u);
+    assert_true((out.saturation & (FC_SAT_ROLL_NEG | FC_SAT_PITCH_NEG | FC_SAT_YAW_NEG)) == 0u);
+    const float mx = achieved(&out, 1), my = achieved(&out, 2);
+    assert_true(mx > 0.003f && mx < 0.02f);
+    /* direction kept: (mx, my) parallel to (0.02, 0.01) */
+    const float cross = mx * 0.01f - my * 0.02f;
+    print_message("roll/pitch saturation: achieved (%.6g, %.6g) N m, yaw %.3g N m, thrust %.4g N, "
+                  "direction error %.3g rad\n",
+                  (double)mx, (double)my, (double)achieved(&out, 3), (double)achieved(&out, 0),
+                  (double)(cross / (sqrtf(mx * mx + my * my) * 0.02236068f)));
+    assert_true(fabsf(cross) / (sqrtf(mx * mx + my * my) * 0.02236068f) <= (FIXED ? 1e-4f : 1e-5f));
+    assert_true(fabsf(achieved(&out, 3)) <= (FIXED ? 1e-6f : 1e-7f));
+    assert_true(some_rotor_at_bound(&out));
+    /* negative roll alone: only the roll bit (pitch demand zero, thrust at the
+     * middle of the range is where roll gets the most) */
+    const fc_allocation_demand d2 = demand_make(0.2657f, -0.02f, 0.0f, 0.0f);
+    step_crazyflie(&d2, &out, &status);
+    assert_true((out.saturation & (FC_SAT_ROLL_NEG | FC_SAT_ROLL_POS | FC_SAT_PITCH_POS |
+                                   FC_SAT_PITCH_NEG | FC_SAT_YAW_POS | FC_SAT_YAW_NEG)) ==
+                FC_SAT_ROLL_NEG);
+    assert_true(achieved(&out, 1) < -0.005f);
+    assert_true(fabsf(achieved(&out, 2)) <= kept_tolerance(2));
+}
+
+static void test_saturation_hexa(void **state)
+{
+    (void)state;
+    /* the same priorities on six rotors: too much yaw at hover */
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_hexa_x_4kg(&p);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    const fc_allocation_demand d = demand_make(39.24f, 2.0f, 1.0f, 5.0f);
+    fc_allocation_output out;
+    const fc_step_status status = fc_allocation_step(&a, &d, &out);
+    assert_outputs_valid(&p, &out);
+    assert_int_equal(status, FC_STEP_OUTPUT_LIMITED);
+    assert_int_equal(out.saturation, FC_SAT_YAW_POS);
+    for (int r = 0; r < 3; r++) {
+        assert_true(error_units(&a, r, achieved(&out, r) - demanded(&d, r)) <=
+                    round_trip_bound(&a, r, 1e-6f));
+    }
+    assert_true(achieved(&out, 3) > 0.1f && achieved(&out, 3) < 5.0f);
+}
+
+/* ---- bad input and ranges ---------------------------------------------- */
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    fc_allocation_params p;
+    fc_allocation a;
+    fc_allocation_preset_f450(&p);
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    fc_allocation_output out;
+    /* no good demand yet: zero thrust and moment, all rotors at u_min */
+    assert_int_equal(fc_allocation_step(&a, NULL, &out) & FC_STEP_BAD_INPUT, FC_STEP_BAD_INPUT);
+    assert_outputs_valid(&p, &out);
+    for (int i = 0; i < 4; i++) {
+        assert_true(fabsf(to_f(out.speed[i], FC_UNIT_FRAC) - to_f(p.rotor[i].speed_min, FC_UNIT_FRAC)) <=
+                    2e-9f);
+    }
+    /* a good demand, then a bad one: the good one is held */
+    const fc_allocation_demand good = demand_make(20.0f, 0.5f, -0.3f, 0.1f);
+    fc_allocation_output held;
+    assert_int_equal(fc_allocation_step(&a, &good, &held), FC_STEP_OK);
+    assert_int_equal(fc_allocation_step(&a, NULL, &out), FC_STEP_BAD_INPUT);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.speed[i] == held.speed[i]);
+    }
+#if !FC_NUMERIC_FIXED
+    const float bad_values[3] = {NAN, INFINITY, -INFINITY};
+    for (int b = 0; b < 3; b++) {
+        for (int field = 0; field < 4; field++) {
+            fc_allocation_demand d = good;
+            if (field == 0) {
+                d.thrust_n = bad_values[b];
+            } else if (field == 1) {
+                d.moment_nm.x = bad_values[b];
+            } else if (field == 2) {
+                d.moment_nm.y = bad_values[b];
+            } else {
+                d.moment_nm.z = bad_values[b];
+            }
+            assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_BAD_INPUT);
+            assert_outputs_valid(&p, &out);
+            for (int i = 0; i < FC_MAX_ROTORS; i++) {
+                assert_true(out.speed[i] == held.speed[i]);
+            }
+        }
+    }
+    /* a NaN right after init: u_min */
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    fc_allocation_demand nan_demand = good;
+    nan_demand.moment_nm.y = NAN;
+    assert_int_equal(fc_allocation_step(&a, &nan_demand, &out) & FC_STEP_BAD_INPUT,
+                     FC_STEP_BAD_INPUT);
+    for (int i = 0; i < 4; i++) {
+        assert_true(out.speed[i] == p.rotor[i].speed_min);
+    }
+#endif
+}
+
+static void test_extreme_demands(void **state)
+{
+    (void)state;
+    /* anything representable in, speeds in [u_min, 1] out, no arithmetic saturation */
+    rng_seed(0x0A110C05u);
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        for (int nonlinear = 0; nonlinear < 2; nonlinear++) {
+            fc_allocation_params p;
+            fc_allocation a;
+            presets[k](&p);
+            if (nonlinear != 0) {
+                with_torque_exponent(&p, 2.3f, 3);
+            }
+            assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+            for (int c = 0; c < 2000; c++) {
+                /* FORCE is +-2048 N and MOMENT +-128 N m in fixed */
+                const float f_range = c % 2 == 0 ? 2000.0f : 2.0f * authority(&a, 0);
+                const float m_range = c % 2 == 0 ? 120.0f : 2.0f * authority(&a, 1);
+                const fc_allocation_demand d =
+                    demand_make(uniform(-f_range, f_range), uniform(-m_range, m_range),
+                                uniform(-m_range, m_range), uniform(-m_range, m_range));
+                fc_allocation_output out;
+                const fc_step_status status = fc_allocation_step(&a, &d, &out);
+                assert_outputs_valid(&p, &out);
+                assert_int_equal(status & (fc_step_status)~FC_STEP_OUTPUT_LIMITED, FC_STEP_OK);
+                /* a bit in both directions of one axis never */
+                assert_false((out.saturation & FC_SAT_ROLL_POS) && (out.saturation & FC_SAT_ROLL_NEG));
+                assert_false((out.saturation & FC_SAT_YAW_POS) && (out.saturation & FC_SAT_YAW_NEG));
+                assert_false((out.saturation & FC_SAT_THRUST_HIGH) &&
+                             (out.saturation & FC_SAT_THRUST_LOW));
+            }
+        }
+    }
 }
 
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_placeholder)};
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_presets_init),
+        cmocka_unit_test(test_crazyflie_effectiveness),
+        cmocka_unit_test(test_rank_deficient),
+        cmocka_unit_test(test_bad_params),
+        cmocka_unit_test(test_round_trip_r_equals_s),
+        cmocka_unit_test(test_round_trip_other_exponents),
+        cmocka_unit_test(test_round_trip_quad_speeds_unique),
+        cmocka_unit_test(test_round_trip_tilted),
+        cmocka_unit_test(test_round_trip_r_not_s),
+        cmocka_unit_test(test_round_trip_r_not_s_pow),
+        cmocka_unit_test(test_r_not_s_warm_start),
+        cmocka_unit_test(test_saturation_yaw),
+        cmocka_unit_test(test_saturation_thrust),
+        cmocka_unit_test(test_saturation_roll_pitch),
+        cmocka_unit_test(test_saturation_hexa),
+        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_extreme_demands),
+    };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,121 @@
-/* fc/attitude_estimator.h - placeholder, being written */
+/*
+ * fc/attitude_estimator.h - complementary attitude filter (dissertation §2.5).
+ *
+ * The gyro is integrated on the unit quaternion by the exponential map; the
+ * accelerometer's gravity direction corrects the roll and pitch through a PI
+ * law on the direction error (the explicit complementary filter of Mahony,
+ * Hamel and Pflimlin, 2008):
+ *
+ *   v_hat = R(q)^T e_z                 estimated up direction, body frame
+ *   v_a   = a / |a|                    measured up direction (specific force)
+ *   e     = v_a x v_hat                direction error (|e| = sin of the tilt error)
+ *   w     = trust(|a|) in [0, 1]       1 at |a| = g, 0 at ||a| - g| >= band
+ *   q    <- q (x) exp((gyro - b + Kp w e) dt / 2)
+ *   b    <- clamp(b - Ki dt w e, +-gyro_bias_limit)
+ *
+ * Linearised about a small tilt error theta under a constant gyro bias beta,
+ * theta'' + Kp theta' + Ki theta = beta', so with Kp = 2 zeta w_c and
+ * Ki = w_c^2 the tilt error is a second-order system of natural frequency w_c
+ * and damping zeta, and the bias estimate b converges to beta (its components
+ * perpendicular to the up direction; the heading is not observable from
+ * gravity, so neither is the bias about the up axis).
+ *
+ * Alignment: the first alignment_samples valid accelerometer samples are
+ * averaged; roll and pitch come from the mean (yaw 0). Until then the output
+ * attitude is the identity and `aligned` is false (status FC_STEP_OK).
+ *
+ * Bad input (a non-finite component, a zero-length accelerometer vector, a
+ * gyro component beyond gyro_range, an accelerometer component beyond
+ * accel_range) sets FC_STEP_BAD_INPUT; a bad accelerometer sample gives a
+ * gyro-only step (weight 0, bias held), a bad gyro sample holds the attitude,
+ * the bias and the last good rate. FC_STEP_DEGRADED marks an aligned step
+ * without accelerometer correction (weight 0).
+ *
+ * Parameter ranges (init returns FC_INIT_BAD_PARAM outside them); the upper
+ * bounds keep every fixed-point intermediate inside its format:
+ *   dt_s                   (0, 0.1] s
+ *   crossover_radps        (0, 10] rad/s, and crossover * dt <= 0.1
+ *   damping                (0, 10], and Kp = 2 zeta w_c <= 20 rad/s, Kp dt <= 0.5
+ *   gyro_bias_limit_radps  [0, 0.8] rad/s
+ *   gravity_mps2           [1, 100] m/s2
+ *   accel_trust_band_mps2  [0.01 m/s2, gravity)  (trust is 0 in free fall)
+ *   gyro_range_radps       (0, 100] rad/s, and gyro_range * dt <= 2 rad
+ *   accel_range_mps2       (gravity, 256] m/s2
+ *   alignment_samples      [1, 32767]
+ */
 #ifndef FC_ATTITUDE_ESTIMATOR_H
 #define FC_ATTITUDE_ESTIMATOR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fc/quat.h"
 #include "fc/status.h"
-#endif
+#include "fc/vec3.h"
+
+typedef struct fc_attitude_estimator_params {
+    fc_real dt_s;                  /* DT: the fixed step */
+    fc_real crossover_radps;       /* RATE: w_c, natural frequency of the tilt-error loop */
+    fc_real damping;               /* RATIO: zeta; Kp = 2 zeta w_c, Ki = w_c^2 */
+    fc_real gyro_bias_limit_radps; /* RATE: clamp of each bias component */
+    fc_real gravity_mps2;          /* ACCEL: g, the specific force at rest */
+    fc_real accel_trust_band_mps2; /* ACCEL: trust 1 at |a| = g, falling linearly to 0 at
+                                    * ||a| - g| = band */
+    fc_real gyro_range_radps;      /* RATE: a gyro component beyond this is bad input */
+    fc_real accel_range_mps2;      /* ACCEL: an accel component beyond this is bad input */
+    uint16_t alignment_samples;    /* valid accel samples averaged for the initial attitude */
+} fc_attitude_estimator_params;
+
+typedef struct fc_imu_sample {
+    fc_vec3 gyro_radps; /* RATE, body frame (FLU) */
+    fc_vec3 accel_mps2; /* ACCEL, body frame, specific force: level at rest reads (0, 0, +g) */
+} fc_imu_sample;
+
+typedef struct fc_attitude_estimate {
+    fc_quat attitude;        /* UNIT, body -> world; the identity until aligned */
+    fc_vec3 rate_radps;      /* RATE, body: gyro minus the bias estimate */
+    fc_vec3 gyro_bias_radps; /* RATE, body: the bias estimate */
+    fc_real accel_weight;    /* RATIO in [0, 1]: the accelerometer trust used in this step */
+    bool aligned;            /* false until the initial alignment is complete */
+} fc_attitude_estimate;
+
+typedef struct fc_attitude_estimator {
+    fc_arith ar;                       /* saturation record of the current step */
+    fc_attitude_estimator_params p;    /* the validated parameters (formats as above) */
+    fc_real kp_radps;                  /* RATE: Kp = 2 zeta w_c, rad/s per unit of |e| */
+    fc_real ki_dt_fine;                /* UNIT (Q30 holding rad/s): Ki dt = w_c^2 dt <= 1, the
+                                        * bias step per unit of |e| */
+    fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
+    fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
+    fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */
+    fc_quat attitude;                  /* UNIT: body -> world */
+    fc_vec3 gyro_bias_fine;            /* UNIT (Q30 holding rad/s, |b| <= 0.8): the bias
+                                        * estimate, held finer than RATE so that the small
+                                        * per-step increments Ki dt w e are not rounded away */
+    fc_vec3 rate_radps;                /* RATE: last good bias-corrected rate */
+    fc_acc alignment_sum[3];           /* ACCEL x UNIT products: running sum of
+                                        * a_i / alignment_samples, rounded once at the end
+                                        * (bounded by max |a| whatever the sample count) */
+    fc_real accel_weight;              /* RATIO: trust of the last step */
+    uint16_t alignment_count;          /* valid samples averaged so far */
+    bool aligned;                      /* the alignment is complete */
+    bool ready;                        /* init succeeded */
+} fc_attitude_estimator;
+
+/* Sensible defaults for a step of dt_s (DT): w_c = 1 rad/s, zeta = 0.7071
+ * (Kp = 1.414 rad/s, Ki = 1 s^-2), bias limit 0.2 rad/s, g = 9.81 m/s2, trust
+ * band 2 m/s2, gyro range 35 rad/s (2000 deg/s), accel range 16 g, 100
+ * alignment samples. */
+void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_real dt_s);
+
+/* Validates p (ranges above), computes Kp, Ki dt, 1/band and 1/alignment_samples,
+ * and starts the alignment. On FC_INIT_BAD_PARAM the state is safe: its step
+ * reports FC_STEP_NOT_READY with the identity attitude. */
+fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
+                                          const fc_attitude_estimator_params *p);
+
+/* One step of dt_s with one IMU sample; out is always written and finite. */
+fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
+                                          fc_attitude_estimate *out);
+
+#endif /* FC_ATTITUDE_ESTIMATOR_H */

@@ -34,6 +34,7 @@ fc_mat_status fc_mat_zero(fc_mat *m, int rows, int cols);
 /* n x n identity. */
 fc_mat_status fc_mat_identity(fc_mat *m, int n);
 
+/* out = a^T; out must not alias a. */
 void fc_mat_transpose(const fc_mat *a, fc_mat *out);
 
 /* out = a b. out must not alias a or b. */
@@ -44,11 +45,16 @@ fc_mat_status fc_mat_mul(fc_arith *ar, const fc_mat *a, const fc_mat *b, fc_mat 
 void fc_mat_mul_vec(fc_arith *ar, const fc_mat *a, const fc_real *x, fc_real *y);
 
 /* x = A^-1 B for square A (Gauss-Jordan with partial pivoting). A pivot whose
- * size is below 1e-5 of the largest entry of A is rank deficiency. */
+ * size is below 1e-5 of the largest entry of A is rank deficiency. In fixed the
+ * intermediates (rows divided by their pivots) must stay inside MAT as well as
+ * the result: fine for diagonally dominant A, not for any A whose inverse fits. */
 fc_mat_status fc_mat_solve(fc_arith *ar, const fc_mat *a, const fc_mat *b, fc_mat *x);
 
 /* Moore-Penrose pseudo-inverse of a full-rank matrix: A^T (A A^T)^-1 when
- * rows <= cols (full row rank), (A^T A)^-1 A^T otherwise. Rank-deficient
+ * rows <= cols (full row rank), (A^T A)^-1 A^T otherwise, the Gram matrix
+ * solved by Cholesky (its intermediates stay bounded, unlike Gauss-Jordan's).
+ * Rank deficiency is a Cholesky pivot below 1e-5 of the Gram matrix's largest
+ * entry (a singular value below ~3e-3 of the largest). Rank-deficient
  * input gives FC_MAT_RANK_DEFICIENT and leaves out as a zero matrix. */
 fc_mat_status fc_mat_pinv(fc_arith *ar, const fc_mat *a, fc_mat *out);
 

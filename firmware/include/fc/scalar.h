@@ -161,8 +161,9 @@ static inline fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 static inline fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
-    const int64_t sum = (int64_t)a0 * b0 + (int64_t)a1 * b1;
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift));
+    /* two products of int32 can reach 2^63: accumulated in halves (see fc_dot3) */
+    const int64_t sum = ((int64_t)a0 * b0 >> 1) + ((int64_t)a1 * b1 >> 1);
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 1));
 }
 
 static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
@@ -398,7 +399,7 @@ static inline fc_real fc_from_float(float x, int frac)
     if (scaled <= -2147483647.0f) {
         return FC_REAL_MIN;
     }
-    return (fc_real)(scaled + (scaled < 0.0f ? -0.5f : 0.5f));
+    return (fc_real)__builtin_roundf(scaled); /* one rounding: adding 0.5f would round twice */
 #else
     (void)frac;
     return x;
@@ -415,7 +416,18 @@ static inline float fc_to_float(fc_real x, int frac)
 #endif
 }
 
-#define FC_PI FC_C(3.14159265f, ANGLE)
-#define FC_HALF_PI FC_C(1.57079633f, ANGLE)
+/* pi and its multiples in ANGLE. In fixed they are written as integers:
+ * FC_C folds through a 24-bit float, 23 LSB off for pi in Q28. */
+#if FC_NUMERIC_FIXED
+#define FC_PI ((fc_real)843314857)         /* round(pi 2^28) */
+#define FC_TWO_PI ((fc_real)1686629713)    /* round(2 pi 2^28) */
+#define FC_HALF_PI ((fc_real)421657428)    /* round(pi/2 2^28) */
+#define FC_QUARTER_PI ((fc_real)210828714) /* round(pi/4 2^28) */
+#else
+#define FC_PI 3.14159265f
+#define FC_TWO_PI 6.28318531f
+#define FC_HALF_PI 1.57079633f
+#define FC_QUARTER_PI 0.785398163f
+#endif
 
 #endif /* FC_SCALAR_H */

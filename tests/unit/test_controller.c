@@ -1,0 +1,226 @@
+/*
+ * Tests of the whole controller through its one entry point (fc/controller.h),
+ * both backends. The closed loop here is a small 6-DOF check of the composition
+ * (the rotor model is the library's own forward map); the independent plant is
+ * the SIL's (sim_host).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "fc/controller.h"
+
+#define F(x, KIND) fc_from_float((float)(x), FC_##KIND##_FRAC)
+#define D(x, KIND) ((double)fc_to_float((x), FC_##KIND##_FRAC))
+
+static fc_controller_inputs level_at_rest(double z_m)
+{
+    fc_controller_inputs in;
+    memset(&in, 0, sizeof in);
+    in.imu.gyro_radps = fc_vec3_zero();
+    in.imu.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(9.81, ACCEL));
+    in.attitude_external = fc_quat_identity();
+    in.position_m = fc_vec3_make(F(0, LENGTH), F(0, LENGTH), F(z_m, LENGTH));
+    in.velocity_mps = fc_vec3_zero();
+    in.pad.z_m = F(0, LENGTH);
+    in.pad.vz_mps = F(0, VEL);
+    in.pad.az_mps2 = F(0, ACCEL);
+    in.position_setpoint_m = fc_vec3_zero();
+    in.yaw_setpoint_rad = F(0, ANGLE);
+    in.command = FC_COMMAND_TRACK_PAD;
+    return in;
+}
+
+static void test_every_airframe_and_variant_inits(void **state)
+{
+    (void)state;
+    static fc_controller ctl; /* large: keep it off the stack */
+    for (int a = 0; a < FC_AIRFRAME_COUNT; a++) {
+        for (int v = 0; v < FC_ALT_VARIANT_COUNT; v++) {
+            fc_controller_params p;
+            fc_controller_default_params(&p, (fc_airframe)a, (fc_altitude_variant)v, F(0.002, DT));
+            const fc_init_result r = fc_controller_init(&ctl, &p);
+            if (r != FC_INIT_OK) {
+                print_message("airframe %d variant %d: init %d\n", a, v, (int)r);
+            }
+            assert_int_equal(r, FC_INIT_OK);
+        }
+    }
+}
+
+static void test_disarmed_motors_off(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, F(0.002, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(1.0);
+    in.command = FC_COMMAND_DISARM;
+    fc_controller_outputs out;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_false(out.motors_on);
+    assert_int_equal(out.rotor_count, 6);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.rotor_speed[i] == FC_INT(0, UNIT));
+    }
+    /* armed: speeds inside [u_min, 1] for the six rotors, 0 above */
+    in.command = FC_COMMAND_TRACK_PAD;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true(out.motors_on);
+    for (int i = 0; i < 6; i++) {
+        assert_true(out.rotor_speed[i] >= p.allocation.rotor[i].speed_min);
+        assert_true(out.rotor_speed[i] <= FC_INT(1, UNIT));
+    }
+    for (int i = 6; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.rotor_speed[i] == FC_INT(0, UNIT));
+    }
+}
+
+static void test_bad_params_not_ready(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.altitude.dt_s = F(0.004, DT); /* modules on different steps */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+    fc_controller_inputs in = level_at_rest(0.5);
+    fc_controller_outputs out;
+    assert_int_equal(fc_controller_step(&ctl, &in, &out), FC_STEP_NOT_READY);
+    assert_false(out.motors_on);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.allocation.rotor_count = 0;
+    assert_true(fc_controller_init(&ctl, &p) != FC_INIT_OK);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.horizontal.tilt_max_rad = F(0, ANGLE);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+}
+
+static void test_bad_input_is_safe(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, F(0.002, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(1.0);
+    fc_controller_outputs out;
+    (void)fc_controller_step(&ctl, &in, &out);
+#if !FC_NUMERIC_FIXED
+    in.position_m.z = NAN;
+    assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_BAD_INPUT) != 0u);
+    assert_false(out.motors_on);
+    in = level_at_rest(1.0);
+    in.imu.gyro_radps.x = INFINITY;
+    const fc_step_status s = fc_controller_step(&ctl, &in, &out);
+    assert_true((s & FC_STEP_BAD_INPUT) != 0u);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(isfinite(out.rotor_speed[i]) && out.rotor_speed[i] >= 0.0f && out.rotor_speed[i] <= 1.0f);
+    }
+#else
+    in.position_m.z = INT32_MAX;
+    in.velocity_mps.z = INT32_MIN;
+    in.imu.gyro_radps.x = INT32_MAX;
+    (void)fc_controller_step(&ctl, &in, &out);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        assert_true(out.rotor_speed[i] >= 0 && out.rotor_speed[i] <= FC_INT(1, UNIT));
+    }
+#endif
+}
+
+/* ---- a small 6-DOF check of the composition --------------------------- */
+
+typedef struct body { double p[3], v[3], q[4], w[3], speed[FC_MAX_ROTORS]; } body;
+
+static void rotate(const double q[4], const double v[3], double out[3])
+{
+    /* v' = q v q*, q = (w, x, y, z) */
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    const double t[3] = {2 * (y * v[2] - z * v[1]), 2 * (z * v[0] - x * v[2]), 2 * (x * v[1] - y * v[0])};
+    out[0] = v[0] + w * t[0] + (y * t[2] - z * t[1]);
+    out[1] = v[1] + w * t[1] + (z * t[0] - x * t[2]);
+    out[2] = v[2] + w * t[2] + (x * t[1] - y * t[0]);
+}
+
+static void test_hexa_tracks_the_4_4_reference(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    const double dt = 0.002, h = 0.00025, mass = 4.0, inertia[3] = {0.082, 0.082, 0.149}, g = 9.81;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, F(dt, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_allocation rotors; /* the rotor model: the library's forward map */
+    assert_int_equal(fc_allocation_init(&rotors, &p.allocation), FC_INIT_OK);
+    body b = {{0.3, -0.2, 1.18 + 1.0}, {0, 0, 0}, {1, 0, 0, 0}, {0, 0, 0}, {0}};
+    double worst_late_error = 0.0, worst_tilt = 0.0;
+    for (int k = 0; k < (int)(12.0 / dt); k++) {
+        const double t = k * dt;
+        double up_body[3];
+        const double q_conj[4] = {b.q[0], -b.q[1], -b.q[2], -b.q[3]};
+        rotate(q_conj, (const double[3]){0, 0, g}, up_body); /* at rest the IMU reads +g up */
+        fc_controller_inputs in = level_at_rest(b.p[2]);
+        in.imu.gyro_radps = fc_vec3_make(F(b.w[0], RATE), F(b.w[1], RATE), F(b.w[2], RATE));
+        in.imu.accel_mps2 = fc_vec3_make(F(up_body[0], ACCEL), F(up_body[1], ACCEL), F(up_body[2], ACCEL));
+        in.position_m = fc_vec3_make(F(b.p[0], LENGTH), F(b.p[1], LENGTH), F(b.p[2], LENGTH));
+        in.velocity_mps = fc_vec3_make(F(b.v[0], VEL), F(b.v[1], VEL), F(b.v[2], VEL));
+        fc_controller_outputs out;
+        (void)fc_controller_step(&ctl, &in, &out);
+        fc_vec3 force, moment;
+        fc_allocation_forward_wrench(&rotors, out.rotor_speed, &force, &moment);
+        const double f_body[3] = {D(force.x, FORCE), D(force.y, FORCE), D(force.z, FORCE)};
+        const double m_body[3] = {D(moment.x, MOMENT), D(moment.y, MOMENT), D(moment.z, MOMENT)};
+        for (int i = 0; i < (int)(dt / h + 0.5); i++) {
+            double f_world[3];
+            rotate(b.q, f_body, f_world);
+            for (int j = 0; j < 3; j++) {
+                b.v[j] += h * (f_world[j] / mass - (j == 2 ? g : 0.0));
+                b.p[j] += h * b.v[j];
+            }
+            const double jw[3] = {inertia[0] * b.w[0], inertia[1] * b.w[1], inertia[2] * b.w[2]};
+            const double wxjw[3] = {b.w[1] * jw[2] - b.w[2] * jw[1], b.w[2] * jw[0] - b.w[0] * jw[2],
+                                    b.w[0] * jw[1] - b.w[1] * jw[0]};
+            for (int j = 0; j < 3; j++) {
+                b.w[j] += h * (m_body[j] - wxjw[j]) / inertia[j];
+            }
+            /* q' = 1/2 q (x) [0, w] */
+            const double w0 = b.q[0], x0 = b.q[1], y0 = b.q[2], z0 = b.q[3];
+            b.q[0] += h * 0.5 * (-x0 * b.w[0] - y0 * b.w[1] - z0 * b.w[2]);
+            b.q[1] += h * 0.5 * (w0 * b.w[0] + y0 * b.w[2] - z0 * b.w[1]);
+            b.q[2] += h * 0.5 * (w0 * b.w[1] + z0 * b.w[0] - x0 * b.w[2]);
+            b.q[3] += h * 0.5 * (w0 * b.w[2] + x0 * b.w[1] - y0 * b.w[0]);
+            const double n = sqrt(b.q[0] * b.q[0] + b.q[1] * b.q[1] + b.q[2] * b.q[2] + b.q[3] * b.q[3]);
+            for (int j = 0; j < 4; j++) {
+                b.q[j] /= n;
+            }
+        }
+        const double tilt = acos(fmin(1.0, 1.0 - 2.0 * (b.q[1] * b.q[1] + b.q[2] * b.q[2])));
+        worst_tilt = fmax(worst_tilt, tilt);
+        const double z_r = 0.18 + exp(-(t + dt) / 0.1);
+        if (t > 6.0) {
+            worst_late_error = fmax(worst_late_error, fabs(b.p[2] - z_r));
+        }
+    }
+    print_message("hexa, 4.4 reference over a still pad: |e| after 6 s <= %.2f mm, tilt <= %.2f deg, "
+                  "x %.3f y %.3f m\n", worst_late_error * 1e3, worst_tilt * 57.2958, b.p[0], b.p[1]);
+    assert_true(worst_late_error < 0.01);
+    assert_true(worst_tilt < 0.35);
+    assert_true(fabs(b.p[0]) < 0.02 && fabs(b.p[1]) < 0.02);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_airframe_and_variant_inits),
+        cmocka_unit_test(test_disarmed_motors_off),
+        cmocka_unit_test(test_bad_params_not_ready),
+        cmocka_unit_test(test_bad_input_is_safe),
+        cmocka_unit_test(test_hexa_tracks_the_4_4_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
