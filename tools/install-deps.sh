@@ -7,8 +7,10 @@ packages=(
   build-essential cmake pkg-config      # host build
   libcmocka-dev                         # unit tests
   libeigen3-dev                         # the independent oracle for the math tests
+  libinih-dev libcjson-dev gnuplot-nox  # sim_host: scenario files, JSON metrics, figures
   gcc-arm-none-eabi libnewlib-arm-none-eabi   # Crazyflie 2.x (Cortex-M4F)
   gcc-avr avr-libc binutils-avr         # ATmega2560
+  simavr libsimavr-dev libelf-dev       # ATmega2560 loop test in simavr (platform/atmega/sim)
 )
 
 missing=()

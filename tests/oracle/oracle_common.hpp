@@ -1,8 +1,8 @@
 // oracle_common.hpp - shared scaffolding of the Eigen oracle tests.
 //
 // The library is C; its headers are included as C (extern "C") and compile
-// unchanged as C++17. Every check draws its inputs from one fixed-seed
-// std::mt19937, quantises them into the backend of this build, computes the
+// unchanged as C++17. Every check draws its inputs from a std::mt19937 with a
+// constant seed, quantises them into the backend of this build, computes the
 // reference in double with Eigen from the QUANTISED inputs (so only the error
 // of the function under test is measured), and records per case the error and
 // the bound it must stay within.
@@ -80,8 +80,8 @@ inline double to_double(fc_real r, int frac)
 // In fixed, fc_from_float goes through a float, so a Q30 value it returns has
 // only 24 significant bits (its low 6-7 bits are zero, and a unit quaternion
 // made of such values is unit only to ~1e-7). Products of such values have
-// all-zero low bits, which would hide the truncations inside the library's
-// 64-bit accumulators (fc_dot2/3/4 drop 1-2 bits, fc_acc 3 bits). The value is
+// all-zero low bits, which would hide any truncation of low bits inside the
+// library's 64-bit accumulators (fc_dot2/3/4, fc_acc). The value is
 // therefore refined by the residual x - value, rounded in the Q-format: the
 // result is the Q-value nearest x (every bit populated, a unit quaternion
 // unit to ~2e-9). The float backend keeps the float fc_from_float returned.
@@ -98,8 +98,10 @@ public:
         fc_real r = fc_from_float(static_cast<float>(x), frac);
 #if FC_NUMERIC_FIXED
         const double residual_lsb = std::ldexp(x - to_double(r, frac), frac);
-        const std::int64_t v = static_cast<std::int64_t>(r) + std::llround(residual_lsb);
-        r = static_cast<fc_real>(std::clamp<std::int64_t>(v, FC_REAL_MIN, FC_REAL_MAX));
+        if (std::fabs(residual_lsb) < 1e6) { // not for x outside the format (saturated)
+            const std::int64_t v = static_cast<std::int64_t>(r) + std::llround(residual_lsb);
+            r = static_cast<fc_real>(std::clamp<std::int64_t>(v, FC_REAL_MIN, FC_REAL_MAX));
+        }
 #endif
         return r;
     }

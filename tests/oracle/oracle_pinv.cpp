@@ -7,31 +7,32 @@
 // meaningful. Draws continue until 5000 matrices of each size were checked.
 //
 // The library forms the normal equations (A A^T or A^T A, condition number
-// cond^2) and solves them by Gauss-Jordan, so its error grows with cond^2; it
-// also grows with the size of the result where that is above 1 (relative
-// error) and has a floor of a few roundings where it is below 1 (absolute
-// error). The bound is therefore, per case,
+// cond^2) and solves them by Cholesky, so its error grows with cond^2; it also
+// grows with the size of the result where that is above 1 (relative error)
+// and has a floor of a few roundings where it is below 1 (absolute error). The
+// bound is therefore, per case,
 //
 //     C cond^2 max(1, max|A+|)  units,  unit = 1 LSB of Q24 (fixed), FLT_EPSILON (float)
 //
-// fixed: C = 2. The Gram matrix and every elimination step round to Q24, and
-//   cond(Gram) = cond^2 amplifies that. Measured (240000 matrices, 40000 per
-//   size, unsaturated cases) err / (cond^2 max(1, max|A+|)): at most 0.91 LSB
-//   (4x8), 0.86 (4x6), 0.68 (4x4), 0.65 (6x8), 0.63 (8x6), 0.39 (6x6). The
-//   plain err / cond^2 reaches 3.8 LSB on 4x4 where max|A+| is up to 17, hence
-//   the max(1, max|A+|) factor. At cond = 50 and max|A+| = 1 the bound is
-//   5000 LSB = 3e-4.
-// float: C = 4. Measured err / (cond^2 max(1, max|A+|)) at most 1.3 eps (4x8),
-//   under 0.9 eps elsewhere (8 seeds x 5000 matrices per size).
+// fixed: C = 2. The Gram matrix, the Cholesky factor and both substitutions
+//   round to Q24, and cond(Gram) = cond^2 amplifies that. Measured err /
+//   (cond^2 max(1, max|A+|)): at most 1.10 LSB over 8 other seeds x 5000
+//   matrices per size (6x8; 0.87-1.02 for the other sizes), 1.01 LSB over a
+//   longer run of 40000 per size, 0.90 with this program's seed. The plain
+//   err / cond^2 reaches 5.7 LSB on 4x4, where max|A+| is up to ~17, hence the
+//   max(1, max|A+|) factor. At cond = 50 and max|A+| <= 1 the bound is 5000
+//   LSB = 3e-4.
+// float: C = 4. Measured err / (cond^2 max(1, max|A+|)) at most 0.93 eps over
+//   8 other seeds x 5000 matrices per size, 0.90 eps with this program's seed.
 //
 // Every case also has to return FC_MAT_OK, a cols x rows result and leave the
 // saturation flag clear: the inputs and the pseudo-inverse (entries below ~20
 // here) are well inside Q7.24's [-128, 128).
 //
-// Group "regression" holds matrices found by the random draws (with other
-// seeds) on which the fixed backend saturates inside the Gauss-Jordan solve
-// of the Gram matrix and returns FC_MAT_OK with a wrong result; the check
-// keeps the correct expectation (see the report in that function).
+// Group "regression": five matrices (cond 22-47) on which the first version of
+// fc_mat_pinv (Gauss-Jordan on the Gram matrix, commit 1fa71d4) saturated in
+// fixed and returned FC_MAT_OK with a result off by up to 25; see
+// check_regression.
 #include "oracle_common.hpp"
 
 #include <Eigen/Dense>
@@ -166,20 +167,19 @@ bool check_pinv(int rows, int cols)
 }
 
 // ---- regression: saturation inside the solve (fixed backend) -------------
-// Matrices found by the random draws of this program with other seeds (and by
-// longer runs: about 1 in 2000 4x4 and 1 in 5000 6x6 matrices with cond <= 50,
+// Matrices found by the random draws of this program (other seeds, and longer
+// runs: about 1 in 2000 4x4 and 1 in 5000 6x6 matrices with cond <= 50 did it,
 // rarer for 4x6, 6x8 and 8x6). Values are the raw Q24 integers of the fixed
 // backend (entries in [-2, 2], cond <= 50, max|A+| <= 9).
 //
-// Library issue (fixed backend), fc_mat_pinv -> fc_mat_solve: Gauss-Jordan on
-// the Gram matrix G = A A^T (or A^T A) meets a small pivot (e.g. -0.027 in the
-// third column for the 4x4 below, cond(G) = cond^2 = 1345): the pivot row
-// divided by it holds entries up to ~80 and the products factor * row in
-// subtract_scaled_row reach ~176, beyond Q7.24's [-128, 128); fc_mul
-// saturates, the result is off by up to 25 (absolute; max|A+| = 9.0) and the
-// function still returns FC_MAT_OK (only ar->saturated tells). The float
-// backend gets these matrices right. The expectation below is the same as for
-// the random cases: within the bound, FC_MAT_OK, no saturation.
+// What went wrong with Gauss-Jordan on the Gram matrix G = A A^T (or A^T A):
+// a small pivot (e.g. -0.027 in the third column for the 4x4 below, cond(G) =
+// cond^2 = 1345) made the divided pivot row reach ~80 and the products factor
+// * row in the elimination ~176, beyond Q7.24's [-128, 128); fc_mul saturated,
+// the result was off by up to 25 and the function still returned FC_MAT_OK
+// (only ar->saturated told). The Cholesky solve keeps every intermediate
+// bounded. The expectation is the same as for the random cases: within the
+// bound, FC_MAT_OK, no saturation.
 struct KnownMatrix {
     int rows, cols;
     std::int32_t raw[8][8];

@@ -113,11 +113,11 @@ void expect_no_saturation(Check &check, const fc_arith &ar, const std::function<
 
 // ---- Hamilton product ---------------------------------------------------
 // (Measured values here and below: the worst case over this program's seed
-// and 8 other seeds of 5000 cases each.)
+// and 6 other seeds of 5000 cases each.)
 //
-// fixed: every component is one fc_dot4, one rounding to nearest (0.5 LSB) plus
-//   the 2 bits each product drops before the sum (4 * 2^-58, 2^-26 LSB); the
-//   double reference is exact to ~1e-7 LSB. Measured 0.50 LSB; bound 1 LSB.
+// fixed: every component is one fc_dot4, four products summed in 64 bits and
+//   rounded once to nearest (0.5 LSB); the double reference is exact to ~1e-7
+//   LSB. Measured 0.50 LSB; bound 1 LSB.
 // float: 4 products and 3 sums of |.| <= 1 values, a few float roundings of
 //   6e-8 each; measured 1.1e-7 (0.96 eps); bound 1e-6 (8 eps).
 bool check_mul()
@@ -138,37 +138,38 @@ bool check_mul()
 }
 
 // ---- rotation of a vector ------------------------------------------------
-// Eigen's q * v evaluates v + w t + q_v x t, t = 2 q_v x v (the library's
-// formula too); it equals q v q* for a unit q. The reference is given the same
-// quantised q as the library (unit to ~1e-7, not to 1e-16), so both evaluate
-// one function of the same input and the check measures the arithmetic only
-// (normalising q for the reference would add |q|^2 - 1 ~ 1e-7 times |v|).
+// Reference: Eigen's q * v with q normalised in double, i.e. the rotation that
+// q stands for (Eigen's q * v assumes a unit q; fc_quat_rotate_inv against
+// q.conjugate() * v). The quantised q is unit only to ~2e-9 (fixed) or ~1e-7
+// (float), and q v q* and the rotation by q/|q| differ by (|q|^2 - 1) |v|,
+// which a function of a unit quaternion may carry either way: that amount is
+// added to each case's bound (it is at most 2 LSB of Q30 on a unit vector,
+// 4 LSB of Q20 at |v| = 2040 m, and much less on average).
 //
 // Inputs: random unit q, and v
 //   Length500        LENGTH (Q20) components uniform in [-500, 500] m
 //   UnitVector       UNIT (Q30) directions uniform on the sphere
 //   LengthFullRange  LENGTH, |v| uniform in [0, 2040] m, random direction: the
 //                    whole format ([-2048, 2048) m); the result, of the same
-//                    length, is representable too
+//                    length, is representable too (group rotate_full_range)
 //
-// fixed: q_v x v rounds 0.5 LSB, doubled to t: 1 LSB; w t adds |w| * 1 + 0.5,
-//   q_v x t adds |q_v| * (error of t) + 0.5: the terms sum to ~3 LSB of the
-//   vector's format at worst. Measured 2.3 LSB (Q20) and 2.4 LSB (Q30); bound
-//   4 LSB.
-// float: relative to |v|, since the intermediates (t up to 2|v|) round at
-//   float precision of their size: measured 2.8 eps |v| (LENGTH) and 2.2 eps
-//   (unit vectors, 2.7e-7); bound 8 eps |v| (9.5e-7 for a unit vector).
+// fixed: fc_quat_rotate forms R(q) in UNIT (each entry a sum or a double of
+//   products rounded to Q30: up to 2 LSB of Q30 off) and takes one 64-bit dot
+//   product per component, rounded once (0.5 LSB of the vector's format). The
+//   entry errors act on |v_x| + |v_y| + |v_z| <= sqrt(3) |v|, so the error is
+//   at most 0.5 LSB + 2 sqrt(3) |v| LSB(Q30) (3.5 |v| 2^-30, in the vector's
+//   own LSB 3.5 |v| 2^(FRAC-30)). Bound: 1 LSB + 4 |v| LSB(Q30) + the
+//   allowance above: 5 LSB (Q30) for a unit vector, 1 + 3.4 LSB (Q20) at
+//   866 m, 1 + 8 LSB at 2040 m. Measured 4.5 LSB (unit vectors), 2.9 LSB
+//   (Length500), 7.9 LSB (full range), at most 0.74 of the per-case bound.
+// float: relative to |v|, as the products round at float precision of their
+//   size: measured 2.3e-7 on unit vectors and 2.2 eps |v| on LENGTH vectors;
+//   bound 8 eps |v| (9.5e-7 for a unit vector) + the allowance.
 //
-// Library issue (fixed backend), group rotate_full_range: the formula builds
-// t = 2 q_v x v (up to 2|v| per component) and v + w t in the vector's own
-// format, so for |v| above ~1/2 of the format's range (from ~1050 m in
-// LENGTH) those intermediates saturate: about 1 in 5 of the full-range cases
-// fail, with errors up to the size of v (e.g. q = [-0.2457 -0.9535 -0.1432
-// 0.1000], v = (-59.1, -1273.7, -11.4) m gives (-412.3, 713.1, -445.7) m
-// instead of (-464.4, 1060.1, -535.2) m, ar.saturated = 1). fc/quat.h says
-// "v of any format" and the result is representable, so the check keeps the
-// whole range as its expectation; Length500 and UnitVector stay inside the
-// working half.
+// The full-range group exists because the first fc_quat_rotate (two cross
+// products, commit 1fa71d4) built t = 2 q_v x v in the vector's own format and
+// saturated for |v| beyond half the range (from ~1050 m in LENGTH), returning
+// errors as large as v itself.
 enum class RotateInput { Length500, UnitVector, LengthFullRange };
 
 bool check_rotate(bool inverse, int frac, RotateInput input)
@@ -238,7 +239,7 @@ bool check_rotate(bool inverse, int frac, RotateInput input)
 //   (0.4 LSB) and two roundings: measured 1.2 LSB; bound 2 LSB.
 // fixed, quartered: the Q24 rounding of 1/|q/4| on components of q/4 (up to
 //   |q/4| * 2^-25 = 15.6 LSB), the rounding of q/4 itself (0.5 LSB, divided by
-//   |q/4| >= 0.36: 1.4 LSB) and of the product: measured 16.3 LSB; bound 24.
+//   |q/4| >= 0.36: 1.4 LSB) and of the product: measured 16.5 LSB; bound 24.
 // float: sqrt, division and product, a few eps: measured 1.5e-7; bound 1e-6.
 enum class NormRange { General, NearUnit, Long };
 
@@ -302,17 +303,13 @@ bool check_normalize(NormRange range)
 //
 // fixed, series branch: theta = w dt is rounded to ANGLE (Q28: 1.9e-9 rad per
 //   component, ~1 LSB of Q30 on the half angle), the series and the product
-//   round 0.5 LSB each, the renormalisation one more: measured 2.8 LSB; bound
+//   round 0.5 LSB each, the renormalisation one more: measured 2.7 LSB; bound
 //   4 LSB.
 // fixed, sin/cos branch: fc_sin/fc_cos are specified to "a few UNIT LSB"
-//   (fc/scalar.h) and sin(a/2)/a is divided in Q30; with that, measured 6.6
-//   LSB on a copy of the library whose Q28 pi/2 and 2 pi are rounded exactly
-//   (see oracle_scalar.cpp); bound 10 LSB.
-//   Library issue (fixed backend): as it stands it misses this bound by ~5x
-//   (48 LSB): FC_HALF_PI = FC_C(1.57079633f, ANGLE) is rounded through a
-//   float to 421657440 instead of 421657428 (4.4e-8 rad too large), and
-//   fc_sin/fc_cos subtract it in their range reduction, so every half angle
-//   beyond pi/4 (angle beyond pi/2) carries ~47 LSB of error.
+//   (fc/scalar.h, checked in oracle_scalar.cpp) and sin(a/2)/a is divided in
+//   Q30: measured 6.2 LSB; bound 10 LSB. (With the first Q28 pi/2, rounded
+//   through a float to 4.4e-8 rad too large, commit 1fa71d4, this group
+//   measured 48 LSB.)
 // float: a few roundings of unit quantities: measured 1.4e-7 (1.2 eps); bound
 //   1e-6 (8 eps).
 bool check_integrate(bool world, double rate_max, double dt_min, double dt_max)

@@ -32,9 +32,12 @@
  * Inverse, r = s. At init: row scales D = diag(2^e_k), powers of two chosen so
  * the largest entry of each row of D A lies in (0.5, 1] (the formats then hold
  * A of a 30 g Crazyflie and of a 4 kg hexacopter alike), and P = pinv(D A)
- * (n x 4, MAT), so pinv(A) = P D. Step: v = P D w, u_i = v_i^(1/r_i) (fc_sqrt
- * for r = 2, fc_pow_unit otherwise). For n > 4 this is the least-norm v; the
- * null space of A is not used, not even to desaturate.
+ * (n x 4, MAT), so pinv(A) = P D; fc_mat_pinv's result is refined by two
+ * Newton-Schulz steps P <- P (2 I - D A P), which take its cond^2-sized error
+ * (it solves the normal equations) down to the rounding of the products. Step:
+ * v = P D w, u_i = v_i^(1/r_i) (fc_sqrt for r = 2, fc_pow_unit otherwise).
+ * For n > 4 this is the least-norm v; the null space of A is not used, not
+ * even to desaturate.
  *
  * Inverse, r != s (2.4)/(2.6). The true wrench is W(v) = A v + delta(v) with
  * delta(v) = sum Q_max,i d_i (v_i^(s_i/r_i) - v_i) (moment rows only): the
@@ -49,28 +52,44 @@
  * and after fc_allocation_reset): with slowly varying demands the first pass
  * is already one step of the iteration. Each pass contracts the error by about
  * max |1 - (s/r) v^(s/r - 1)| over [v_min, 1] (0.15 to 0.2 for s/r = 1.15).
- * Measured with r = 2, s = 2.3 on the three presets (unit.allocation, cold
- * start, feasible random demands): the worst yaw residual |M_z - M_z,d| in
- * units of the preset's yaw authority sum |Q_max,i| is 0 passes ~1e-2,
- * 1 pass ~2e-3, 2 passes ~3e-4, 3 passes ~5e-5 (float; fixed the same down to its
- * resolution); F_z, M_x and M_y carry no error for planar rotors (delta is
- * along z). Cost per pass: n fc_pow_unit and one alloc.
+ * Measured (unit.allocation, 1000 feasible random demands per preset, cold
+ * start: the warm start cleared before every step), the worst yaw residual
+ * |M_z - M_z,d| over the preset's yaw authority sum |Q_max,i|:
+ *
+ *     r = 2, s = 2.3     crazyflie2   f450      hexa_x_4kg
+ *       0 passes         1.3e-2       1.2e-2    3.7e-3
+ *       1 pass           9.4e-4       7.9e-4    1.8e-4
+ *       2 passes         7.1e-5       6.0e-5    8.4e-6
+ *       3 passes         6.4e-6       5.3e-6    4.6e-7
+ *     r = 2.2, s = 1.8: 1.7e-2, 1.6e-3, 1.6e-4, 1.7e-5 (worst preset)
+ *
+ * (float; fixed the same down to its floor of 2 LSB of MOMENT, 3.6e-5 of the
+ * Crazyflie's 3.4e-3 N m). About 13x per pass. F_z, M_x and M_y carry only the
+ * rounding of r = s for planar rotors (delta is along z). Warm-started on a
+ * slowly varying demand (1 Hz at 500 Hz), one pass per step gives 6.4e-6.
+ * Cost per pass: n fc_pow_unit and one alloc, plus n fc_pow_unit for the warm
+ * start of the next step.
  *
  * Saturation, in this priority (what gives way first comes first), like PX4's
  * sequential desaturation: the demand is split into collective thrust t (the
- * pinv column of F_z), roll/pitch R and yaw Y, v = t p_T + a R + b Y, with
+ * pinv column of F_z, p_T), roll/pitch R and yaw Y, v = t p_T + a R + b Y, with
  * a, b in [0, 1]; every rotor must stay in [u_min, 1], i.e. v_i in [v_min,i, 1].
- *   1. yaw gives way first: b is reduced (|M_z| toward 0) before anything else;
- *   2. then the collective thrust shifts, up or down, to make room (t moves to
- *      the nearest value that fits roll/pitch with no yaw);
- *   3. roll and pitch are reduced last, together (a scales both, so the
- *      direction of (M_x, M_y) is kept).
- * Exactly: a = the largest in [0, 1] for which some t fits (with b = 0); t =
- * the demanded thrust clamped to the interval that fits a R; b = the largest
- * in [0, 1] that fits t p_T + a R. Roll/pitch outrank thrust outranks yaw, so
- * at full or zero thrust yaw gets only the room the thrust leaves. Rotors whose
- * share of the collective |p_T,i| is below 1/32 (none in a vehicle whose rotors
- * all point up) do not take part in steps 1-2; their command is clamped.
+ *   1. yaw gives way first: if some b in [0, 1] fits with t and R as demanded,
+ *      b is the largest such (|M_z| reduced toward 0, nothing else touched);
+ *   2. otherwise the collective thrust shifts, up or down, to make room: t is
+ *      the demand clamped to the interval where a R fits with no yaw;
+ *   3. roll and pitch are reduced last, together (a, the largest in [0, 1] for
+ *      which some t fits with no yaw, scales both, so the direction of
+ *      (M_x, M_y) is kept); then b is the largest that fits t p_T + a R.
+ * Roll/pitch outrank thrust outranks yaw, so at full or zero thrust yaw gets
+ * only the room the thrust leaves. Steps 2-3 assume no yaw: where some yaw
+ * would have widened the room for thrust or roll/pitch, that room is not used
+ * (never for a quad-X, whose diagonal rotors share a spin direction). a is
+ * found in closed form from the rotor pairs (n (n - 1) comparisons by cross
+ * products, one division), b from the rotors (one division), both only when
+ * needed. Rotors whose share of the collective |p_T,i| is below 1/32 (none in
+ * a vehicle whose rotors all point up) do not take part in steps 2-3; their
+ * command is clamped.
  * Reported in out->saturation, per axis not delivered, in the direction it fell
  * short (a positive demand not met sets _POS): a < 1 sets the roll and pitch
  * bits of the non-zero demands, b < 1 the yaw bit, a thrust shift down
@@ -91,10 +110,18 @@
  * Range limits checked at init (both backends): |l| components <= 16 m,
  * 0 < T_max <= 250 N, |Q_max| <= 16 N m, each row of A summed in absolute value
  * <= 1500 N (F_z) and <= 100 N m (moments), the largest entry of each row >=
- * 3.1e-5 (else the axis counts as rank deficient) and no rotor's T_max above
- * ~100 times its row's largest entry (the scaled entries must stay in MAT);
- * a P entry above 16 (a geometry within a factor ~50 of rank loss) is treated as
- * rank deficient.
+ * 3.1e-5 (else the axis counts as rank deficient) and the intermediates of D A
+ * inside their formats: T_max 2^e <= 100 for the F_z row (d_z of the largest
+ * entry's rotor not far below the others'), <= 1000 1/m for a moment row with
+ * 2^e >= 1 and <= 100 1/m with 2^e < 1 (a rotor's T_max not above ~1000 times
+ * its row's largest entry in N m), |Q_max| 2^e <= 100. A P entry above 16 (a
+ * geometry close to rank loss: in the oracle's random geometries, about 2 % of
+ * them, all with cond(D A) > 30) is treated as rank deficient.
+ *
+ * Cost (ATmega2560 at 16 MHz in simavr, the hexa, r = s = 2, atmega.loop):
+ * fixed about 148 000 cycles (9.3 ms) per step, 56 000 of them in the six
+ * fc_sqrt, the rest some 70 products through 64-bit arithmetic; float (soft)
+ * 39 000-78 000 cycles. Saturation adds the pair search.
  */
 #ifndef FC_ALLOCATION_H
 #define FC_ALLOCATION_H

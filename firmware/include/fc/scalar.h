@@ -55,6 +55,10 @@
 #define FC_NUMERIC_FIXED 0
 #endif
 
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "fc/scalar.h: the fixed backend splits 64-bit products assuming little-endian"
+#endif
+
 /* ---- Q-formats (see the table above) ---------------------------------- */
 #define FC_UNIT_FRAC 30
 #define FC_ANGLE_FRAC 28
@@ -90,6 +94,11 @@ typedef struct fc_arith {
 /* ======================================================================= */
 typedef int32_t fc_real;
 
+/* The primitives below must be inlined where they are used: only then is the
+ * shift a constant, and on the ATmega a 32-bit shift by a variable is a loop
+ * (at -Os avr-gcc would otherwise call them). */
+#define FC_FX_INLINE static inline __attribute__((always_inline))
+
 #define FC_REAL_MAX INT32_MAX
 #define FC_REAL_MIN (-INT32_MAX) /* symmetric: negation never overflows */
 
@@ -100,7 +109,7 @@ typedef int32_t fc_real;
 /* An integer constant in format KIND (exact). */
 #define FC_INT(N, KIND) ((fc_real)((int32_t)(N) * ((int32_t)1 << FC_##KIND##_FRAC)))
 
-static inline fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
+FC_FX_INLINE fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
 {
     if (value > (int64_t)FC_REAL_MAX) {
         ar->saturated = 1u;
@@ -113,11 +122,22 @@ static inline fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
     return (fc_real)value;
 }
 
+/* a + b of two 64-bit intermediates, clamped at +-INT64_MAX (then saturated
+ * by whatever narrows it). */
+FC_FX_INLINE int64_t fc_fx_add64(int64_t a, int64_t b)
+{
+    int64_t sum;
+    if (__builtin_add_overflow(a, b, &sum)) {
+        return a > 0 ? INT64_MAX : -INT64_MAX;
+    }
+    return sum;
+}
+
 /* value / 2^shift rounded to nearest (shift > 0), or value * 2^-shift. */
-static inline int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
+FC_FX_INLINE int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
 {
     if (shift > 0) {
-        return (value + ((int64_t)1 << (shift - 1))) >> shift; /* arithmetic shift (gcc) */
+        return fc_fx_add64(value, (int64_t)1 << (shift - 1)) >> shift; /* arithmetic shift (gcc) */
     }
     if (shift < 0) {
         const int64_t limit = INT64_MAX >> (-shift);
@@ -130,58 +150,127 @@ static inline int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
     return value;
 }
 
-static inline fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+/*
+ * value / 2^shift rounded to nearest and saturated, the way every product
+ * leaves its 64-bit intermediate. For 0 < shift < 32 (all the FC_SHIFTs of
+ * the library) it works on the two 32-bit halves: on the ATmega a 64-bit shift
+ * is a libgcc loop of `shift` iterations, while these are byte selects and two
+ * 32-bit shifts by a constant once inlined. Same result as fc_fx_rescale.
+ */
+FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
 {
-    return fc_fx_saturate(ar, (int64_t)a + b);
+    if (shift <= 0 || shift >= 32) {
+        return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
+    }
+    /* the two halves by a union, not by a shift: a 64-bit shift is a loop on
+     * the ATmega (all targets of this library are little-endian) */
+    const union {
+        int64_t whole;
+        struct {
+            uint32_t low;
+            int32_t high;
+        } half;
+    } split = {value};
+    const uint32_t low = split.half.low;
+    int32_t high = split.half.high;
+    const uint32_t low_rounded = low + ((uint32_t)1 << (shift - 1));
+    if (low_rounded < low && high != INT32_MAX) {
+        high += 1; /* the carry of the rounding */
+    }
+    /* the quotient fits 32 bits iff the bits of high above shift - 1 are all sign */
+    const int32_t above = high >> (shift - 1);
+    if (above != 0 && above != -1) {
+        ar->saturated = 1u;
+        return high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
+    }
+    const int32_t result = (int32_t)(((uint32_t)high << (32 - shift)) | (low_rounded >> shift));
+    if (result == INT32_MIN) {
+        ar->saturated = 1u; /* symmetric range: -2^31 is not a value */
+        return FC_REAL_MIN;
+    }
+    return result;
 }
 
-static inline fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+/* An int32 result, with the one value outside the symmetric range (-2^31) saturated. */
+FC_FX_INLINE fc_real fc_fx_symmetric(fc_arith *ar, int32_t value, bool overflowed, bool positive)
 {
-    return fc_fx_saturate(ar, (int64_t)a - b);
+    if (overflowed) {
+        ar->saturated = 1u;
+        return positive ? FC_REAL_MAX : FC_REAL_MIN;
+    }
+    if (value == INT32_MIN) {
+        ar->saturated = 1u;
+        return FC_REAL_MIN;
+    }
+    return value;
 }
 
-static inline fc_real fc_neg(fc_arith *ar, fc_real a)
+FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
 {
-    return fc_fx_saturate(ar, -(int64_t)a);
+    int32_t sum;
+    const bool overflowed = __builtin_add_overflow(a, b, &sum);
+    return fc_fx_symmetric(ar, sum, overflowed, a > 0);
 }
 
-static inline fc_real fc_abs(fc_arith *ar, fc_real a)
+FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    int32_t difference;
+    const bool overflowed = __builtin_sub_overflow(a, b, &difference);
+    return fc_fx_symmetric(ar, difference, overflowed, a >= 0);
+}
+
+FC_FX_INLINE fc_real fc_neg(fc_arith *ar, fc_real a)
+{
+    if (a == INT32_MIN) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    return -a;
+}
+
+FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
 {
     return a < 0 ? fc_neg(ar, a) : a;
 }
 
 /* a * b >> shift, rounded, saturated. */
-static inline fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
+FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a * b, shift));
+    return fc_fx_narrow(ar, (int64_t)a * b, shift);
+}
+
+/* A sum of products (up to four, each below 2^62 in magnitude) narrowed by
+ * shift. Below a shift of 32 the 64-bit sum is clamped, not wrapped: a sum that
+ * reaches 2^63 narrows to beyond int32 anyway and saturates. Wider shifts (not
+ * used by the library's formats, but exact all the same) sum the products in
+ * quarters so that nothing clamps. The branch folds once the shift is constant. */
+FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int64_t p2, int64_t p3, int shift)
+{
+    if (shift >= 32) {
+        const int64_t quarters = (p0 >> 2) + (p1 >> 2) + (p2 >> 2) + (p3 >> 2);
+        return fc_fx_saturate(ar, fc_fx_rescale(ar, quarters, shift - 2));
+    }
+    return fc_fx_narrow(ar, fc_fx_add64(fc_fx_add64(p0, p1), fc_fx_add64(p2, p3)), shift);
 }
 
 /* a0*b0 + a1*b1 (+ ...) >> shift with one rounding: the dot products of the
  * vector and quaternion code accumulate in 64 bits. */
-static inline fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
-    /* two products of int32 can reach 2^63: accumulated in halves (see fc_dot3) */
-    const int64_t sum = ((int64_t)a0 * b0 >> 1) + ((int64_t)a1 * b1 >> 1);
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 1));
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
 
-static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, int shift)
 {
-    /* a product of two int32 is below 2^62 in magnitude and four of them could
-     * wrap an int64: the products are accumulated in quarters (two low bits of
-     * each are dropped, far below the result's LSB for the shifts used here) */
-    const int64_t sum = ((int64_t)a0 * b0 >> 2) + ((int64_t)a1 * b1 >> 2) + ((int64_t)a2 * b2 >> 2);
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 2));
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
 
-static inline fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
+FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
 {
-    const int64_t sum = ((int64_t)a0 * b0 >> 2) + ((int64_t)a1 * b1 >> 2) +
-                        ((int64_t)a2 * b2 >> 2) + ((int64_t)a3 * b3 >> 2);
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, sum, shift - 2));
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }
 
 /* An accumulator for sums of up to eight products (matrix rows): 64 bits,
@@ -190,31 +279,31 @@ static inline fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, 
 typedef int64_t fc_acc;
 #define FC_ACC_GUARD_BITS 3
 
-static inline fc_acc fc_acc_zero(void)
+FC_FX_INLINE fc_acc fc_acc_zero(void)
 {
     return 0;
 }
 
-static inline fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
     return acc + (((int64_t)a * b) >> FC_ACC_GUARD_BITS);
 }
 
-static inline fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
+FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
 {
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, acc, shift - FC_ACC_GUARD_BITS));
+    return fc_fx_narrow(ar, acc, shift - FC_ACC_GUARD_BITS);
 }
 
 /* num << shift / den, rounded to nearest; den == 0 saturates toward the sign of num. */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 
 /* Change of format: a value in format FROM re-expressed in format TO. */
-static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
+FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
     return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, frac_from - frac_to));
 }
 
-static inline bool fc_is_finite(fc_real a)
+FC_FX_INLINE bool fc_is_finite(fc_real a)
 {
     (void)a;
     return true;

@@ -1,0 +1,220 @@
+/*
+ * cf_convert.h - what the Crazyflie app does besides copying fields: unit and
+ * frame conversions between crazyflie-firmware's numbers and the library's,
+ * the parameters a user tunes from cfclient, and the few decisions of the app
+ * (which command, which setpoint, the virtual pad). Plain C, no Crazyflie
+ * header: the host tests (tests/test_cf_convert.c) cover all of it in both
+ * numeric backends, and cf_glue.c only copies fields in and out.
+ *
+ * The firmware's conventions (crazyflie-firmware master, stabilizer_types.h):
+ *   sensorData.gyro   body frame, deg/s
+ *   sensorData.acc    body frame, G; specific force: level at rest reads (0, 0, +1)
+ *   state.attitudeQuaternion  body -> world, scalar LAST (x, y, z, w)
+ *   state.attitude    legacy Euler in degrees with the pitch sign inverted
+ *                     (legacy pitch = -pitch of the ZYX angles); roll and yaw are not
+ *   state.position, state.velocity  world frame, z up, m and m/s
+ *   control (controlModeForceTorque)  thrustSi in N along body z, torque[] in N m
+ *                     about the body axes (x forward, y left, z up)
+ * The library's (fc/controller.h): world ENU z up, body FLU, q body -> world,
+ * scalar FIRST (w, x, y, z), SI units. So the frames agree and only the units,
+ * the quaternion's component order and the legacy pitch sign change.
+ */
+#ifndef CF_CONVERT_H
+#define CF_CONVERT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fc/controller.h"
+
+/* The firmware's GRAVITY_MAGNITUDE, and the library's default g. */
+#define CF_GRAVITY_MPS2 9.81f
+/* The controller's fixed step: RATE_DO_EXECUTE(ATTITUDE_RATE, tick), 500 Hz of
+ * the 1 kHz stabilizer loop. */
+#define CF_STEP_DT_S 0.002f
+#define CF_PI_F 3.14159265f
+
+/* Values of the firmware's stab_mode_t (cf_glue.c checks them at compile time). */
+#define CF_MODE_DISABLE 0u
+#define CF_MODE_ABS 1u
+
+/* The altitude law the app starts with: SSC with the adaptive Theta (4.4), which
+ * learns the real vehicle's mass (a Crazyflie with decks is heavier than the
+ * preset's 27 g). */
+#define CF_DEFAULT_VARIANT ((uint8_t)FC_ALT_VARIANT_SSC_ADAPTIVE)
+/* tau_zr of the reference (3.6) on the Crazyflie. The 4.4 value, 0.1 s, starts
+ * the approach with z_r'' = z_r_init / tau^2 = 100 m/s^2 per metre of offset, far
+ * beyond the ~8 m/s^2 a Crazyflie can add to gravity: 2 s keeps it at 0.25 m/s^2
+ * per metre. The only default that differs from fc_controller_default_params. */
+#define CF_DEFAULT_TAU_ZR_S 2.0f
+/* The approach offset taken from the present height is kept inside [0, this]. */
+#define CF_APPROACH_OFFSET_MAX_M 4.0f
+/* loaded_variant before any defaults were loaded */
+#define CF_TUNING_NONE 0xFFu
+
+/* ---- units --------------------------------------------------------------- */
+
+float cf_rad_from_deg(float deg);
+float cf_mps2_from_g(float g);
+/* An angle wrapped into [-pi, pi]. */
+float cf_wrap_pi(float angle_rad);
+
+/* ---- quaternions ----------------------------------------------------------- */
+
+/* The firmware's scalar-last quaternion as the library's (w, x, y, z). */
+fc_quat cf_quat_from_xyzw(float x, float y, float z, float w);
+/* The library's quaternion as the firmware's order: xyzw[0..3] = x, y, z, w. */
+void cf_quat_to_xyzw(fc_quat q, float xyzw[4]);
+/* state.attitude (legacy Euler, degrees, pitch inverted) as a body -> world
+ * quaternion: the ZYX rotation of (roll, -pitch_legacy, yaw). For estimators that
+ * publish only the Euler angles; the app itself uses state.attitudeQuaternion. */
+fc_quat cf_quat_from_legacy_rpy_deg(float roll_deg, float pitch_legacy_deg, float yaw_deg);
+
+/* ---- the firmware's numbers of one step ------------------------------------ */
+
+/* What cf_glue.c copies out of sensorData_t, state_t and setpoint_t, field by
+ * field, in the firmware's units. */
+typedef struct cf_sample {
+    float gyro_dps[3];     /* sensorData.gyro: body, deg/s */
+    float acc_g[3];        /* sensorData.acc: body, G */
+    float quat_xyzw[4];    /* state.attitudeQuaternion: x, y, z, w */
+    float yaw_deg;         /* state.attitude.yaw (legacy Euler: yaw is not inverted) */
+    float pos_m[3];        /* state.position: world, z up */
+    float vel_mps[3];      /* state.velocity: world */
+    float sp_pos_m[3];     /* setpoint.position */
+    float sp_yaw_deg;      /* setpoint.attitude.yaw */
+    float sp_thrust;       /* setpoint.thrust (legacy PWM units; 0 = no thrust asked) */
+    uint8_t sp_mode_x, sp_mode_y, sp_mode_z, sp_mode_yaw; /* setpoint.mode.*: CF_MODE_* */
+} cf_sample;
+
+/* ---- the parameters a user tunes (PARAM group "fcssc") --------------------- */
+
+typedef struct cf_tuning {
+    uint8_t variant;       /* fc_altitude_variant; a change loads that variant's gains */
+    /* altitude law (fc_altitude_control_params), SI units */
+    float l0;              /* l0 (K1), 1/s: sigma = e' + l0 e */
+    float rho;             /* constant modulation rho, N */
+    float gamma;           /* adaptation gain (4.83), kg s^2/m^2 */
+    float tau_av;          /* averaging filter (4.7), s */
+    float a_m;             /* prediction-error pole (4.5), 1/s */
+    float kappa_m;         /* prediction-error gain (4.5), 1/kg */
+    float k0;              /* rho = rho_bar + k0 |sigma_tilde|, N s/m */
+    float delta;           /* margin delta of (4.39), N */
+    float theta0;          /* nominal Theta = m / (k_h k_g) and Theta(0), kg */
+    /* reference (3.6) */
+    float tau_zr;          /* s */
+    float z_init;          /* z_r_init when offset_auto is 0, m */
+    float z_bias;          /* z_r_bias: the height held above the pad, m */
+    uint8_t offset_auto;   /* 1: z_r_init = the height above pad + bias at arming */
+    /* the virtual pad: z_d = pad_z + pad_amp sin(2 pi pad_freq t), t from arming */
+    float pad_z;           /* m, world */
+    float pad_amp;         /* m */
+    float pad_freq;        /* Hz */
+    /* horizontal PD */
+    float h_kp;            /* 1/s^2 */
+    float h_kd;            /* 1/s */
+    uint8_t loaded_variant; /* whose gains are loaded; CF_TUNING_NONE at first */
+} cf_tuning;
+
+/* A tuning with no gains loaded yet (the first cf_tuning_prepare loads them). */
+#define CF_TUNING_INITIALIZER                                                       \
+    {                                                                              \
+        .variant = CF_DEFAULT_VARIANT, .offset_auto = 1u, .loaded_variant = CF_TUNING_NONE \
+    }
+
+/* Make the tuning usable: a variant out of range goes back to the loaded one (or
+ * the default); the first call loads every gain from the library's Crazyflie
+ * defaults, a later change of variant reloads the altitude-law gains of the new
+ * variant. Returns true when it loaded gains. */
+bool cf_tuning_prepare(cf_tuning *t);
+
+/* The library's parameters for the tuning: fc_controller_default_params for
+ * the Crazyflie airframe and t->variant at CF_STEP_DT_S, then every tuned
+ * value that differs from the default written over it (an untouched value keeps
+ * the library's number bit for bit), the platform's attitude estimate in use
+ * (use_external_attitude) and z_r_init = offset_m. Returns false if a tuned
+ * value is not finite (that value is left at its default; the app then does not
+ * fly: fc_controller_init would not see the NaN in the fixed backend). Range
+ * checks are fc_controller_init's. */
+bool cf_params_from_tuning(const cf_tuning *t, float offset_m, fc_controller_params *p);
+
+/* z_r_init for an approach that starts now at height z_m over a pad at pad_z_m:
+ * with offset_auto the height above the hold point pad + bias, in
+ * [0, CF_APPROACH_OFFSET_MAX_M] (no jump of the reference); else t->z_init. */
+float cf_approach_offset_m(const cf_tuning *t, float z_m, float pad_z_m);
+
+/* ---- the app's decisions ---------------------------------------------------- */
+
+/* What the app remembers between steps; cleared by controllerOutOfTreeInit. */
+typedef struct cf_session {
+    fc_controller_command last_command; /* the command of the previous step */
+    float hold_x_m, hold_y_m;           /* position when the command began */
+    float hold_yaw_rad;                 /* heading when the command began */
+    float pad_phase_rad;                /* of the virtual pad, in [-pi, pi] */
+} cf_session;
+
+void cf_session_reset(cf_session *s);
+
+/* Whether the commander delivers a setpoint: a position or thrust is asked for.
+ * The supervisor replaces the setpoint by a null one (every mode disabled,
+ * thrust 0) when the vehicle may not fly, and so does a stopped commander. */
+bool cf_setpoint_live(const cf_sample *s);
+
+/* The command for this step: the "track" parameter's value as an
+ * fc_controller_command while the setpoint is live; FC_COMMAND_DISARM when it
+ * is 0, out of range, or the setpoint is not live. */
+fc_controller_command cf_command(uint8_t track, const cf_sample *s);
+
+/* Start of a command (DISARM before, something else now): hold the present
+ * position and heading, restart the pad's phase. Returns true then (the app
+ * re-initialises the controller). Remembers command for the next call. */
+bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s);
+
+/* The virtual pad now, and its phase advanced by dt_s. */
+fc_vertical_trajectory cf_pad_trajectory(const cf_session *ss, const cf_tuning *t);
+float cf_pad_height_m(const cf_session *ss, const cf_tuning *t);
+void cf_pad_advance(cf_session *ss, const cf_tuning *t, float dt_s);
+
+/* The controller's inputs from the firmware's numbers: IMU in SI, the
+ * quaternion reordered, position and velocity as they are (both z up), the x/y
+ * setpoint and the heading from the commander when it gives them absolutely,
+ * else the held ones, and the pad. */
+void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tuning *t,
+                           fc_controller_command command, fc_controller_inputs *in);
+
+/* ---- outputs ------------------------------------------------------------------ */
+
+/* What goes into control_t in controlModeForceTorque. */
+typedef struct cf_force_torque {
+    float thrust_n;        /* body z, N, >= 0 */
+    float torque_nm[3];    /* body x, y, z, N m */
+} cf_force_torque;
+
+/* The controller's body thrust and moments; zero while the motors are off (or
+ * if a value were not finite). */
+void cf_force_torque_from_outputs(const fc_controller_outputs *out, cf_force_torque *ft);
+
+/* What the LOG group "fcssc" shows. */
+typedef struct cf_telemetry {
+    float sigma;           /* sigma (or sigma_hat), m/s */
+    float sigma_tilde;     /* m/s */
+    float rho;             /* modulation in use, N */
+    float theta;           /* Theta, kg */
+    float u0_av;           /* N */
+    float u_nom;           /* N */
+    float error;           /* e = z - z_r, m */
+    float z_ref;           /* z_r, m */
+    float vz_ref;          /* z_r', m/s */
+    float pad_z;           /* z_d, m */
+    float thrust;          /* body thrust command, N */
+    float torque[3];       /* body moments, N m */
+    uint16_t status;       /* fc_step_status bits of the last step */
+    uint8_t command;       /* fc_controller_command in effect: 0 disarmed, 1 tracking the pad */
+    uint8_t init_result;   /* fc_init_result of the last (re)initialisation */
+    uint8_t saturation;    /* FC_SAT_* bits of the allocation */
+} cf_telemetry;
+
+void cf_telemetry_from_outputs(const fc_controller_outputs *out, fc_step_status status,
+                               fc_controller_command command, float pad_z_m, cf_telemetry *tm);
+
+#endif /* CF_CONVERT_H */

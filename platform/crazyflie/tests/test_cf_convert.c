@@ -1,0 +1,588 @@
+/*
+ * Host tests of the Crazyflie app's conversions and decisions (cf_convert.c),
+ * in the numeric backend of the `fc` library this build selected. The frame
+ * conventions are checked physically (which way the nose points), and the
+ * quaternion/Euler pair against the formulas the firmware's estimators use to
+ * publish state.attitude from their quaternion.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "cf_convert.h"
+
+#define D(x, KIND) val((x), FC_##KIND##_FRAC)
+#define PI 3.14159265358979323846
+
+/* Exact value of a backend number. */
+static double val(fc_real x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    return ldexp((double)x, -frac);
+#else
+    (void)frac;
+    return (double)x;
+#endif
+}
+
+/* |got - want| within a few LSB of the format in fixed, a few float ulps in float. */
+static void near_fmt(double got, double want, int frac, double lsb)
+{
+#if FC_NUMERIC_FIXED
+    const double tol = lsb * ldexp(1.0, -frac) + 4.0 * 1.2e-7 * fabs(want);
+#else
+    (void)frac;
+    (void)lsb;
+    const double tol = 4.0 * 1.2e-7 * fabs(want) + 1e-12;
+#endif
+    if (!(fabs(got - want) <= tol)) {
+        print_error("got %.9g, want %.9g (tol %.3g)\n", got, want, tol);
+        fail();
+    }
+}
+
+static void near_abs(double got, double want, double tol)
+{
+    if (!(fabs(got - want) <= tol)) {
+        print_error("got %.9g, want %.9g (tol %.3g)\n", got, want, tol);
+        fail();
+    }
+}
+
+static cf_sample hover_sample(void)
+{
+    cf_sample s;
+    memset(&s, 0, sizeof s);
+    s.acc_g[2] = 1.0f;
+    s.quat_xyzw[3] = 1.0f;
+    s.pos_m[2] = 0.18f;
+    s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_ABS;
+    s.sp_pos_m[2] = 0.5f;
+    return s;
+}
+
+/* ---- units ------------------------------------------------------------------ */
+
+static void test_units(void **state)
+{
+    (void)state;
+    near_abs(cf_rad_from_deg(180.0f), PI, 1e-6);
+    near_abs(cf_rad_from_deg(-90.0f), -PI / 2, 1e-6);
+    near_abs(cf_mps2_from_g(1.0f), 9.81, 1e-6);
+    near_abs(cf_mps2_from_g(-2.0f), -19.62, 1e-5);
+    near_abs(cf_wrap_pi(1.5f * (float)PI), -PI / 2, 1e-6);
+    near_abs(cf_wrap_pi(-7.0f), -7.0 + 2 * PI, 1e-6);
+    near_abs(cf_wrap_pi(0.25f), 0.25, 0.0);
+    assert_true(isnan(cf_wrap_pi(NAN)));
+    assert_false(isfinite(cf_wrap_pi(INFINITY)));
+}
+
+/* ---- quaternions ---------------------------------------------------------------- */
+
+static void test_quat_component_order(void **state)
+{
+    (void)state;
+    /* scalar last in, scalar first out */
+    const fc_quat q = cf_quat_from_xyzw(0.1f, -0.2f, 0.3f, 0.9273618f);
+    near_fmt(D(q.w, UNIT), (double)0.9273618f, FC_UNIT_FRAC, 1);
+    near_fmt(D(q.x, UNIT), (double)0.1f, FC_UNIT_FRAC, 1);
+    near_fmt(D(q.y, UNIT), (double)-0.2f, FC_UNIT_FRAC, 1);
+    near_fmt(D(q.z, UNIT), (double)0.3f, FC_UNIT_FRAC, 1);
+    float xyzw[4];
+    cf_quat_to_xyzw(q, xyzw);
+    near_abs(xyzw[0], 0.1, 1e-7);
+    near_abs(xyzw[1], -0.2, 1e-7);
+    near_abs(xyzw[2], 0.3, 1e-7);
+    near_abs(xyzw[3], 0.9273618, 1e-7);
+}
+
+/* Body axis e (0, 1, 2) of q seen in the world: column e of R(q). */
+static void body_axis_in_world(fc_quat q, int e, double out[3])
+{
+    const double w = D(q.w, UNIT), x = D(q.x, UNIT), y = D(q.y, UNIT), z = D(q.z, UNIT);
+    const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                            {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                            {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+    for (int i = 0; i < 3; i++) {
+        out[i] = r[i][e];
+    }
+}
+
+static void test_legacy_euler_physical(void **state)
+{
+    (void)state;
+    double v[3];
+    /* legacy pitch +30 deg is nose up (the legacy sign is inverted) */
+    body_axis_in_world(cf_quat_from_legacy_rpy_deg(0.0f, 30.0f, 0.0f), 0, v);
+    near_abs(v[0], cos(PI / 6), 1e-6);
+    near_abs(v[2], 0.5, 1e-6);
+    /* roll +20 deg lifts the left side (body y) */
+    body_axis_in_world(cf_quat_from_legacy_rpy_deg(20.0f, 0.0f, 0.0f), 1, v);
+    near_abs(v[2], sin(20 * PI / 180), 1e-6);
+    /* yaw +40 deg turns the nose left (counter-clockwise seen from above, z up) */
+    body_axis_in_world(cf_quat_from_legacy_rpy_deg(0.0f, 0.0f, 40.0f), 0, v);
+    near_abs(v[0], cos(40 * PI / 180), 1e-6);
+    near_abs(v[1], sin(40 * PI / 180), 1e-6);
+}
+
+static void test_legacy_euler_matches_estimator(void **state)
+{
+    (void)state;
+    /* state.attitude is published from the estimator's quaternion (w, x, y, z) as
+     * yaw = atan2(2(xy + wz), w^2 + x^2 - y^2 - z^2), pitch = asin(-2(xz - wy)),
+     * roll = atan2(2(yz + wx), w^2 - x^2 - y^2 + z^2), legacy pitch = -pitch.
+     * The conversion must invert exactly that. */
+    const float cases[][3] = {{10.0f, -25.0f, 100.0f}, {-45.0f, 15.0f, -170.0f}, {5.0f, 60.0f, 0.5f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const fc_quat q = cf_quat_from_legacy_rpy_deg(cases[i][0], cases[i][1], cases[i][2]);
+        const double w = D(q.w, UNIT), x = D(q.x, UNIT), y = D(q.y, UNIT), z = D(q.z, UNIT);
+        const double yaw = atan2(2 * (x * y + w * z), w * w + x * x - y * y - z * z) * 180 / PI;
+        const double pitch = asin(-2 * (x * z - w * y)) * 180 / PI;
+        const double roll = atan2(2 * (y * z + w * x), w * w - x * x - y * y + z * z) * 180 / PI;
+        near_abs(roll, cases[i][0], 1e-4);
+        near_abs(-pitch, cases[i][1], 1e-4);
+        near_abs(yaw, cases[i][2], 1e-4);
+    }
+}
+
+/* ---- inputs ------------------------------------------------------------------------ */
+
+static void test_inputs_units_and_frames(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    assert_true(cf_tuning_prepare(&t));
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.gyro_dps[0] = 90.0f;
+    s.gyro_dps[1] = -180.0f;
+    s.gyro_dps[2] = 360.0f;
+    s.acc_g[0] = 0.1f;
+    s.acc_g[1] = -0.2f;
+    s.acc_g[2] = 1.05f;
+    s.quat_xyzw[0] = 0.0f;
+    s.quat_xyzw[1] = 0.0f;
+    s.quat_xyzw[2] = 0.38268343f; /* 45 deg about z */
+    s.quat_xyzw[3] = 0.92387953f;
+    s.pos_m[0] = 1.5f;
+    s.pos_m[1] = -2.25f;
+    s.pos_m[2] = 0.75f;
+    s.vel_mps[0] = 0.5f;
+    s.vel_mps[1] = -0.25f;
+    s.vel_mps[2] = -1.0f;
+    fc_controller_inputs in;
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
+    near_fmt(D(in.imu.gyro_radps.x, RATE), PI / 2, FC_RATE_FRAC, 2);
+    near_fmt(D(in.imu.gyro_radps.y, RATE), -PI, FC_RATE_FRAC, 2);
+    near_fmt(D(in.imu.gyro_radps.z, RATE), 2 * PI, FC_RATE_FRAC, 2);
+    near_fmt(D(in.imu.accel_mps2.x, ACCEL), 0.981, FC_ACCEL_FRAC, 2);
+    near_fmt(D(in.imu.accel_mps2.y, ACCEL), -1.962, FC_ACCEL_FRAC, 2);
+    near_fmt(D(in.imu.accel_mps2.z, ACCEL), 1.05 * 9.81, FC_ACCEL_FRAC, 2);
+    near_fmt(D(in.attitude_external.w, UNIT), 0.92387953, FC_UNIT_FRAC, 2);
+    near_fmt(D(in.attitude_external.z, UNIT), 0.38268343, FC_UNIT_FRAC, 2);
+    near_fmt(D(in.attitude_external.x, UNIT), 0.0, FC_UNIT_FRAC, 1);
+    /* position and velocity: both frames z up, copied */
+    near_fmt(D(in.position_m.x, LENGTH), 1.5, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.position_m.y, LENGTH), -2.25, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.position_m.z, LENGTH), 0.75, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.velocity_mps.x, VEL), 0.5, FC_VEL_FRAC, 1);
+    near_fmt(D(in.velocity_mps.y, VEL), -0.25, FC_VEL_FRAC, 1);
+    near_fmt(D(in.velocity_mps.z, VEL), -1.0, FC_VEL_FRAC, 1);
+    assert_int_equal(in.command, FC_COMMAND_TRACK_PAD);
+}
+
+static void test_inputs_out_of_range(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.gyro_dps[0] = 1.0e5f;  /* 1745 rad/s: beyond RATE's 128 rad/s */
+    s.gyro_dps[1] = -1.0e5f;
+    fc_controller_inputs in;
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_DISARM, &in);
+#if FC_NUMERIC_FIXED
+    /* saturates, never wraps */
+    assert_true(in.imu.gyro_radps.x == FC_REAL_MAX);
+    assert_true(in.imu.gyro_radps.y == FC_REAL_MIN);
+#else
+    near_abs(D(in.imu.gyro_radps.x, RATE), 1.0e5 * PI / 180, 0.01);
+    /* a NaN stays a NaN: the controller reports it (FC_STEP_BAD_INPUT) */
+    s.pos_m[2] = NAN;
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_DISARM, &in);
+    assert_true(isnan(D(in.position_m.z, LENGTH)));
+#endif
+}
+
+static void test_setpoint_or_hold(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.pos_m[0] = 0.4f;
+    s.pos_m[1] = -0.3f;
+    s.yaw_deg = 90.0f;
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    near_abs(ss.hold_x_m, (double)0.4f, 0.0);
+    near_abs(ss.hold_y_m, (double)-0.3f, 0.0);
+    near_abs(ss.hold_yaw_rad, PI / 2, 1e-6);
+    /* commander gives x, y and yaw absolutely: they are used */
+    s.pos_m[0] = 5.0f; /* the vehicle moved; the hold does not follow */
+    s.sp_pos_m[0] = 1.0f;
+    s.sp_pos_m[1] = 2.0f;
+    s.sp_yaw_deg = -90.0f;
+    s.sp_mode_yaw = CF_MODE_ABS;
+    fc_controller_inputs in;
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
+    near_fmt(D(in.position_setpoint_m.x, LENGTH), 1.0, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.position_setpoint_m.y, LENGTH), 2.0, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.yaw_setpoint_rad, ANGLE), -PI / 2, FC_ANGLE_FRAC, 4);
+    /* a yaw setpoint beyond +-180 deg is wrapped */
+    s.sp_yaw_deg = 270.0f;
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
+    near_fmt(D(in.yaw_setpoint_rad, ANGLE), -PI / 2, FC_ANGLE_FRAC, 8);
+    /* not absolute: the position and heading held when the command began */
+    s.sp_mode_x = s.sp_mode_y = CF_MODE_DISABLE;
+    s.sp_mode_yaw = 2u; /* modeVelocity */
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
+    near_fmt(D(in.position_setpoint_m.x, LENGTH), 0.4, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.position_setpoint_m.y, LENGTH), -0.3, FC_LENGTH_FRAC, 1);
+    near_fmt(D(in.yaw_setpoint_rad, ANGLE), PI / 2, FC_ANGLE_FRAC, 4);
+}
+
+static void test_command_gating(void **state)
+{
+    (void)state;
+    cf_sample s = hover_sample();
+    assert_int_equal(cf_command(0u, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(1u, &s), FC_COMMAND_TRACK_PAD);
+    assert_int_equal(cf_command((uint8_t)FC_COMMAND_COUNT, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(200u, &s), FC_COMMAND_DISARM);
+    /* the supervisor's (and a stopped commander's) null setpoint: motors off */
+    cf_sample null_sp;
+    memset(&null_sp, 0, sizeof null_sp);
+    null_sp.quat_xyzw[3] = 1.0f;
+    assert_false(cf_setpoint_live(&null_sp));
+    assert_int_equal(cf_command(1u, &null_sp), FC_COMMAND_DISARM);
+    /* a manual (attitude) setpoint with thrust asked for is live */
+    null_sp.sp_thrust = 20000.0f;
+    assert_true(cf_setpoint_live(&null_sp));
+    assert_int_equal(cf_command(1u, &null_sp), FC_COMMAND_TRACK_PAD);
+    /* a velocity-mode z alone is live too */
+    null_sp.sp_thrust = 0.0f;
+    null_sp.sp_mode_z = 2u;
+    assert_true(cf_setpoint_live(&null_sp));
+}
+
+static void test_session_edges(void **state)
+{
+    (void)state;
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    ss.pad_phase_rad = 1.0f;
+    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s));
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    near_abs(ss.pad_phase_rad, 0.0, 0.0); /* the pad's time starts with the command */
+    assert_false(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s));
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    /* Init resets: the next command is a new one */
+    cf_session_reset(&ss);
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+}
+
+static void test_virtual_pad(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    t.pad_z = 0.3f;
+    t.pad_amp = 0.1f;
+    t.pad_freq = 0.5f; /* w = pi rad/s */
+    cf_session ss;
+    cf_session_reset(&ss);
+    fc_vertical_trajectory p = cf_pad_trajectory(&ss, &t);
+    near_fmt(D(p.z_m, LENGTH), 0.3, FC_LENGTH_FRAC, 2);
+    near_fmt(D(p.vz_mps, VEL), 0.1 * PI, FC_VEL_FRAC, 4);
+    near_fmt(D(p.az_mps2, ACCEL), 0.0, FC_ACCEL_FRAC, 4);
+    /* a quarter period: 0.5 s of 500 Hz steps */
+    for (int i = 0; i < 250; i++) {
+        cf_pad_advance(&ss, &t, CF_STEP_DT_S);
+    }
+    p = cf_pad_trajectory(&ss, &t);
+    near_abs(D(p.z_m, LENGTH), 0.4, 1e-5);
+    near_abs(D(p.vz_mps, VEL), 0.0, 1e-4);
+    near_abs(D(p.az_mps2, ACCEL), -0.1 * PI * PI, 1e-4);
+    near_abs(cf_pad_height_m(&ss, &t), 0.4, 1e-5);
+    /* many periods later the phase is still wrapped and the pad on its sine */
+    for (int i = 0; i < 500 * 3600; i++) {
+        cf_pad_advance(&ss, &t, CF_STEP_DT_S);
+    }
+    assert_true(ss.pad_phase_rad >= -(float)PI && ss.pad_phase_rad <= (float)PI);
+    const double z = cf_pad_height_m(&ss, &t);
+    assert_true(z >= 0.2 - 1e-6 && z <= 0.4 + 1e-6);
+    /* no heave: a still pad */
+    t.pad_amp = 0.0f;
+    p = cf_pad_trajectory(&ss, &t);
+    near_fmt(D(p.z_m, LENGTH), 0.3, FC_LENGTH_FRAC, 2);
+    near_abs(D(p.vz_mps, VEL), 0.0, 0.0);
+}
+
+/* ---- outputs ---------------------------------------------------------------------------- */
+
+static void test_force_torque(void **state)
+{
+    (void)state;
+    fc_controller_outputs out;
+    memset(&out, 0, sizeof out);
+    out.motors_on = true;
+    out.thrust_n = fc_from_float(0.3f, FC_FORCE_FRAC);
+    out.moment_nm = fc_vec3_make(fc_from_float(1.0e-3f, FC_MOMENT_FRAC), fc_from_float(-2.0e-3f, FC_MOMENT_FRAC),
+                                 fc_from_float(5.0e-4f, FC_MOMENT_FRAC));
+    cf_force_torque ft;
+    cf_force_torque_from_outputs(&out, &ft);
+    near_fmt(ft.thrust_n, 0.3, FC_FORCE_FRAC, 1);
+    near_fmt(ft.torque_nm[0], 1.0e-3, FC_MOMENT_FRAC, 1);
+    near_fmt(ft.torque_nm[1], -2.0e-3, FC_MOMENT_FRAC, 1);
+    near_fmt(ft.torque_nm[2], 5.0e-4, FC_MOMENT_FRAC, 1);
+    /* motors off: nothing, whatever the fields hold */
+    out.motors_on = false;
+    cf_force_torque_from_outputs(&out, &ft);
+    assert_true(ft.thrust_n == 0.0f && ft.torque_nm[0] == 0.0f && ft.torque_nm[1] == 0.0f && ft.torque_nm[2] == 0.0f);
+    /* a thrust below zero is none */
+    out.motors_on = true;
+    out.thrust_n = fc_from_float(-0.1f, FC_FORCE_FRAC);
+    cf_force_torque_from_outputs(&out, &ft);
+    assert_true(ft.thrust_n == 0.0f);
+#if !FC_NUMERIC_FIXED
+    out.thrust_n = 0.2f;
+    out.moment_nm.y = NAN;
+    cf_force_torque_from_outputs(&out, &ft);
+    assert_true(ft.thrust_n == 0.0f && ft.torque_nm[0] == 0.0f && ft.torque_nm[1] == 0.0f && ft.torque_nm[2] == 0.0f);
+#endif
+}
+
+static void test_telemetry(void **state)
+{
+    (void)state;
+    fc_controller_outputs out;
+    memset(&out, 0, sizeof out);
+    out.motors_on = true;
+    out.thrust_n = fc_from_float(0.26f, FC_FORCE_FRAC);
+    fc_altitude_control_output *a = &out.telemetry.altitude;
+    a->sigma_mps = fc_from_float(-0.5f, FC_VEL_FRAC);
+    a->sigma_tilde_mps = fc_from_float(0.125f, FC_VEL_FRAC);
+    a->rho_n = fc_from_float(0.3375f, FC_FORCE_FRAC);
+    a->theta_kg = fc_from_float(0.031f, FC_MASS_FRAC);
+    a->u0_av_n = fc_from_float(-0.02f, FC_FORCE_FRAC);
+    a->u_nom_n = fc_from_float(0.28f, FC_FORCE_FRAC);
+    a->error_m = fc_from_float(0.05f, FC_LENGTH_FRAC);
+    out.telemetry.reference.z_m = fc_from_float(1.2f, FC_LENGTH_FRAC);
+    out.telemetry.reference.vz_mps = fc_from_float(-0.4f, FC_VEL_FRAC);
+    out.telemetry.allocation_saturation = FC_SAT_YAW_POS;
+    cf_telemetry tm;
+    memset(&tm, 0, sizeof tm);
+    cf_telemetry_from_outputs(&out, FC_STEP_OUTPUT_LIMITED, FC_COMMAND_TRACK_PAD, 0.3f, &tm);
+    near_fmt(tm.sigma, -0.5, FC_VEL_FRAC, 1);
+    near_fmt(tm.sigma_tilde, 0.125, FC_VEL_FRAC, 1);
+    near_fmt(tm.rho, 0.3375, FC_FORCE_FRAC, 1);
+    near_fmt(tm.theta, 0.031, FC_MASS_FRAC, 1);
+    near_fmt(tm.u0_av, -0.02, FC_FORCE_FRAC, 1);
+    near_fmt(tm.u_nom, 0.28, FC_FORCE_FRAC, 1);
+    near_fmt(tm.error, 0.05, FC_LENGTH_FRAC, 1);
+    near_fmt(tm.z_ref, 1.2, FC_LENGTH_FRAC, 1);
+    near_fmt(tm.vz_ref, -0.4, FC_VEL_FRAC, 1);
+    near_fmt(tm.thrust, 0.26, FC_FORCE_FRAC, 1);
+    near_abs(tm.pad_z, 0.3, 1e-7);
+    assert_int_equal(tm.status, FC_STEP_OUTPUT_LIMITED);
+    assert_int_equal(tm.command, 1);
+    assert_int_equal(tm.saturation, FC_SAT_YAW_POS);
+}
+
+/* ---- tuning ------------------------------------------------------------------------------------ */
+
+static void test_tuning_defaults_are_the_library_defaults(void **state)
+{
+    (void)state;
+    for (uint8_t v = 0u; v < (uint8_t)FC_ALT_VARIANT_COUNT; v++) {
+        cf_tuning t = CF_TUNING_INITIALIZER;
+        t.variant = v;
+        assert_true(cf_tuning_prepare(&t));
+        assert_false(cf_tuning_prepare(&t)); /* nothing to load twice */
+        fc_controller_params want, got;
+        memset(&want, 0, sizeof want);
+        memset(&got, 0, sizeof got);
+        fc_controller_default_params(&want, FC_AIRFRAME_CRAZYFLIE2, (fc_altitude_variant)v, FC_C(0.002f, DT));
+        assert_true(cf_params_from_tuning(&t, t.z_init, &got));
+        /* untouched values are the library's numbers, bit for bit */
+        const fc_altitude_control_params *a = &want.altitude, *b = &got.altitude;
+        assert_true(a->law == b->law && a->modulation == b->modulation && a->adaptive == b->adaptive &&
+                    a->velocity_measured == b->velocity_measured);
+        assert_true(a->l0_per_s == b->l0_per_s);
+        assert_true(a->rho_n == b->rho_n);
+        assert_true(a->gamma == b->gamma);
+        assert_true(a->tau_av_s == b->tau_av_s);
+        assert_true(a->a_m_per_s == b->a_m_per_s);
+        assert_true(a->kappa_m_per_kg == b->kappa_m_per_kg);
+        assert_true(a->k0_ns_per_m == b->k0_ns_per_m);
+        assert_true(a->delta_n == b->delta_n);
+        assert_true(a->theta0_kg == b->theta0_kg);
+        assert_true(want.reference.offset_init_m == got.reference.offset_init_m);
+        assert_true(want.reference.bias_m == got.reference.bias_m);
+        assert_true(want.horizontal.kp_per_s2 == got.horizontal.kp_per_s2);
+        assert_true(want.horizontal.kd_per_s == got.horizontal.kd_per_s);
+        assert_true(want.dt_s == got.dt_s && want.mass_kg == got.mass_kg);
+        /* the two platform choices */
+        assert_true(got.use_external_attitude);
+        near_fmt(D(got.reference.tau_s, TIME), CF_DEFAULT_TAU_ZR_S, FC_TIME_FRAC, 1);
+        /* and the result initialises */
+        static fc_controller ctl;
+        assert_int_equal(fc_controller_init(&ctl, &got), FC_INIT_OK);
+    }
+}
+
+static void test_tuning_overrides_and_variants(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    assert_int_equal(t.variant, CF_DEFAULT_VARIANT);
+    assert_true(cf_tuning_prepare(&t));
+    t.l0 = 3.0f;
+    t.rho = 0.5f;
+    t.theta0 = 0.031f;
+    t.z_bias = 0.3f;
+    t.h_kp = 1.5f;
+    fc_controller_params p;
+    assert_true(cf_params_from_tuning(&t, 0.7f, &p));
+    near_fmt(D(p.altitude.l0_per_s, GAIN), 3.0, FC_GAIN_FRAC, 1);
+    near_fmt(D(p.altitude.rho_n, FORCE), 0.5, FC_FORCE_FRAC, 1);
+    near_fmt(D(p.altitude.theta0_kg, MASS), 0.031, FC_MASS_FRAC, 1);
+    near_fmt(D(p.reference.bias_m, LENGTH), 0.3, FC_LENGTH_FRAC, 1);
+    near_fmt(D(p.reference.offset_init_m, LENGTH), 0.7, FC_LENGTH_FRAC, 1);
+    near_fmt(D(p.horizontal.kp_per_s2, GAIN), 1.5, FC_GAIN_FRAC, 1);
+    /* a new variant brings its own law gains; the rest stays as tuned */
+    t.variant = (uint8_t)FC_ALT_VARIANT_SSC;
+    assert_true(cf_tuning_prepare(&t));
+    fc_controller_params d;
+    fc_controller_default_params(&d, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, FC_C(0.002f, DT));
+    near_abs(t.l0, D(d.altitude.l0_per_s, GAIN), 0.0);
+    near_abs(t.rho, D(d.altitude.rho_n, FORCE), 1e-6);
+    near_abs(t.z_bias, 0.3, 1e-7);
+    near_abs(t.h_kp, 1.5, 0.0);
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    assert_false(p.altitude.adaptive);
+    /* a variant out of range falls back to the loaded one */
+    t.variant = 99u;
+    assert_false(cf_tuning_prepare(&t));
+    assert_int_equal(t.variant, FC_ALT_VARIANT_SSC);
+    /* a value the library rejects: init says so */
+    t.tau_av = -1.0f;
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    static fc_controller ctl;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+    /* a value that is not a number: refused before the library (fixed has no NaN) */
+    t.tau_av = 0.1f;
+    t.gamma = NAN;
+    assert_false(cf_params_from_tuning(&t, 0.0f, &p));
+    t.gamma = 0.0f;
+    assert_false(cf_params_from_tuning(&t, INFINITY, &p));
+}
+
+static void test_approach_offset(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    t.z_bias = 0.18f;
+    t.z_init = 1.0f;
+    assert_int_equal(t.offset_auto, 1);
+    near_abs(cf_approach_offset_m(&t, 1.0f, 0.0f), 0.82, 1e-6);
+    near_abs(cf_approach_offset_m(&t, 1.0f, 0.5f), 0.32, 1e-6);
+    near_abs(cf_approach_offset_m(&t, 0.05f, 0.0f), 0.0, 0.0); /* on the ground */
+    near_abs(cf_approach_offset_m(&t, 50.0f, 0.0f), CF_APPROACH_OFFSET_MAX_M, 0.0);
+    near_abs(cf_approach_offset_m(&t, NAN, 0.0f), 0.0, 0.0);
+    t.offset_auto = 0u;
+    near_abs(cf_approach_offset_m(&t, 0.05f, 0.0f), 1.0, 0.0);
+}
+
+/* ---- the chain, through the library ------------------------------------------------------------- */
+
+static void test_chain_hover(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample(); /* level, at rest, at the hold point over a pad at 0 */
+    const fc_controller_command cmd = cf_command(1u, &s);
+    assert_true(cf_session_begin(&ss, cmd, &s));
+    fc_controller_params p;
+    assert_true(cf_params_from_tuning(&t, cf_approach_offset_m(&t, s.pos_m[2], cf_pad_height_m(&ss, &t)), &p));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in;
+    fc_controller_outputs out;
+    cf_force_torque ft;
+    cf_telemetry tm;
+    for (int i = 0; i < 50; i++) {
+        cf_inputs_from_sample(&s, &ss, &t, cmd, &in);
+        const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+        assert_true((st & (FC_STEP_NOT_READY | FC_STEP_BAD_INPUT)) == 0u);
+        cf_force_torque_from_outputs(&out, &ft);
+        cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), &tm);
+        cf_pad_advance(&ss, &t, CF_STEP_DT_S);
+    }
+    /* flying: a thrust between the rotors' idle and full (4 x 0.12 N), small moments */
+    assert_true(out.motors_on);
+    assert_true(ft.thrust_n > 0.0f && ft.thrust_n <= 0.48f + 1e-4f);
+    for (int k = 0; k < 3; k++) {
+        assert_true(isfinite(ft.torque_nm[k]) && fabsf(ft.torque_nm[k]) < 1e-3f);
+    }
+    near_abs(tm.z_ref, 0.18, 2e-3); /* no approach offset at the hold point */
+    assert_true(tm.theta > 0.0f);
+    assert_int_equal(tm.command, FC_COMMAND_TRACK_PAD);
+    /* the commander stops: motors off */
+    s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_DISABLE;
+    const fc_controller_command off = cf_command(1u, &s);
+    assert_false(cf_session_begin(&ss, off, &s));
+    cf_inputs_from_sample(&s, &ss, &t, off, &in);
+    (void)fc_controller_step(&ctl, &in, &out);
+    cf_force_torque_from_outputs(&out, &ft);
+    assert_true(ft.thrust_n == 0.0f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_units),
+        cmocka_unit_test(test_quat_component_order),
+        cmocka_unit_test(test_legacy_euler_physical),
+        cmocka_unit_test(test_legacy_euler_matches_estimator),
+        cmocka_unit_test(test_inputs_units_and_frames),
+        cmocka_unit_test(test_inputs_out_of_range),
+        cmocka_unit_test(test_setpoint_or_hold),
+        cmocka_unit_test(test_command_gating),
+        cmocka_unit_test(test_session_edges),
+        cmocka_unit_test(test_virtual_pad),
+        cmocka_unit_test(test_force_torque),
+        cmocka_unit_test(test_telemetry),
+        cmocka_unit_test(test_tuning_defaults_are_the_library_defaults),
+        cmocka_unit_test(test_tuning_overrides_and_variants),
+        cmocka_unit_test(test_approach_offset),
+        cmocka_unit_test(test_chain_hover),
+    };
+    return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "cf.convert (fixed)" : "cf.convert (float)", tests, NULL,
+                                       NULL);
+}

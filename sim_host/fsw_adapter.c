@@ -1,0 +1,202 @@
+/*
+ * fsw_adapter.c - plain doubles <-> fc_controller_inputs / fc_controller_outputs.
+ *
+ * Compiled once per numeric backend (FC_NUMERIC_FIXED = 0 or 1) and partially
+ * linked with that backend's firmware objects; the only global symbol left is
+ * the table fsw_<FSW_BACKEND>_backend (sim_host/CMakeLists.txt). It calls the
+ * firmware's entry point and nothing deeper: fc_controller_default_params,
+ * fc_controller_init, fc_controller_step, and the conversions of fc/scalar.h.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "fc/controller.h"
+#include "fsw_adapter.h"
+
+#ifndef FSW_BACKEND
+#error "FSW_BACKEND (float or fixed) must be defined"
+#endif
+#define FSW_CAT3(a, b, c) a##b##c
+#define FSW_NAME(a, b, c) FSW_CAT3(a, b, c)
+#define FSW_STR2(x) #x
+#define FSW_STR(x) FSW_STR2(x)
+#define FSW_TABLE FSW_NAME(fsw_, FSW_BACKEND, _backend)
+
+_Static_assert(FSW_MAX_ROTORS == FC_MAX_ROTORS, "rotor count bound differs from the firmware's");
+_Static_assert(FSW_VARIANT_COUNT == (int)FC_ALT_VARIANT_COUNT, "variant list differs from the firmware's");
+_Static_assert(FSW_AIRFRAME_COUNT == (int)FC_AIRFRAME_COUNT, "airframe list differs from the firmware's");
+_Static_assert(FSW_AIRFRAME_HEXA_4KG == (int)FC_AIRFRAME_HEXA_4KG, "airframe numbering differs");
+_Static_assert(FSW_COMMAND_TRACK_PAD == (int)FC_COMMAND_TRACK_PAD, "command numbering differs");
+
+#define TO_FC(x, KIND) fc_from_float((float)(x), FC_##KIND##_FRAC)
+#define FROM_FC(x, KIND) ((double)fc_to_float((x), FC_##KIND##_FRAC))
+
+static void override(fc_real *field, double value, int frac)
+{
+    if (!isnan(value)) {
+        *field = fc_from_float((float)value, frac);
+    }
+}
+
+static void scale(fc_real *field, double factor, int frac)
+{
+    if (!isnan(factor)) {
+        *field = fc_from_float((float)((double)fc_to_float(*field, frac) * factor), frac);
+    }
+}
+
+static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, size_t err_len)
+{
+    if (cfg->airframe < 0 || cfg->airframe >= (int)FC_AIRFRAME_COUNT || cfg->variant < 0 ||
+        cfg->variant >= (int)FC_ALT_VARIANT_COUNT || !(cfg->dt_s > 0.0)) {
+        snprintf(err, err_len, "bad airframe, variant or step");
+        return NULL;
+    }
+    fc_controller *ctl = malloc(sizeof *ctl);
+    if (ctl == NULL) {
+        snprintf(err, err_len, "out of memory");
+        return NULL;
+    }
+    fc_controller_params p;
+    fc_controller_default_params(&p, (fc_airframe)cfg->airframe, (fc_altitude_variant)cfg->variant,
+                                 TO_FC(cfg->dt_s, DT));
+    if (cfg->use_external_attitude >= 0) {
+        p.use_external_attitude = cfg->use_external_attitude != 0;
+    }
+    if (!isnan(cfg->mass_kg)) {
+        /* nominal mass: Theta0 and the +-25 % bounds of the defaults follow it */
+        p.mass_kg = TO_FC(cfg->mass_kg, MASS);
+        p.altitude.theta0_kg = TO_FC(cfg->mass_kg, MASS);
+        p.altitude.mass_min_kg = TO_FC(0.75 * cfg->mass_kg, MASS);
+        p.altitude.mass_max_kg = TO_FC(1.25 * cfg->mass_kg, MASS);
+    }
+    override(&p.reference.tau_s, cfg->ref_tau_s, FC_TIME_FRAC);
+    override(&p.reference.offset_init_m, cfg->ref_offset_init_m, FC_LENGTH_FRAC);
+    override(&p.reference.bias_m, cfg->ref_bias_m, FC_LENGTH_FRAC);
+    override(&p.altitude.thrust_min_n, cfg->thrust_min_n, FC_FORCE_FRAC);
+    override(&p.altitude.thrust_max_n, cfg->thrust_max_n, FC_FORCE_FRAC);
+    override(&p.altitude.ground_gain_max, cfg->ground_gain_max, FC_RATIO_FRAC);
+    scale(&p.altitude.rho_n, cfg->rho_scale, FC_FORCE_FRAC);
+    scale(&p.altitude.gamma, cfg->gamma_scale, FC_GAIN_FRAC);
+    scale(&p.altitude.kappa_m_per_kg, cfg->kappa_m_scale, FC_GAIN_FRAC);
+    override(&p.altitude.rho_n, cfg->rho_n, FC_FORCE_FRAC);
+    override(&p.altitude.gamma, cfg->gamma, FC_GAIN_FRAC);
+    override(&p.altitude.tau_av_s, cfg->tau_av_s, FC_DT_FRAC);
+    override(&p.altitude.l0_per_s, cfg->l0_per_s, FC_GAIN_FRAC);
+    override(&p.altitude.a_m_per_s, cfg->a_m_per_s, FC_GAIN_FRAC);
+    override(&p.altitude.kappa_m_per_kg, cfg->kappa_m_per_kg, FC_GAIN_FRAC);
+    override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_GAIN_FRAC);
+    override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_GAIN_FRAC);
+    override(&p.horizontal.tilt_max_rad, cfg->tilt_max_rad, FC_ANGLE_FRAC);
+
+    const fc_init_result r = fc_controller_init(ctl, &p);
+    if (r != FC_INIT_OK) {
+        snprintf(err, err_len, "fc_controller_init failed (%s)",
+                 r == FC_INIT_RANK_DEFICIENT ? "rank-deficient rotor geometry" : "a parameter out of range");
+        free(ctl);
+        return NULL;
+    }
+    if (info != NULL) {
+        info->mass_kg = FROM_FC(p.mass_kg, MASS);
+        info->theta0_kg = FROM_FC(p.altitude.theta0_kg, MASS);
+        /* the projection bounds of Theta (4.15): [m_min / k_g_max, m_max] */
+        info->theta_min_kg = FROM_FC(p.altitude.mass_min_kg, MASS) / FROM_FC(p.altitude.ground_gain_max, RATIO);
+        info->theta_max_kg = FROM_FC(p.altitude.mass_max_kg, MASS);
+        info->thrust_min_n = FROM_FC(p.altitude.thrust_min_n, FORCE);
+        info->thrust_max_n = FROM_FC(p.altitude.thrust_max_n, FORCE);
+        info->ground_gain_max = FROM_FC(p.altitude.ground_gain_max, RATIO);
+        info->ref_tau_s = FROM_FC(p.reference.tau_s, TIME);
+        info->ref_offset_init_m = FROM_FC(p.reference.offset_init_m, LENGTH);
+        info->ref_bias_m = FROM_FC(p.reference.bias_m, LENGTH);
+        info->rho_n = FROM_FC(p.altitude.rho_n, FORCE);
+        info->gamma = FROM_FC(p.altitude.gamma, GAIN);
+        info->rotor_count = p.allocation.rotor_count;
+        info->state_bytes = sizeof(fc_controller);
+    }
+    return ctl;
+}
+
+static void adapter_destroy(void *ctl)
+{
+    free(ctl);
+}
+
+static fc_vec3 vec_to_fc(const double v[3], int frac)
+{
+    return fc_vec3_make(fc_from_float((float)v[0], frac), fc_from_float((float)v[1], frac),
+                        fc_from_float((float)v[2], frac));
+}
+
+static void vec_from_fc(fc_vec3 v, int frac, double out[3])
+{
+    out[0] = (double)fc_to_float(v.x, frac);
+    out[1] = (double)fc_to_float(v.y, frac);
+    out[2] = (double)fc_to_float(v.z, frac);
+}
+
+static void quat_from_fc(fc_quat q, double out[4])
+{
+    out[0] = FROM_FC(q.w, UNIT);
+    out[1] = FROM_FC(q.x, UNIT);
+    out[2] = FROM_FC(q.y, UNIT);
+    out[3] = FROM_FC(q.z, UNIT);
+}
+
+static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
+{
+    fc_controller *ctl = handle;
+    fc_controller_inputs fin;
+    fin.imu.gyro_radps = vec_to_fc(in->gyro_radps, FC_RATE_FRAC);
+    fin.imu.accel_mps2 = vec_to_fc(in->accel_mps2, FC_ACCEL_FRAC);
+    fin.attitude_external.w = TO_FC(in->attitude_q[0], UNIT);
+    fin.attitude_external.x = TO_FC(in->attitude_q[1], UNIT);
+    fin.attitude_external.y = TO_FC(in->attitude_q[2], UNIT);
+    fin.attitude_external.z = TO_FC(in->attitude_q[3], UNIT);
+    fin.position_m = vec_to_fc(in->position_m, FC_LENGTH_FRAC);
+    fin.velocity_mps = vec_to_fc(in->velocity_mps, FC_VEL_FRAC);
+    fin.pad.z_m = TO_FC(in->pad_z_m, LENGTH);
+    fin.pad.vz_mps = TO_FC(in->pad_vz_mps, VEL);
+    fin.pad.az_mps2 = TO_FC(in->pad_az_mps2, ACCEL);
+    fin.position_setpoint_m = vec_to_fc(in->position_setpoint_m, FC_LENGTH_FRAC);
+    fin.yaw_setpoint_rad = TO_FC(in->yaw_setpoint_rad, ANGLE);
+    fin.command = in->command == FSW_COMMAND_TRACK_PAD ? FC_COMMAND_TRACK_PAD : FC_COMMAND_DISARM;
+
+    fc_controller_outputs fout;
+    out->status = fc_controller_step(ctl, &fin, &fout);
+
+    for (int i = 0; i < FSW_MAX_ROTORS; i++) {
+        out->rotor_speed[i] = FROM_FC(fout.rotor_speed[i], UNIT);
+    }
+    out->rotor_count = fout.rotor_count;
+    out->motors_on = fout.motors_on ? 1 : 0;
+    out->thrust_n = FROM_FC(fout.thrust_n, FORCE);
+    vec_from_fc(fout.moment_nm, FC_MOMENT_FRAC, out->moment_nm);
+    const fc_controller_telemetry *tm = &fout.telemetry;
+    quat_from_fc(tm->attitude, out->attitude_q);
+    quat_from_fc(tm->attitude_setpoint, out->attitude_setpoint_q);
+    vec_from_fc(tm->rate_radps, FC_RATE_FRAC, out->rate_radps);
+    out->z_r_m = FROM_FC(tm->reference.z_m, LENGTH);
+    out->vz_r_mps = FROM_FC(tm->reference.vz_mps, VEL);
+    out->az_r_mps2 = FROM_FC(tm->reference.az_mps2, ACCEL);
+    out->tilt_cos = FROM_FC(tm->tilt_cos, RATIO);
+    const fc_altitude_control_output *a = &tm->altitude;
+    out->alt_thrust_n = FROM_FC(a->thrust_n, FORCE);
+    out->vertical_force_n = FROM_FC(a->vertical_force_n, FORCE);
+    out->error_m = FROM_FC(a->error_m, LENGTH);
+    out->sigma_mps = FROM_FC(a->sigma_mps, VEL);
+    out->sigma_tilde_mps = FROM_FC(a->sigma_tilde_mps, VEL);
+    out->rho_n = FROM_FC(a->rho_n, FORCE);
+    out->u0_av_n = FROM_FC(a->u0_av_n, FORCE);
+    out->u_nom_n = FROM_FC(a->u_nom_n, FORCE);
+    out->theta_kg = FROM_FC(a->theta_kg, MASS);
+    out->observer_bound_n = FROM_FC(a->observer_bound_n, FORCE);
+    out->clamped = a->clamped ? 1 : 0;
+    out->allocation_saturation = tm->allocation_saturation;
+    out->estimator_status = tm->estimator_status;
+    out->altitude_status = tm->altitude_status;
+    out->attitude_status = tm->attitude_status;
+    out->allocation_status = tm->allocation_status;
+}
+
+const fsw_backend FSW_TABLE = {FSW_STR(FSW_BACKEND), adapter_create, adapter_destroy, adapter_step};

@@ -1,0 +1,106 @@
+/*
+ * fsw_adapter.h - the flight software as the simulator sees it: plain doubles
+ * in, plain doubles out, one backend per function table.
+ *
+ * fsw_adapter.c is compiled twice, once with each numeric backend of the
+ * firmware library (FC_NUMERIC_FIXED = 0 and 1), and each copy is partially
+ * linked with its own build of the firmware sources into one object whose only
+ * global symbol is its table, fsw_float_backend or fsw_fixed_backend (see
+ * sim_host/CMakeLists.txt). The rest of the simulator includes no firmware
+ * header and never sees an fc_real: what crosses this line is converted with
+ * fc_from_float / fc_to_float in the adapter, so the same plant flies both
+ * backends through the same entry point (fc_controller_init / _step).
+ */
+#ifndef SIM_FSW_ADAPTER_H
+#define SIM_FSW_ADAPTER_H
+
+#include <stddef.h>
+
+#define FSW_MAX_ROTORS 8
+
+/* The firmware's airframes (fc_airframe) and commands (fc_controller_command),
+ * by value: the adapter checks that they agree with the firmware's enums. */
+enum { FSW_AIRFRAME_CRAZYFLIE2 = 0, FSW_AIRFRAME_F450 = 1, FSW_AIRFRAME_HEXA_4KG = 2, FSW_AIRFRAME_COUNT = 3 };
+enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1 };
+/* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
+#define FSW_VARIANT_COUNT 12
+
+/* What the simulator chooses; a NaN override (or -1 for the ints) keeps the
+ * firmware default of fc_controller_default_params. */
+typedef struct fsw_config {
+    int airframe;          /* FSW_AIRFRAME_* */
+    int variant;           /* fc_altitude_variant value */
+    double dt_s;           /* the controller's fixed step */
+    int use_external_attitude; /* 1: the platform's attitude; 0: the firmware's filter; -1: default */
+    /* overrides of the defaults (NaN: keep) */
+    double mass_kg;        /* nominal mass: Theta0 and the mass bounds follow it */
+    double ref_tau_s;      /* (3.6) tau_zr */
+    double ref_offset_init_m; /* z_r_init */
+    double ref_bias_m;     /* z_r_bias */
+    double thrust_min_n, thrust_max_n; /* the altitude law's clamp */
+    double ground_gain_max;
+    double rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg;
+    /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
+    double rho_scale, gamma_scale, kappa_m_scale;
+    double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
+} fsw_config;
+
+/* One step's inputs (world ENU, body FLU, SI units). */
+typedef struct fsw_inputs {
+    double gyro_radps[3];    /* body rate, as the gyro reads it */
+    double accel_mps2[3];    /* specific force, body: level at rest (0, 0, +g) */
+    double attitude_q[4];    /* w, x, y, z: body -> world (used with external attitude) */
+    double position_m[3];
+    double velocity_mps[3];
+    double pad_z_m, pad_vz_mps, pad_az_mps2;
+    double position_setpoint_m[3];
+    double yaw_setpoint_rad;
+    int command;             /* FSW_COMMAND_* */
+} fsw_inputs;
+
+/* One step's outputs and telemetry. */
+typedef struct fsw_outputs {
+    double rotor_speed[FSW_MAX_ROTORS]; /* u = w / w_max, 0 with the motors off */
+    int rotor_count;
+    int motors_on;
+    double thrust_n;         /* body thrust demanded */
+    double moment_nm[3];
+    unsigned status;         /* fc_step_status of the step */
+    /* telemetry */
+    double attitude_q[4], attitude_setpoint_q[4];
+    double rate_radps[3];
+    double z_r_m, vz_r_mps, az_r_mps2;
+    double tilt_cos;
+    double alt_thrust_n, vertical_force_n, error_m, sigma_mps, sigma_tilde_mps, rho_n, u0_av_n, u_nom_n,
+        theta_kg, observer_bound_n;
+    int clamped;
+    unsigned allocation_saturation;
+    unsigned estimator_status, altitude_status, attitude_status, allocation_status;
+} fsw_outputs;
+
+/* What the firmware was configured with (for reports and for the plant's
+ * cross-checks): the parameters after the overrides. */
+typedef struct fsw_info {
+    double mass_kg, theta0_kg, theta_min_kg, theta_max_kg;
+    double thrust_min_n, thrust_max_n, ground_gain_max;
+    double ref_tau_s, ref_offset_init_m, ref_bias_m;
+    double rho_n, gamma;
+    int rotor_count;
+    size_t state_bytes;      /* sizeof(fc_controller) */
+} fsw_info;
+
+typedef struct fsw_backend {
+    const char *name;        /* "float" or "fixed" */
+    /* A controller for cfg, or NULL (err says why: the failing init result). */
+    void *(*create)(const fsw_config *cfg, fsw_info *info, char *err, size_t err_len);
+    void (*destroy)(void *ctl);
+    void (*step)(void *ctl, const fsw_inputs *in, fsw_outputs *out);
+} fsw_backend;
+
+extern const fsw_backend fsw_float_backend;
+extern const fsw_backend fsw_fixed_backend;
+
+/* A config with every override off. */
+void fsw_config_defaults(fsw_config *cfg);
+
+#endif /* SIM_FSW_ADAPTER_H */

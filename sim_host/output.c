@@ -1,0 +1,581 @@
+/* output.c - JSON, CSV, figures and the printed tables (output.h). */
+#include "output.h"
+
+#include <cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* ---------------------------------------------------------------------- */
+/* statistics                                                              */
+/* ---------------------------------------------------------------------- */
+
+static int compare_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Lower is worse for the clearance; higher is worse for every other metric. */
+static bool lower_is_worse(int metric)
+{
+    return strcmp(sim_metric_names[metric], "min_clearance_m") == 0;
+}
+
+void output_compute_stats(run_record *r)
+{
+    double *values = malloc((size_t)r->runs * sizeof *values);
+    for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+        metric_stats *s = &r->stats[k];
+        s->min = s->median = s->p95 = s->max = (double)NAN;
+        s->worst_seed = r->seed;
+        s->count = 0;
+        double worst = (double)NAN;
+        for (int i = 0; i < r->runs; i++) {
+            const double v = r->runs > 1 ? sim_metric_value(&r->per_run[i], k) : sim_metric_value(&r->result.metrics, k);
+            if (!isfinite(v)) {
+                continue;
+            }
+            values[s->count++] = v;
+            const bool is_worse = isnan(worst) || (lower_is_worse(k) ? v < worst : v > worst);
+            if (is_worse) {
+                worst = v;
+                s->worst_seed = r->runs > 1 ? r->per_run_seed[i] : r->seed;
+            }
+        }
+        if (s->count == 0) {
+            continue;
+        }
+        qsort(values, (size_t)s->count, sizeof *values, compare_double);
+        s->min = values[0];
+        s->max = values[s->count - 1];
+        s->median = s->count % 2 == 1 ? values[s->count / 2]
+                                      : 0.5 * (values[s->count / 2 - 1] + values[s->count / 2]);
+        /* nearest rank */
+        int rank = (int)ceil(0.95 * s->count);
+        rank = rank < 1 ? 1 : rank;
+        s->p95 = values[rank - 1];
+    }
+    free(values);
+}
+
+/* ---------------------------------------------------------------------- */
+/* JSON                                                                    */
+/* ---------------------------------------------------------------------- */
+
+static void add_number(cJSON *obj, const char *name, double v)
+{
+    if (isfinite(v)) {
+        cJSON_AddNumberToObject(obj, name, v);
+    } else {
+        cJSON_AddNullToObject(obj, name);
+    }
+}
+
+static void add_metrics(cJSON *obj, const sim_metrics *m)
+{
+    for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+        add_number(obj, sim_metric_names[k], sim_metric_value(m, k));
+    }
+}
+
+static cJSON *record_json(const run_record *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "scenario", r->sc->name);
+    cJSON_AddStringToObject(o, "scenario_file", r->sc->path);
+    cJSON_AddStringToObject(o, "variant", sim_variant_names[r->variant]);
+    cJSON_AddStringToObject(o, "backend", r->backend);
+    cJSON_AddNumberToObject(o, "seed", (double)r->seed);
+    cJSON_AddNumberToObject(o, "duration_s", r->sc->duration_s);
+    cJSON_AddNumberToObject(o, "controller_rate_hz", r->sc->controller_rate_hz);
+    cJSON_AddNumberToObject(o, "plant_rate_hz", r->sc->plant_rate_hz);
+    if (r->failed) {
+        cJSON_AddStringToObject(o, "error", r->error);
+        for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+            cJSON_AddNullToObject(o, sim_metric_names[k]);
+        }
+        return o;
+    }
+    /* what the firmware was configured with */
+    const fsw_info *fi = &r->result.info;
+    cJSON *fw = cJSON_AddObjectToObject(o, "firmware");
+    add_number(fw, "nominal_mass_kg", fi->mass_kg);
+    add_number(fw, "theta0_kg", fi->theta0_kg);
+    add_number(fw, "theta_min_kg", fi->theta_min_kg);
+    add_number(fw, "theta_max_kg", fi->theta_max_kg);
+    add_number(fw, "thrust_min_n", fi->thrust_min_n);
+    add_number(fw, "thrust_max_n", fi->thrust_max_n);
+    add_number(fw, "ground_gain_max", fi->ground_gain_max);
+    add_number(fw, "rho_n", fi->rho_n);
+    add_number(fw, "gamma", fi->gamma);
+    add_number(fw, "z_r_tau_s", fi->ref_tau_s);
+    add_number(fw, "z_r_init_m", fi->ref_offset_init_m);
+    add_number(fw, "z_r_bias_m", fi->ref_bias_m);
+    cJSON_AddNumberToObject(fw, "state_bytes", (double)fi->state_bytes);
+    if (r->runs <= 1) {
+        add_metrics(o, &r->result.metrics);
+        add_number(o, "theta_end_kg", r->result.metrics.theta_end_kg);
+        add_number(o, "theta_star_end_kg", r->result.metrics.theta_star_end_kg);
+        add_number(o, "wall_time_s", r->result.wall_s);
+        add_number(o, "real_time_factor", r->result.wall_s > 0.0 ? r->sc->duration_s / r->result.wall_s : (double)NAN);
+        return o;
+    }
+    cJSON_AddNumberToObject(o, "runs", r->runs);
+    cJSON *stats = cJSON_AddObjectToObject(o, "metrics");
+    for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+        const metric_stats *s = &r->stats[k];
+        cJSON *m = cJSON_AddObjectToObject(stats, sim_metric_names[k]);
+        add_number(m, "min", s->min);
+        add_number(m, "median", s->median);
+        add_number(m, "p95", s->p95);
+        add_number(m, "max", s->max);
+        if (s->count > 0) {
+            cJSON_AddNumberToObject(m, "worst_seed", (double)s->worst_seed);
+        } else {
+            cJSON_AddNullToObject(m, "worst_seed");
+        }
+        cJSON_AddNumberToObject(m, "count", s->count);
+    }
+    cJSON *runs = cJSON_AddArrayToObject(o, "per_run");
+    for (int i = 0; i < r->runs; i++) {
+        cJSON *one = cJSON_CreateObject();
+        cJSON_AddNumberToObject(one, "seed", (double)r->per_run_seed[i]);
+        add_metrics(one, &r->per_run[i]);
+        cJSON_AddItemToArray(runs, one);
+    }
+    add_number(o, "wall_time_s", r->wall_s);
+    return o;
+}
+
+bool output_json(const char *path, const run_record *records, int count, char *err, size_t err_len)
+{
+    cJSON *root;
+    if (count == 1) {
+        root = record_json(&records[0]);
+    } else {
+        root = cJSON_CreateObject();
+        cJSON_AddStringToObject(root, "scenario", records[0].sc->name);
+        cJSON *results = cJSON_AddArrayToObject(root, "results");
+        for (int i = 0; i < count; i++) {
+            cJSON_AddItemToArray(results, record_json(&records[i]));
+        }
+    }
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    FILE *f = fopen(path, "w");
+    if (f == NULL || text == NULL) {
+        snprintf(err, err_len, "%s: cannot write: %s", path, strerror(errno));
+        free(text);
+        if (f != NULL) {
+            fclose(f);
+        }
+        return false;
+    }
+    fputs(text, f);
+    fputc('\n', f);
+    free(text);
+    if (fclose(f) != 0) {
+        snprintf(err, err_len, "%s: write failed", path);
+        return false;
+    }
+    return true;
+}
+
+/* ---------------------------------------------------------------------- */
+/* CSV and data files                                                      */
+/* ---------------------------------------------------------------------- */
+
+void output_csv_path(const char *base, const run_record *r, int count, char *out, size_t out_len)
+{
+    if (count == 1) {
+        snprintf(out, out_len, "%s", base);
+        return;
+    }
+    const char *slash = strrchr(base, '/');
+    const char *dot = strrchr(base, '.');
+    if (dot == NULL || (slash != NULL && dot < slash)) {
+        snprintf(out, out_len, "%s-%s-%s", base, sim_variant_names[r->variant], r->backend);
+    } else {
+        snprintf(out, out_len, "%.*s-%s-%s%s", (int)(dot - base), base, sim_variant_names[r->variant], r->backend,
+                 dot);
+    }
+}
+
+static bool write_table(const char *path, const sim_trace *t, char sep, bool comment_header, char *err,
+                        size_t err_len)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        snprintf(err, err_len, "%s: cannot write: %s", path, strerror(errno));
+        return false;
+    }
+    if (comment_header) {
+        fputs("# ", f);
+    }
+    for (int c = 0; c < SIM_TRACE_COLUMN_COUNT; c++) {
+        fprintf(f, "%s%c", sim_trace_column_names[c], c + 1 < SIM_TRACE_COLUMN_COUNT ? sep : '\n');
+    }
+    for (size_t r = 0; r < t->rows; r++) {
+        const double *row = t->data + r * SIM_TRACE_COLUMN_COUNT;
+        for (int c = 0; c < SIM_TRACE_COLUMN_COUNT; c++) {
+            fprintf(f, "%.9g%c", row[c], c + 1 < SIM_TRACE_COLUMN_COUNT ? sep : '\n');
+        }
+    }
+    if (fclose(f) != 0) {
+        snprintf(err, err_len, "%s: write failed", path);
+        return false;
+    }
+    return true;
+}
+
+bool output_csv(const char *path, const run_record *r, char *err, size_t err_len)
+{
+    if (r->trace.data == NULL) {
+        snprintf(err, err_len, "%s: no trace to write (Monte-Carlo runs keep none)", path);
+        return false;
+    }
+    return write_table(path, &r->trace, ',', false, err, err_len);
+}
+
+/* ---------------------------------------------------------------------- */
+/* figures                                                                 */
+/* ---------------------------------------------------------------------- */
+
+static bool gnuplot_available(void)
+{
+    const char *path = getenv("PATH");
+    if (path == NULL) {
+        return false;
+    }
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", path);
+    char *save = NULL;
+    for (char *dir = strtok_r(buf, ":", &save); dir != NULL; dir = strtok_r(NULL, ":", &save)) {
+        char exe[4200];
+        snprintf(exe, sizeof exe, "%s/gnuplot", dir);
+        if (access(exe, X_OK) == 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* gnuplot's 1-based column of a trace column. */
+#define COL(name) (SIM_COL_##name + 1)
+
+static void data_name(const run_record *r, char *out, size_t len)
+{
+    snprintf(out, len, "%s-%s-%s.dat", r->sc->name, sim_variant_names[r->variant], r->backend);
+}
+
+/* The largest |value| of a trace column (to keep flat plots from collapsing). */
+static double column_peak(const sim_trace *t, int column)
+{
+    double peak = 0.0;
+    for (size_t i = 0; i < t->rows; i++) {
+        const double v = fabs(t->data[i * SIM_TRACE_COLUMN_COUNT + (size_t)column]);
+        peak = v > peak ? v : peak;
+    }
+    return peak;
+}
+
+static void summary_figure(FILE *gp, const run_record *r)
+{
+    char dat[256];
+    data_name(r, dat, sizeof dat);
+    const char *v = sim_variant_names[r->variant];
+    fprintf(gp, "\n# ---- summary of %s, %s, %s\n", r->sc->name, v, r->backend);
+    fprintf(gp, "set output 'summary-%s-%s-%s.png'\n", r->sc->name, v, r->backend);
+    fprintf(gp, "set multiplot layout 3,2 title '%s: %s (%s backend)' font ',14'\n", r->sc->name, v, r->backend);
+    fprintf(gp, "set xlabel 't [s]'\n");
+    fprintf(gp, "set ylabel 'height [m]'\nset title 'pad, reference and altitude'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lw 2 lc rgb '#2ca02c' t 'pad z_d', '' u %d:%d w l lw 1.5 lc rgb '#d62728' t "
+            "'reference z_r', '' u %d:%d w l lw 1.5 lc rgb '#1f77b4' t 'altitude z'\n",
+            dat, COL(t_s), COL(pad_z_m), COL(t_s), COL(z_r_m), COL(t_s), COL(z_m));
+    fprintf(gp, "set ylabel 'e [mm]'\nset title 'tracking error e = z - z_r'\n");
+    fprintf(gp, "plot '%s' u %d:($%d*1000) w l lc rgb '#1f77b4' t 'e'\n", dat, COL(t_s), COL(error_m));
+    fprintf(gp, "set ylabel 'force [N]'\nset title 'thrust: command and delivered'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lc rgb '#d62728' t 'command F_z', '' u %d:%d w l lc rgb '#1f77b4' t "
+            "'rotors (with k_g)'\n",
+            dat, COL(t_s), COL(thrust_cmd_n), COL(t_s), COL(rotor_thrust_n));
+    fprintf(gp, "set ylabel '[kg]'\nset title 'Theta* = m/(k_h k_g) and Theta'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lw 1.5 lc rgb '#1f77b4' t 'Theta*', '' u %d:%d w l lw 1.5 lc rgb '#2ca02c' t "
+            "'Theta'\n",
+            dat, COL(t_s), COL(theta_star_kg), COL(t_s), COL(theta_kg));
+    fprintf(gp, "set ylabel 'tilt [deg]'\nset y2label 'x, y [m]'\nset y2tics\nset title 'attitude and position'\n");
+    /* a level, centred flight plots flat lines: give those a range of their own */
+    if (column_peak(&r->trace, SIM_COL_tilt_deg) < 1e-6) {
+        fprintf(gp, "set yrange [0:1]\n");
+    }
+    if (column_peak(&r->trace, SIM_COL_x_m) < 1e-6 && column_peak(&r->trace, SIM_COL_y_m) < 1e-6) {
+        fprintf(gp, "set y2range [-0.01:0.01]\n");
+    }
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lc rgb '#9467bd' t 'tilt', '' u %d:%d axes x1y2 w l lc rgb '#ff7f0e' t 'x', '' "
+            "u %d:%d axes x1y2 w l lc rgb '#17becf' t 'y'\n",
+            dat, COL(t_s), COL(tilt_deg), COL(t_s), COL(x_m), COL(t_s), COL(y_m));
+    fprintf(gp, "unset y2tics\nset y2label ''\nset autoscale y\nset autoscale y2\n");
+    if (column_peak(&r->trace, SIM_COL_contact_force_n) < 1e-9) {
+        fprintf(gp, "set y2range [0:1]\n");
+    }
+    fprintf(gp, "set ylabel 'clearance [m]'\nset y2label 'contact force [N]'\nset y2tics\n"
+                "set title 'landing gear above the pad'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lc rgb '#1f77b4' t 'gear clearance', '' u %d:%d axes x1y2 w l lc rgb '#d62728' "
+            "t 'contact force'\n",
+            dat, COL(t_s), COL(gear_clearance_m), COL(t_s), COL(contact_force_n));
+    fprintf(gp, "unset y2tics\nset y2label ''\nset autoscale y2\nunset multiplot\n");
+}
+
+/* Figures 4.2 and 4.3 of the dissertation from a pair ssc / ssc-adaptive. */
+static void dissertation_figures(FILE *gp, const run_record *plain, const run_record *adaptive)
+{
+    char dp[256], da[256];
+    data_name(plain, dp, sizeof dp);
+    data_name(adaptive, da, sizeof da);
+    const char *b = plain->backend;
+    fprintf(gp, "\n# ---- the dissertation's Figure 4.2 (%s backend)\n", b);
+    fprintf(gp, "set output 'fig4.2-%s.png'\n", b);
+    fprintf(gp, "set multiplot layout 2,1 title 'Figure 4.2: tracking (%s, %s backend)' font ',14'\n",
+            plain->sc->name, b);
+    fprintf(gp, "set xlabel 't [s]'\nset ylabel 'altitude [m]'\nset title '(a) pad z_d, reference z_r, altitude z'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lw 2 lc rgb '#2ca02c' t 'pad z_d', '' u %d:%d w l lw 2 lc rgb '#d62728' t "
+            "'reference z_r', '%s' u %d:%d w l lw 1.5 lc rgb '#e377c2' t 'z, SSC with adaptation', '%s' u %d:%d w l "
+            "lw 1.5 dt 2 lc rgb '#1f77b4' t 'z, SSC without adaptation'\n",
+            da, COL(t_s), COL(pad_z_m), COL(t_s), COL(z_r_m), da, COL(t_s), COL(z_m), dp, COL(t_s), COL(z_m));
+    fprintf(gp, "set ylabel 'u = F_z [N]'\nset title '(b) control signal'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lc rgb '#d62728' t 'with adaptation', '%s' u %d:%d w l lc rgb '#1f77b4' t "
+            "'without adaptation'\n",
+            da, COL(t_s), COL(thrust_cmd_n), dp, COL(t_s), COL(thrust_cmd_n));
+    fprintf(gp, "unset multiplot\n");
+
+    fprintf(gp, "\n# ---- the dissertation's Figure 4.3 (%s backend)\n", b);
+    fprintf(gp, "set output 'fig4.3-%s.png'\n", b);
+    fprintf(gp, "set multiplot layout 2,1 title 'Figure 4.3: adaptation (%s, %s backend)' font ',14'\n",
+            plain->sc->name, b);
+    fprintf(gp, "set xlabel 't [s]'\nset ylabel '[kg]'\nset title '(a) ideal Theta*(t) and adapted Theta(t)'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lw 2 lc rgb '#1f77b4' t 'Theta*', '' u %d:%d w l lw 2 lc rgb '#2ca02c' t "
+            "'Theta'\n",
+            da, COL(t_s), COL(theta_star_kg), COL(t_s), COL(theta_kg));
+    /* the first second's transient reaches tens of m/s^2: the axis shows the rest */
+    double peak = 0.0;
+    const run_record *pair[2] = {plain, adaptive};
+    for (int k = 0; k < 2; k++) {
+        const sim_trace *t = &pair[k]->trace;
+        for (size_t i = 0; i < t->rows; i++) {
+            const double *row = t->data + i * SIM_TRACE_COLUMN_COUNT;
+            if (row[SIM_COL_t_s] >= 2.0 && fabs(row[SIM_COL_adaptation_term_mps2]) > peak) {
+                peak = fabs(row[SIM_COL_adaptation_term_mps2]);
+            }
+        }
+    }
+    if (peak > 0.0) {
+        fprintf(gp, "set yrange [%g:%g]\n", -1.5 * peak, 1.5 * peak);
+    }
+    fprintf(gp, "set ylabel '[m/s^2]'\nset title '(b) (Theta - Theta*)/Theta* phi (axis clipped to t >= 2 s)'\n");
+    fprintf(gp,
+            "plot '%s' u %d:%d w l lc rgb '#d62728' t 'with adaptation', '%s' u %d:%d w l lc rgb '#1f77b4' t "
+            "'without adaptation'\n",
+            da, COL(t_s), COL(adaptation_term_mps2), dp, COL(t_s), COL(adaptation_term_mps2));
+    fprintf(gp, "set autoscale y\nunset multiplot\n");
+}
+
+static bool ensure_dir(const char *dir, char *err, size_t err_len)
+{
+    struct stat st;
+    if (stat(dir, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            return true;
+        }
+        snprintf(err, err_len, "%s: not a directory", dir);
+        return false;
+    }
+    /* mkdir -p */
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *p = buf + 1; *p != '\0'; p++) {
+        if (*p == '/') {
+            *p = '\0';
+            (void)mkdir(buf, 0777);
+            *p = '/';
+        }
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+        snprintf(err, err_len, "%s: cannot create: %s", dir, strerror(errno));
+        return false;
+    }
+    return true;
+}
+
+bool output_plots(const char *dir, const run_record *records, int count, bool quiet, char *err, size_t err_len)
+{
+    if (!ensure_dir(dir, err, err_len)) {
+        return false;
+    }
+    char path[1400];
+    int with_trace = 0;
+    for (int i = 0; i < count; i++) {
+        if (records[i].trace.data == NULL) {
+            continue;
+        }
+        char dat[256];
+        data_name(&records[i], dat, sizeof dat);
+        snprintf(path, sizeof path, "%s/%s", dir, dat);
+        if (!write_table(path, &records[i].trace, ' ', true, err, err_len)) {
+            return false;
+        }
+        with_trace++;
+    }
+    if (with_trace == 0) {
+        if (!quiet) {
+            fprintf(stderr, "fc-sil: no traces to plot (Monte-Carlo runs keep none)\n");
+        }
+        return true;
+    }
+    snprintf(path, sizeof path, "%s/plots.gp", dir);
+    FILE *gp = fopen(path, "w");
+    if (gp == NULL) {
+        snprintf(err, err_len, "%s: cannot write: %s", path, strerror(errno));
+        return false;
+    }
+    fprintf(gp, "# gnuplot script written by fc-sil; run it in this directory: gnuplot plots.gp\n");
+    fprintf(gp, "set terminal pngcairo size 1400,1000 enhanced font 'DejaVu Sans,10'\n");
+    fprintf(gp, "set grid\nset key top right box opaque\nset datafile commentschars '#'\n");
+    for (int i = 0; i < count; i++) {
+        if (records[i].trace.data != NULL) {
+            summary_figure(gp, &records[i]);
+        }
+    }
+    int figures = 0;
+    for (int i = 0; i < count; i++) {
+        const run_record *p = &records[i];
+        if (p->trace.data == NULL || strcmp(sim_variant_names[p->variant], "ssc") != 0) {
+            continue;
+        }
+        for (int j = 0; j < count; j++) {
+            const run_record *q = &records[j];
+            if (q->trace.data != NULL && strcmp(sim_variant_names[q->variant], "ssc-adaptive") == 0 &&
+                strcmp(q->backend, p->backend) == 0) {
+                dissertation_figures(gp, p, q);
+                figures++;
+                break;
+            }
+        }
+    }
+    if (fclose(gp) != 0) {
+        snprintf(err, err_len, "%s: write failed", path);
+        return false;
+    }
+    if (!gnuplot_available()) {
+        fprintf(stderr, "fc-sil: gnuplot not found; plots skipped (data and plots.gp are in %s)\n", dir);
+        return true;
+    }
+    fflush(stdout);
+    fflush(stderr);
+    const pid_t pid = fork();
+    if (pid < 0) {
+        snprintf(err, err_len, "cannot start gnuplot: %s", strerror(errno));
+        return false;
+    }
+    if (pid == 0) {
+        if (chdir(dir) != 0) {
+            _exit(127);
+        }
+        execlp("gnuplot", "gnuplot", "plots.gp", (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        snprintf(err, err_len, "gnuplot failed on %s/plots.gp", dir);
+        return false;
+    }
+    if (!quiet) {
+        fprintf(stderr, "fc-sil: figures in %s (%d summar%s%s)\n", dir, with_trace, with_trace == 1 ? "y" : "ies",
+                figures > 0 ? ", Figures 4.2 and 4.3" : "");
+    }
+    return true;
+}
+
+/* ---------------------------------------------------------------------- */
+/* printed tables                                                          */
+/* ---------------------------------------------------------------------- */
+
+/* Column headings and scales of the printed tables. */
+static const char *const short_names[SIM_METRIC_COUNT] = {"rms[mm]",  "max[mm]", "step[mm]", "tv[N/s]",
+                                                          "theta_err", "clr[mm]", "td_v[m/s]", "td_t[s]",
+                                                          "bounces",  "tilt[deg]", "nan"};
+static const double scales[SIM_METRIC_COUNT] = {1000.0, 1000.0, 1000.0, 1.0, 1.0, 1000.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+
+static void print_value(double v, double scale)
+{
+    if (isfinite(v)) {
+        printf(" %10.4g", v * scale);
+    } else {
+        printf(" %10s", "-");
+    }
+}
+
+void output_print(const run_record *records, int count, bool compare)
+{
+    if (count == 0) {
+        return;
+    }
+    const bool mc = records[0].runs > 1;
+    printf("scenario %s (%s)%s\n", records[0].sc->name, records[0].sc->path,
+           mc ? ": Monte-Carlo, median over the runs" : "");
+    printf("%-18s %-6s", compare ? "variant" : "controller", "numeric");
+    for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+        printf(" %10s", short_names[k]);
+    }
+    printf("\n");
+    for (int i = 0; i < count; i++) {
+        const run_record *r = &records[i];
+        printf("%-18s %-6s", sim_variant_names[r->variant], r->backend);
+        if (r->failed) {
+            printf(" not run: %s\n", r->error);
+            continue;
+        }
+        for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+            print_value(mc ? r->stats[k].median : sim_metric_value(&r->result.metrics, k), scales[k]);
+        }
+        printf("\n");
+    }
+    if (!mc || compare) {
+        return;
+    }
+    for (int i = 0; i < count; i++) {
+        const run_record *r = &records[i];
+        if (r->failed) {
+            continue;
+        }
+        printf("\n%s, %s: %d runs, seeds %llu..%llu\n", sim_variant_names[r->variant], r->backend, r->runs,
+               (unsigned long long)r->seed, (unsigned long long)(r->seed + (uint64_t)r->runs - 1u));
+        printf("%-24s %10s %10s %10s %10s %12s\n", "metric", "min", "median", "p95", "max", "worst seed");
+        for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+            const metric_stats *s = &r->stats[k];
+            printf("%-24s", sim_metric_names[k]);
+            print_value(s->min, 1.0);
+            print_value(s->median, 1.0);
+            print_value(s->p95, 1.0);
+            print_value(s->max, 1.0);
+            if (s->count > 0) {
+                printf(" %12llu\n", (unsigned long long)s->worst_seed);
+            } else {
+                printf(" %12s\n", "-");
+            }
+        }
+    }
+}

@@ -1,0 +1,368 @@
+/* plant.c - the rigid-body multirotor, rotors, ground effect, pad and contact (plant.h). */
+#include "plant.h"
+
+#include <math.h>
+#include <string.h>
+
+void pad_eval(const pad_params *p, double t, pad_state *out)
+{
+    out->z_m = p->base_m;
+    out->vz_mps = 0.0;
+    out->az_mps2 = 0.0;
+    switch (p->model) {
+    case PAD_SINE: {
+        /* (3.1): z_d = A/2 sin(w t) + A/2 */
+        const double half = 0.5 * p->amplitude_m, w = p->omega_radps;
+        const double s = sin(w * t), c = cos(w * t);
+        out->z_m += half * s + half;
+        out->vz_mps = half * w * c;
+        out->az_mps2 = -half * w * w * s;
+        break;
+    }
+    case PAD_WAVES:
+        for (int k = 0; k < p->wave_count; k++) {
+            const double a = p->wave_amplitude_m[k], w = p->wave_omega_radps[k];
+            const double phase = w * t + p->wave_phase_rad[k];
+            const double s = sin(phase), c = cos(phase);
+            out->z_m += a * s;
+            out->vz_mps += a * w * c;
+            out->az_mps2 -= a * w * w * s;
+        }
+        break;
+    case PAD_STILL:
+    default:
+        break;
+    }
+}
+
+double plant_ground_gain(double radius_m, double rho, double height_m)
+{
+    const double ratio = radius_m / (4.0 * height_m);
+    return 1.0 / (1.0 - rho * ratio * ratio);
+}
+
+double plant_rotor_height_min(const plant_params *p, int i)
+{
+    return p->gear_height_m + p->rotor[i].position_m.z;
+}
+
+double plant_mass_target(const plant_params *p, double t)
+{
+    double mu = p->mass_kg;
+    for (int k = 0; k < p->mass_step_count; k++) {
+        if (t >= p->mass_step_time_s[k]) {
+            mu = p->mass_step_kg[k];
+        }
+    }
+    return mu;
+}
+
+v3 plant_inertia(const plant_params *p, double m)
+{
+    return v3_axpy(p->inertia_kgm2, m - p->mass_kg, p->inertia_per_kg);
+}
+
+const char *plant_params_check(const plant_params *p)
+{
+    if (!(p->mass_kg > 0.0) || !(p->gravity_mps2 > 0.0)) {
+        return "mass and gravity must be positive";
+    }
+    if (!(p->inertia_kgm2.x > 0.0 && p->inertia_kgm2.y > 0.0 && p->inertia_kgm2.z > 0.0)) {
+        return "inertia must be positive";
+    }
+    if (p->rotor_count < 1 || p->rotor_count > PLANT_MAX_ROTORS) {
+        return "rotor count out of range";
+    }
+    if (!(p->mass_tau_s > 0.0)) {
+        return "mass filter time constant must be positive";
+    }
+    for (int k = 0; k < p->mass_step_count; k++) {
+        if (!(p->mass_step_kg[k] > 0.0)) {
+            return "step masses must be positive";
+        }
+        const v3 inertia = plant_inertia(p, p->mass_step_kg[k]);
+        if (!(inertia.x > 0.0 && inertia.y > 0.0 && inertia.z > 0.0)) {
+            return "inertia after a mass step must stay positive";
+        }
+    }
+    for (int i = 0; i < p->rotor_count; i++) {
+        const plant_rotor *r = &p->rotor[i];
+        if (fabs(v3_norm(r->axis) - 1.0) > 1e-6) {
+            return "rotor axes must be unit vectors";
+        }
+        if (!(r->thrust_max_n > 0.0) || !(r->thrust_exponent > 0.0) || !(r->torque_exponent > 0.0) ||
+            !(r->speed_min >= 0.0 && r->speed_min < 1.0) || !(r->tau_s >= 0.0) || !(r->efficiency >= 0.0)) {
+            return "rotor parameters out of range";
+        }
+        if (p->ground_effect) {
+            /* the floor of h keeps (3.2) finite: k_g_max at the gear touching */
+            const double h_min = plant_rotor_height_min(p, i);
+            const double h_sing = sqrt(p->ge_rho) * p->ge_radius_m / 4.0;
+            if (!(h_min > 1.05 * h_sing)) {
+                return "ground effect: the gear leaves the rotors below the singularity of (3.2)";
+            }
+        }
+    }
+    if (p->ground_effect && !(p->ge_radius_m > 0.0 && p->ge_rho >= 0.0)) {
+        return "ground effect: radius must be positive and rho non-negative";
+    }
+    if (p->foot_count < 1 || p->foot_count > PLANT_MAX_FEET) {
+        return "foot count out of range";
+    }
+    if (p->contact && !(p->contact_stiffness_n_per_m > 0.0 && p->contact_damping_ns_per_m >= 0.0 &&
+                        p->friction >= 0.0 && p->slip_speed_mps > 0.0)) {
+        return "contact parameters out of range";
+    }
+    return NULL;
+}
+
+/* u^e, with the common exponents exact and fast. */
+static double upow(double u, double e)
+{
+    if (e == 2.0) {
+        return u * u;
+    }
+    if (e == 1.0) {
+        return u;
+    }
+    return pow(u, e);
+}
+
+/* The model: derivative of s at time t with the held commands, and diagnostics. */
+static void derivative(const plant *pl, const pad_state *pad_t, double mu, const plant_state *s, plant_state *ds,
+                       plant_diag *diag)
+{
+    const plant_params *p = &pl->p;
+    double r[3][3];
+    quat_to_matrix(s->q, r);
+    const pad_state pad = *pad_t;
+
+    /* rotors */
+    v3 force_b = v3_make(0.0, 0.0, 0.0), moment_b = v3_make(0.0, 0.0, 0.0);
+    double gain_weighted = 0.0, thrust_sum = 0.0;
+    for (int i = 0; i < p->rotor_count; i++) {
+        const plant_rotor *rot = &p->rotor[i];
+        const double u = s->u[i] > 0.0 ? s->u[i] : 0.0;
+        const double thrust = rot->efficiency * rot->thrust_max_n * upow(u, rot->thrust_exponent);
+        const double torque = rot->efficiency * rot->torque_max_nm * upow(u, rot->torque_exponent);
+        double kg = 1.0;
+        if (p->ground_effect) {
+            /* (3.2) as h^2 / (h^2 - rho (R/4)^2), h floored at the gear touching */
+            double h = s->p.z + r[2][0] * rot->position_m.x + r[2][1] * rot->position_m.y +
+                       r[2][2] * rot->position_m.z - pad.z_m;
+            h = h > pl->height_min[i] ? h : pl->height_min[i];
+            kg = h * h / (h * h - pl->ge_c);
+        }
+        const double t_i = kg * thrust;
+        force_b = v3_axpy(force_b, t_i, rot->axis);
+        moment_b = v3_axpy(v3_axpy(moment_b, t_i, pl->lever[i]), torque, rot->axis);
+        gain_weighted += kg * thrust;
+        thrust_sum += thrust;
+        if (diag != NULL) {
+            diag->rotor_thrust_n[i] = kg * thrust;
+            diag->ground_gain_rotor[i] = kg;
+        }
+    }
+
+    /* contact of the feet with the pad's plane */
+    v3 contact_w = v3_make(0.0, 0.0, 0.0), contact_moment_w = v3_make(0.0, 0.0, 0.0);
+    double clearance = (double)INFINITY;
+    int in_contact = 0;
+    for (int f = 0; f < p->foot_count && (p->contact || diag != NULL); f++) {
+        const v3 arm_w = mat_apply(r, p->foot_m[f]);
+        const double height = s->p.z + arm_w.z - pad.z_m;
+        if (height < clearance) {
+            clearance = height;
+        }
+        if (!p->contact || height >= 0.0) {
+            continue;
+        }
+        in_contact++;
+        const v3 v_foot = v3_add(s->v, mat_apply(r, v3_cross(s->w, p->foot_m[f])));
+        const double penetration_rate = pad.vz_mps - v_foot.z;
+        double normal = -p->contact_stiffness_n_per_m * height + p->contact_damping_ns_per_m * penetration_rate;
+        if (normal < 0.0) {
+            normal = 0.0; /* a spring-damper that never pulls */
+        }
+        const double slip = sqrt(v_foot.x * v_foot.x + v_foot.y * v_foot.y + p->slip_speed_mps * p->slip_speed_mps);
+        const double k = -p->friction * normal / slip;
+        const v3 fc = v3_make(k * v_foot.x, k * v_foot.y, normal);
+        contact_w = v3_add(contact_w, fc);
+        contact_moment_w = v3_add(contact_moment_w, v3_cross(arm_w, fc));
+    }
+
+    const double m = s->m;
+    const v3 force_w = v3_add(v3_add(mat_apply(r, force_b), contact_w), v3_scale(s->v, -p->drag_n_per_mps));
+    ds->p = s->v;
+    ds->v = v3_make(force_w.x / m, force_w.y / m, force_w.z / m - p->gravity_mps2);
+    /* q' = 1/2 q (x) [0, w] */
+    const quat dq = quat_mul(s->q, quat_make(0.0, s->w.x, s->w.y, s->w.z));
+    ds->q = quat_make(0.5 * dq.w, 0.5 * dq.x, 0.5 * dq.y, 0.5 * dq.z);
+    const v3 inertia = plant_inertia(p, m);
+    const v3 moment = v3_add(moment_b, mat_apply_t(r, contact_moment_w));
+    const v3 gyro = v3_cross(s->w, v3_mul(inertia, s->w));
+    ds->w = v3_make((moment.x - gyro.x) / inertia.x, (moment.y - gyro.y) / inertia.y, (moment.z - gyro.z) / inertia.z);
+    ds->m = (mu - m) / p->mass_tau_s;
+    for (int i = 0; i < PLANT_MAX_ROTORS; i++) {
+        ds->u[i] = 0.0;
+    }
+    for (int i = 0; i < p->rotor_count; i++) {
+        if (p->rotor[i].tau_s > 0.0) {
+            ds->u[i] = (pl->u_cmd[i] - s->u[i]) / p->rotor[i].tau_s;
+        }
+    }
+    if (diag != NULL) {
+        diag->force_b = force_b;
+        diag->moment_b = moment_b;
+        diag->contact_force_w = contact_w;
+        /* specific force: the non-gravitational acceleration, in the body frame */
+        diag->specific_force_b = mat_apply_t(r, v3_scale(force_w, 1.0 / m));
+        diag->ground_gain = thrust_sum > 0.0 ? gain_weighted / thrust_sum : 1.0;
+        if (!p->ground_effect) {
+            diag->ground_gain = 1.0;
+        } else if (thrust_sum <= 0.0) {
+            /* no thrust: the gain the rotors would see, averaged */
+            double sum = 0.0;
+            for (int i = 0; i < p->rotor_count; i++) {
+                const double h = s->p.z + v3_dot(v3_make(r[2][0], r[2][1], r[2][2]), p->rotor[i].position_m) - pad.z_m;
+                const double h_min = plant_rotor_height_min(p, i);
+                sum += plant_ground_gain(p->ge_radius_m, p->ge_rho, h > h_min ? h : h_min);
+            }
+            diag->ground_gain = sum / p->rotor_count;
+        }
+        diag->gear_clearance_m = clearance;
+        diag->feet_in_contact = in_contact;
+        diag->mass_target_kg = mu;
+        diag->pad = pad;
+    }
+}
+
+_Static_assert(sizeof(plant_state) == PLANT_STATE_DIM * sizeof(double), "plant_state must be a packed vector of doubles");
+
+void plant_init(plant *pl, const plant_params *p, const plant_state *s0)
+{
+    pl->p = *p;
+    pl->s = *s0;
+    pl->s.q = quat_normalize(pl->s.q);
+    pl->t = 0.0;
+    pl->pad_cache_t = -1.0;
+    for (int i = 0; i < p->rotor_count; i++) {
+        pl->lever[i] = v3_cross(p->rotor[i].position_m, p->rotor[i].axis);
+        pl->height_min[i] = plant_rotor_height_min(p, i);
+    }
+    const double quarter_r = p->ge_radius_m / 4.0;
+    pl->ge_c = p->ge_rho * quarter_r * quarter_r;
+    for (int i = 0; i < PLANT_MAX_ROTORS; i++) {
+        pl->u_cmd[i] = pl->s.u[i];
+    }
+}
+
+void plant_set_command(plant *pl, const double *u_cmd, int count)
+{
+    for (int i = 0; i < pl->p.rotor_count; i++) {
+        double u = i < count ? u_cmd[i] : 0.0;
+        if (!(u > 0.0)) {
+            u = 0.0; /* motor off (and NaN: off) */
+        } else {
+            const double lo = pl->p.rotor[i].speed_min;
+            u = u < lo ? lo : (u > 1.0 ? 1.0 : u);
+        }
+        pl->u_cmd[i] = u;
+        if (pl->p.rotor[i].tau_s <= 0.0) {
+            pl->s.u[i] = u; /* no lag: the speed is the command */
+        }
+    }
+}
+
+void plant_step(plant *pl, double h)
+{
+    /* classical RK4; the pad is evaluated at t, t + h/2 and t + h, and the
+     * last is kept for the next step's start */
+    const double t = pl->t;
+    pad_state pad0, pad_mid, pad_end;
+    if (pl->pad_cache_t == t) {
+        pad0 = pl->pad_cache;
+    } else {
+        pad_eval(&pl->p.pad, t, &pad0);
+    }
+    pad_eval(&pl->p.pad, t + 0.5 * h, &pad_mid);
+    pad_eval(&pl->p.pad, t + h, &pad_end);
+    /* the mass target mu(t) is held over the step at its value at the start
+     * (mass steps fall on step boundaries: no stage sees the next one early) */
+    const double mu = plant_mass_target(&pl->p, t + 1e-9);
+    const plant_state x0 = pl->s;
+    plant_state k1, k2, k3, k4, xt;
+    derivative(pl, &pad0, mu, &x0, &k1, NULL);
+    for (int j = 0; j < PLANT_STATE_DIM; j++) {
+        xt.x[j] = x0.x[j] + 0.5 * h * k1.x[j];
+    }
+    derivative(pl, &pad_mid, mu, &xt, &k2, NULL);
+    for (int j = 0; j < PLANT_STATE_DIM; j++) {
+        xt.x[j] = x0.x[j] + 0.5 * h * k2.x[j];
+    }
+    derivative(pl, &pad_mid, mu, &xt, &k3, NULL);
+    for (int j = 0; j < PLANT_STATE_DIM; j++) {
+        xt.x[j] = x0.x[j] + h * k3.x[j];
+    }
+    derivative(pl, &pad_end, mu, &xt, &k4, NULL);
+    const double h6 = h / 6.0;
+    for (int j = 0; j < PLANT_STATE_DIM; j++) {
+        pl->s.x[j] = x0.x[j] + h6 * (k1.x[j] + 2.0 * (k2.x[j] + k3.x[j]) + k4.x[j]);
+    }
+    pl->s.q = quat_normalize(pl->s.q);
+    pl->t = t + h;
+    pl->pad_cache_t = pl->t;
+    pl->pad_cache = pad_end;
+}
+
+void plant_diagnose(const plant *pl, plant_diag *d)
+{
+    plant_state ds;
+    pad_state pad;
+    pad_eval(&pl->p.pad, pl->t, &pad);
+    derivative(pl, &pad, plant_mass_target(&pl->p, pl->t + 1e-9), &pl->s, &ds, d);
+}
+
+double plant_hover_speed(const plant *pl)
+{
+    const plant_params *p = &pl->p;
+    plant probe = *pl;
+    const double weight = pl->s.m * p->gravity_mps2;
+    double lo = 0.0, hi = 1.0;
+    for (int i = 0; i < p->rotor_count; i++) {
+        probe.s.u[i] = 1.0;
+    }
+    plant_diag d;
+    plant_diagnose(&probe, &d);
+    if (d.force_b.z < weight) {
+        return -1.0;
+    }
+    for (int iter = 0; iter < 60; iter++) {
+        const double mid = 0.5 * (lo + hi);
+        for (int i = 0; i < p->rotor_count; i++) {
+            probe.s.u[i] = mid;
+        }
+        plant_diagnose(&probe, &d);
+        if (d.force_b.z < weight) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+double plant_energy(const plant *pl)
+{
+    const plant_state *s = &pl->s;
+    const v3 inertia = plant_inertia(&pl->p, s->m);
+    return 0.5 * s->m * v3_dot(s->v, s->v) + 0.5 * v3_dot(v3_mul(inertia, s->w), s->w) +
+           s->m * pl->p.gravity_mps2 * s->p.z;
+}
+
+v3 plant_angular_momentum_world(const plant *pl)
+{
+    double r[3][3];
+    quat_to_matrix(pl->s.q, r);
+    return mat_apply(r, v3_mul(plant_inertia(&pl->p, pl->s.m), pl->s.w));
+}

@@ -1,0 +1,174 @@
+/*
+ * plant.h - the multirotor, the pad and their contact, in double precision.
+ *
+ * State (world ENU, body FLU, q body -> world):
+ *   p, v       centre of mass position and velocity, world
+ *   q          attitude; w body angular velocity
+ *   m          mass, m' = (mu(t) - m) / tau_m: the filter 1/(tau_m s + 1) of (4.84)
+ *   u_i        normalised rotor speeds, u_i' = (u_cmd,i - u_i) / tau_i (first-order motor lag)
+ * Equations ((2.1), (3.3) in vector form):
+ *   p' = v
+ *   m v' = R F_b + F_contact + F_drag - m g e_z
+ *   q' = 1/2 q (x) [0, w]
+ *   I(m) w' = M_b + M_contact - w x I(m) w
+ * Rotors (2.2)-(2.3): T_i = eff_i T_max,i u_i^r_i along d_i, Q_i = eff_i Q_max,i u_i^s_i
+ * along d_i (Q_max signed by the spin), the thrust scaled by the ground-effect
+ * gain (3.2) of that rotor's height above the pad,
+ *   k_g,i = 1 / (1 - rho (R / (4 h_i))^2),  h_i >= h_min,i (the rotor's height when the gear touches),
+ * F_b = sum k_g,i T_i d_i,  M_b = sum l_i x (k_g,i T_i d_i) + Q_i d_i.
+ * Contact: each foot of the landing gear below the pad's plane pushes back with
+ * a spring-damper k d + c d' (never pulling) and slides against regularised Coulomb
+ * friction mu F_n v_t / sqrt(|v_t|^2 + v_s^2).
+ * Integration: classical RK4 at the plant step, inputs (u_cmd) held over the step;
+ * q is renormalised after each step. m' v and I' w are neglected ((H2.a), (H2.b)).
+ */
+#ifndef SIM_PLANT_H
+#define SIM_PLANT_H
+
+#include <stdbool.h>
+
+#include "vmath.h"
+
+#define PLANT_MAX_ROTORS 8
+#define PLANT_MAX_FEET 8
+#define PAD_MAX_WAVES 8
+#define PLANT_MAX_MASS_STEPS 8
+
+typedef enum pad_model { PAD_STILL = 0, PAD_SINE, PAD_WAVES } pad_model;
+
+/* The pad's height: still (base), (3.1) z = base + A/2 sin(w t) + A/2, or a
+ * sum of sinusoids base + sum a_k sin(w_k t + phi_k). */
+typedef struct pad_params {
+    pad_model model;
+    double base_m;
+    double amplitude_m;   /* A of (3.1): peak to peak */
+    double omega_radps;   /* w of (3.1) */
+    int wave_count;
+    double wave_amplitude_m[PAD_MAX_WAVES];
+    double wave_omega_radps[PAD_MAX_WAVES];
+    double wave_phase_rad[PAD_MAX_WAVES];
+} pad_params;
+
+typedef struct pad_state {
+    double z_m, vz_mps, az_mps2;
+} pad_state;
+
+void pad_eval(const pad_params *p, double t, pad_state *out);
+
+typedef struct plant_rotor {
+    v3 position_m;        /* l_i, body */
+    v3 axis;              /* d_i, body, unit */
+    double thrust_max_n;  /* T_max */
+    double torque_max_nm; /* Q_max, signed: + reacts along +d_i */
+    double thrust_exponent, torque_exponent; /* r, s */
+    double speed_min;     /* u_min: the slowest a running motor turns */
+    double tau_s;         /* motor lag; 0: none */
+    double efficiency;    /* scales T and Q (a damaged or weak rotor < 1) */
+} plant_rotor;
+
+typedef struct plant_params {
+    double mass_kg;               /* at t = 0 */
+    v3 inertia_kgm2;              /* diagonal, at mass_kg */
+    v3 inertia_per_kg;            /* dI/dm: I(m) = I0 + (m - m0) dI/dm (0: a payload at the CG) */
+    double gravity_mps2;
+    double drag_n_per_mps;        /* linear drag on the CG velocity (0: none) */
+    int rotor_count;
+    plant_rotor rotor[PLANT_MAX_ROTORS];
+    /* mass change (4.84): mu steps to step_mass[k] at step_time[k] */
+    double mass_tau_s;
+    int mass_step_count;
+    double mass_step_time_s[PLANT_MAX_MASS_STEPS];
+    double mass_step_kg[PLANT_MAX_MASS_STEPS];
+    /* ground effect (3.2) */
+    bool ground_effect;
+    double ge_radius_m, ge_rho;
+    /* landing gear and contact */
+    double gear_height_m;         /* CG to the bottom of the gear, along body -z */
+    int foot_count;
+    v3 foot_m[PLANT_MAX_FEET];    /* body */
+    bool contact;
+    double contact_stiffness_n_per_m; /* per foot */
+    double contact_damping_ns_per_m;  /* per foot */
+    double friction;
+    double slip_speed_mps;
+    pad_params pad;
+} plant_params;
+
+#define PLANT_STATE_DIM (3 + 3 + 4 + 3 + 1 + PLANT_MAX_ROTORS)
+
+typedef union plant_state {
+    struct {
+        v3 p, v;
+        quat q;
+        v3 w;
+        double m;
+        double u[PLANT_MAX_ROTORS];
+    };
+    double x[PLANT_STATE_DIM]; /* the same, as one vector for the RK4 combination */
+} plant_state;
+
+/* What the model computes besides the derivative (at one time and state). */
+typedef struct plant_diag {
+    v3 specific_force_b;   /* what an ideal accelerometer at the CG reads */
+    v3 force_b, moment_b;  /* rotors only */
+    v3 contact_force_w;
+    double rotor_thrust_n[PLANT_MAX_ROTORS]; /* k_g T_i */
+    double ground_gain;    /* thrust-weighted mean of k_g,i (the k_g of (3.4)) */
+    double ground_gain_rotor[PLANT_MAX_ROTORS];
+    double gear_clearance_m; /* lowest foot above the pad (negative: penetration) */
+    int feet_in_contact;
+    double mass_target_kg;
+    pad_state pad;
+} plant_diag;
+
+typedef struct plant {
+    plant_params p;
+    plant_state s;
+    double t;
+    double u_cmd[PLANT_MAX_ROTORS]; /* held over the step */
+    double pad_cache_t;             /* the pad at the end of the last step */
+    pad_state pad_cache;
+    /* computed at init from p */
+    v3 lever[PLANT_MAX_ROTORS];     /* l_i x d_i */
+    double height_min[PLANT_MAX_ROTORS];
+    double ge_c;                    /* rho (R/4)^2: k_g = h^2 / (h^2 - c) */
+} plant;
+
+/* Checks what the model needs (positive masses and inertias, the ground-effect
+ * floor above the singularity, ...): NULL if fine, or a reason. */
+const char *plant_params_check(const plant_params *p);
+
+/* Ground-effect gain (3.2) at height h (no floor applied): 1/(1 - rho (R/(4h))^2). */
+double plant_ground_gain(double radius_m, double rho, double height_m);
+
+/* The lowest height a rotor can be at (gear touching a level pad). */
+double plant_rotor_height_min(const plant_params *p, int i);
+
+void plant_init(plant *pl, const plant_params *p, const plant_state *s0);
+
+/* Rotor speeds for a level hover at the current height: sum k_g,i T_i = m g
+ * with one common u (bisection). Returns that u, or -1 when it needs u > 1. */
+double plant_hover_speed(const plant *pl);
+
+/* Commanded normalised speeds (0 = motor off, otherwise clamped to [u_min, 1]). */
+void plant_set_command(plant *pl, const double *u_cmd, int count);
+
+/* One RK4 step of h seconds. */
+void plant_step(plant *pl, double h);
+
+/* Derivative and diagnostics at the current time and state (no step). */
+void plant_diagnose(const plant *pl, plant_diag *d);
+
+/* Mechanical energy (kinetic + rotational + potential, with z = 0 as reference). */
+double plant_energy(const plant *pl);
+
+/* Angular momentum in the world frame. */
+v3 plant_angular_momentum_world(const plant *pl);
+
+/* The mass target mu(t) of (4.84). */
+double plant_mass_target(const plant_params *p, double t);
+
+/* Inertia at mass m. */
+v3 plant_inertia(const plant_params *p, double m);
+
+#endif /* SIM_PLANT_H */

@@ -1,0 +1,106 @@
+/*
+ * scenario.h - a scenario file (INI, sim_host/scenarios/NAME.ini) turned into
+ * the plant, sensors, flight-software configuration and mission of one run.
+ *
+ * The keys, their defaults and their ranges are the table in scenario.c; every
+ * shipped scenario file documents them in its comments. An unknown section or
+ * key, a value that does not parse or is out of range is an error
+ * "FILE:LINE: key 'k' in [section]: reason" and nothing runs.
+ */
+#ifndef SIM_SCENARIO_H
+#define SIM_SCENARIO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fsw_adapter.h"
+#include "plant.h"
+#include "sensors.h"
+
+#define SCENARIO_NAME_MAX 64
+#define SCENARIO_TEXT_MAX 256
+#define SCENARIO_PATH_MAX 1024
+
+typedef enum rotor_layout { LAYOUT_QUAD_X = 0, LAYOUT_HEXA_X, LAYOUT_CUSTOM } rotor_layout;
+
+/* Monte-Carlo perturbations ([montecarlo]); each run draws from its own seed. */
+typedef struct montecarlo_params {
+    double mass_rel;              /* true mass x (1 + U(-a, a)) (the firmware's nominal stays) */
+    double inertia_rel;
+    double pad_amplitude_rel;     /* every pad amplitude x (1 + U(-a, a)) */
+    double pad_period_rel;        /* every pad period x (1 + U(-a, a)) */
+    double noise_scale_min, noise_scale_max; /* sensor noise x U(min, max) */
+    int delay_steps_max;          /* position/altitude delay + U{0..n} controller steps */
+    double motor_tau_rel;         /* every motor lag x (1 + U(-a, a)) */
+    double rotor_efficiency_min;  /* one random rotor's efficiency x U(min, 1) */
+    double initial_offset_m;      /* initial x, y + U(-a, a) */
+    double ground_effect_rho_rel; /* rho of (3.2) x (1 + U(-a, a)) */
+} montecarlo_params;
+
+typedef struct mission_params {
+    double track_start_s;         /* FC_COMMAND_TRACK_PAD from here (DISARM before) */
+    bool landing;                 /* a landing scenario: touchdown metrics are reported */
+    bool disarm_on_contact;       /* the stand-in for the landing mission: cut the motors after touchdown */
+    double disarm_delay_s;
+    double touchdown_planned_s;   /* min_clearance_m is taken before this time (NaN: before first contact) */
+    double setpoint_x_m, setpoint_y_m, setpoint_yaw_rad;
+} mission_params;
+
+typedef struct initial_params {
+    double x_m, y_m;
+    double height_m;              /* CG above the pad at t = 0; NaN: at the reference z_r(0) */
+    double yaw_rad;
+    double roll_rad, pitch_rad;
+    v3 velocity_mps;
+    bool motors_hover;            /* rotors spinning at hover speed at t = 0 (else stopped) */
+} initial_params;
+
+typedef struct metric_params {
+    double transient_s;           /* NaN: 5 tau_zr + 5 s (SPEC) */
+    double mass_step_window_s;    /* 10 s (SPEC) */
+    double bounce_height_m;       /* a rise of the gear above this between contacts counts as a bounce */
+    bool error_until_contact;     /* the error window ends at the first contact (landing runs) */
+} metric_params;
+
+typedef struct scenario {
+    char name[SCENARIO_NAME_MAX];
+    char description[SCENARIO_TEXT_MAX];
+    char path[SCENARIO_PATH_MAX];
+    double duration_s;
+    double plant_rate_hz;
+    uint64_t seed;
+    /* flight software */
+    fsw_config fsw;               /* variant: the scenario's default controller */
+    double controller_rate_hz;
+    /* plant, as built from [vehicle], [rotor.N], [mass], [ground_effect], [gear], [contact], [pad] */
+    plant_params plant;
+    rotor_layout layout;
+    sensor_params sensors;
+    mission_params mission;
+    initial_params initial;
+    metric_params metrics;
+    montecarlo_params montecarlo;
+} scenario;
+
+/* Loads and validates a scenario. On error returns false with err holding
+ * "FILE:LINE: key 'k' in [section]: reason" (or "FILE: reason"). */
+bool scenario_load(const char *path, scenario *sc, char *err, size_t err_len);
+
+/* Resolves NAME or FILE: a string with a '/' or ending in .ini is a path,
+ * anything else is sim_host/scenarios/NAME.ini (next to the binary's
+ * scenarios dir first, then the source tree's). Returns false if not found. */
+bool scenario_resolve(const char *name_or_path, const char *argv0, char *path, size_t path_len);
+
+/* Lists the shipped scenario names on out (one a line). */
+void scenario_list(const char *argv0, void (*emit)(const char *name, void *user), void *user);
+
+/* Applies the Monte-Carlo perturbations of sc->montecarlo drawn from seed. */
+void scenario_perturb(scenario *sc, uint64_t seed);
+
+/* The variants, in fc_altitude_variant order. */
+extern const char *const sim_variant_names[FSW_VARIANT_COUNT];
+int sim_variant_from_name(const char *name); /* -1 if unknown */
+bool sim_variant_is_adaptive(int variant);
+
+#endif /* SIM_SCENARIO_H */

@@ -1,0 +1,378 @@
+/* sim.c - one flight: plant, sensors, flight software, metrics, trace (sim.h). */
+#include "sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "plant.h"
+#include "sensors.h"
+
+#define RAD2DEG (180.0 / 3.14159265358979323846)
+
+const char *const sim_metric_names[SIM_METRIC_COUNT] = {
+    "rms_error_m",      "max_abs_error_m",         "mass_step_peak_error_m", "control_tv_per_s",
+    "theta_rel_error",  "min_clearance_m",         "touchdown_rel_speed_mps", "touchdown_time_s",
+    "bounces",          "max_tilt_deg",            "nan_outputs",
+};
+
+double sim_metric_value(const sim_metrics *m, int index)
+{
+    switch (index) {
+    case 0: return m->rms_error_m;
+    case 1: return m->max_abs_error_m;
+    case 2: return m->mass_step_peak_error_m;
+    case 3: return m->control_tv_per_s;
+    case 4: return m->theta_rel_error;
+    case 5: return m->min_clearance_m;
+    case 6: return m->touchdown_rel_speed_mps;
+    case 7: return m->touchdown_time_s;
+    case 8: return m->bounces;
+    case 9: return m->max_tilt_deg;
+    case 10: return m->nan_outputs;
+    default: return (double)NAN;
+    }
+}
+
+const char *const sim_trace_column_names[SIM_TRACE_COLUMN_COUNT] = {
+#define SIM_TRACE_NAME(name) #name,
+    SIM_TRACE_COLUMNS(SIM_TRACE_NAME)
+#undef SIM_TRACE_NAME
+};
+
+double sim_reference(const fsw_info *info, double pad_z_m, double t_since_start_s)
+{
+    const double decay = t_since_start_s >= 0.0 ? exp(-t_since_start_s / info->ref_tau_s) : 1.0;
+    return pad_z_m + info->ref_bias_m + info->ref_offset_init_m * decay;
+}
+
+void sim_trace_free(sim_trace *t)
+{
+    free(t->data);
+    t->data = NULL;
+    t->rows = t->capacity = 0;
+}
+
+static double clock_s(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double now_s(void)
+{
+    return clock_s(CLOCK_MONOTONIC);
+}
+
+static bool all_finite(const fsw_outputs *o)
+{
+    for (int i = 0; i < FSW_MAX_ROTORS; i++) {
+        if (!isfinite(o->rotor_speed[i])) {
+            return false;
+        }
+    }
+    return isfinite(o->thrust_n) && isfinite(o->moment_nm[0]) && isfinite(o->moment_nm[1]) &&
+           isfinite(o->moment_nm[2]);
+}
+
+/* Metric accumulators. */
+typedef struct acc {
+    double sum_sq;
+    long window;
+    double max_abs;
+    double mass_peak;
+    bool mass_step_seen;
+    double tv, last_u;
+    bool have_last_u;
+    double max_tilt;
+    long nan_outputs;
+    double min_clearance;
+    bool contact_now, contact_ever, airborne_since_contact;
+    double touchdown_time, touchdown_speed;
+    long bounces;
+} acc;
+
+bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_trace *trace, char *err,
+             size_t err_len)
+{
+    memset(res, 0, sizeof *res);
+    const double t_start_wall = now_s();
+    const double t_start_cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+    fsw_config cfg = sc->fsw;
+    cfg.variant = opt->variant;
+    fsw_info info;
+    memset(&info, 0, sizeof info);
+    void *fsw = opt->backend->create(&cfg, &info, err, err_len);
+    if (fsw == NULL) {
+        return false;
+    }
+    if (info.rotor_count != sc->plant.rotor_count) {
+        snprintf(err, err_len, "the firmware airframe has %d rotors, the plant %d", info.rotor_count,
+                 sc->plant.rotor_count);
+        opt->backend->destroy(fsw);
+        return false;
+    }
+    res->info = info;
+    res->seed = sc->seed;
+
+    const double dt = cfg.dt_s;
+    const int substeps = (int)lround(sc->plant_rate_hz * dt);
+    const double h = dt / substeps;
+    const long steps = lround(sc->duration_s / dt);
+    const mission_params *mission = &sc->mission;
+
+    /* initial state: level (or as given) at the reference z_r(0) over the pad, at rest */
+    pad_state pad0;
+    pad_eval(&sc->plant.pad, 0.0, &pad0);
+    const double z0 = isnan(sc->initial.height_m) ? sim_reference(&info, pad0.z_m, 0.0)
+                                                   : pad0.z_m + sc->initial.height_m;
+    plant_state s0;
+    memset(&s0, 0, sizeof s0);
+    s0.p = v3_make(sc->initial.x_m, sc->initial.y_m, z0);
+    s0.v = sc->initial.velocity_mps;
+    s0.q = quat_from_rpy(sc->initial.roll_rad, sc->initial.pitch_rad, sc->initial.yaw_rad);
+    s0.m = sc->plant.mass_kg;
+    plant pl;
+    plant_init(&pl, &sc->plant, &s0);
+    if (sc->initial.motors_hover) {
+        const double u = plant_hover_speed(&pl);
+        for (int i = 0; i < pl.p.rotor_count; i++) {
+            pl.s.u[i] = u > 0.0 ? u : 1.0;
+            pl.u_cmd[i] = pl.s.u[i];
+        }
+    }
+    sensors sens;
+    sensors_init(&sens, &sc->sensors, dt, sc->seed);
+
+    if (trace != NULL && opt->want_trace) {
+        trace->decimation = opt->trace_decimation > 0 ? opt->trace_decimation : 1;
+        trace->capacity = (size_t)(steps / trace->decimation + 2);
+        trace->rows = 0;
+        trace->data = malloc(trace->capacity * SIM_TRACE_COLUMN_COUNT * sizeof(double));
+        if (trace->data == NULL) {
+            snprintf(err, err_len, "out of memory for the trace");
+            opt->backend->destroy(fsw);
+            return false;
+        }
+    }
+
+    acc a;
+    memset(&a, 0, sizeof a);
+    a.min_clearance = (double)INFINITY;
+    a.touchdown_time = a.touchdown_speed = (double)NAN;
+    const double transient = isnan(sc->metrics.transient_s) ? 5.0 * info.ref_tau_s + 5.0 : sc->metrics.transient_s;
+    const double window_after_step = sc->metrics.mass_step_window_s;
+    const double planned = isnan(mission->touchdown_planned_s) ? (double)INFINITY : mission->touchdown_planned_s;
+    double disarm_at = (double)INFINITY;
+    double last_tilt_cos = 1.0;
+    fsw_outputs out;
+    memset(&out, 0, sizeof out);
+    double last_theta = (double)NAN, last_theta_star = (double)NAN;
+
+    for (long k = 0; k < steps; k++) {
+        const double t = k * dt;
+        /* sensors due at t (the plant is at t) */
+        sensors_sample(&sens, &pl, t);
+        sensor_readout sr;
+        sensors_read(&sens, t, &sr);
+        pad_state pad;
+        pad_eval(&sc->plant.pad, t, &pad);
+
+        fsw_inputs in;
+        memset(&in, 0, sizeof in);
+        in.gyro_radps[0] = sr.gyro_radps.x;
+        in.gyro_radps[1] = sr.gyro_radps.y;
+        in.gyro_radps[2] = sr.gyro_radps.z;
+        in.accel_mps2[0] = sr.accel_mps2.x;
+        in.accel_mps2[1] = sr.accel_mps2.y;
+        in.accel_mps2[2] = sr.accel_mps2.z;
+        in.attitude_q[0] = sr.attitude.w;
+        in.attitude_q[1] = sr.attitude.x;
+        in.attitude_q[2] = sr.attitude.y;
+        in.attitude_q[3] = sr.attitude.z;
+        in.position_m[0] = sr.position_m.x;
+        in.position_m[1] = sr.position_m.y;
+        in.position_m[2] = sr.position_m.z;
+        if (sr.has_altitude) {
+            /* the platform's altitude: absolute, or the pad's height plus the
+             * range projected on the vertical with the firmware's own k_h */
+            in.position_m[2] = sr.altitude_is_range ? pad.z_m + sr.altitude_m * last_tilt_cos : sr.altitude_m;
+        }
+        in.velocity_mps[0] = sr.velocity_mps.x;
+        in.velocity_mps[1] = sr.velocity_mps.y;
+        in.velocity_mps[2] = sr.velocity_mps.z;
+        in.pad_z_m = pad.z_m;
+        in.pad_vz_mps = pad.vz_mps;
+        in.pad_az_mps2 = pad.az_mps2;
+        in.position_setpoint_m[0] = mission->setpoint_x_m;
+        in.position_setpoint_m[1] = mission->setpoint_y_m;
+        in.yaw_setpoint_rad = mission->setpoint_yaw_rad;
+        in.command = (t + 1e-9 >= mission->track_start_s && t < disarm_at) ? FSW_COMMAND_TRACK_PAD
+                                                                           : FSW_COMMAND_DISARM;
+
+        opt->backend->step(fsw, &in, &out);
+        last_tilt_cos = out.tilt_cos;
+        if (!all_finite(&out)) {
+            a.nan_outputs++;
+        }
+        plant_set_command(&pl, out.rotor_speed, out.rotor_count);
+
+        /* metrics at t_k */
+        plant_diag d;
+        plant_diagnose(&pl, &d);
+        const double z_r = sim_reference(&info, pad.z_m, t - mission->track_start_s);
+        const double e = pl.s.p.z - z_r;
+        if (t >= transient && !(sc->metrics.error_until_contact && a.contact_ever)) {
+            a.sum_sq += e * e;
+            a.window++;
+            if (fabs(e) > a.max_abs) {
+                a.max_abs = fabs(e);
+            }
+        }
+        for (int j = 0; j < sc->plant.mass_step_count; j++) {
+            const double ts = sc->plant.mass_step_time_s[j];
+            if (t >= ts && t < ts + window_after_step) {
+                a.mass_step_seen = true;
+                if (fabs(e) > a.mass_peak) {
+                    a.mass_peak = fabs(e);
+                }
+            }
+        }
+        const double u = out.thrust_n;
+        if (a.have_last_u) {
+            a.tv += fabs(u - a.last_u);
+        }
+        a.last_u = u;
+        a.have_last_u = true;
+        const double r33 = 1.0 - 2.0 * (pl.s.q.x * pl.s.q.x + pl.s.q.y * pl.s.q.y);
+        const double tilt = acos(r33 > 1.0 ? 1.0 : (r33 < -1.0 ? -1.0 : r33)) * RAD2DEG;
+        if (tilt > a.max_tilt) {
+            a.max_tilt = tilt;
+        }
+        /* before the planned touchdown (a contact earlier shows as its depth, a
+         * collision); with no plan, before the first contact */
+        if (t < planned && (isfinite(planned) || !a.contact_ever) && d.gear_clearance_m < a.min_clearance) {
+            a.min_clearance = d.gear_clearance_m;
+        }
+        const bool contact = sc->plant.contact && d.feet_in_contact > 0;
+        if (contact && !a.contact_ever) {
+            a.contact_ever = true;
+            a.touchdown_time = t;
+            a.touchdown_speed = fabs(pl.s.v.z - pad.vz_mps);
+            if (mission->disarm_on_contact) {
+                disarm_at = t + mission->disarm_delay_s;
+            }
+        } else if (contact && a.airborne_since_contact) {
+            a.bounces++;
+            a.airborne_since_contact = false;
+        } else if (!contact && a.contact_ever && d.gear_clearance_m > sc->metrics.bounce_height_m) {
+            a.airborne_since_contact = true;
+        }
+        const double k_h = r33;
+        const double theta_star = pl.s.m / (k_h * d.ground_gain);
+        if (out.motors_on) {
+            /* Theta against Theta* at the end of the flight (a landing run: the last armed step) */
+            last_theta = out.theta_kg;
+            last_theta_star = theta_star;
+        }
+
+        if (trace != NULL && opt->want_trace && k % trace->decimation == 0 && trace->rows < trace->capacity) {
+            double *row = trace->data + trace->rows * SIM_TRACE_COLUMN_COUNT;
+            double roll, pitch, yaw;
+            quat_to_rpy(pl.s.q, &roll, &pitch, &yaw);
+            double umin = 1.0, umax = 0.0, usum = 0.0, thrust_sum = 0.0;
+            for (int i = 0; i < pl.p.rotor_count; i++) {
+                usum += pl.s.u[i];
+                umin = pl.s.u[i] < umin ? pl.s.u[i] : umin;
+                umax = pl.s.u[i] > umax ? pl.s.u[i] : umax;
+                thrust_sum += d.rotor_thrust_n[i];
+            }
+            /* Figure 4.3(b): (Theta - Theta*)/Theta* phi, phi = u_nom / Theta as the law used it */
+            const double phi = fabs(out.theta_kg) > 1e-9 ? out.u_nom_n / out.theta_kg : 0.0;
+            row[SIM_COL_t_s] = t;
+            row[SIM_COL_pad_z_m] = pad.z_m;
+            row[SIM_COL_pad_vz_mps] = pad.vz_mps;
+            row[SIM_COL_z_r_m] = z_r;
+            row[SIM_COL_z_m] = pl.s.p.z;
+            row[SIM_COL_vz_mps] = pl.s.v.z;
+            row[SIM_COL_error_m] = e;
+            row[SIM_COL_x_m] = pl.s.p.x;
+            row[SIM_COL_y_m] = pl.s.p.y;
+            row[SIM_COL_roll_deg] = roll * RAD2DEG;
+            row[SIM_COL_pitch_deg] = pitch * RAD2DEG;
+            row[SIM_COL_yaw_deg] = yaw * RAD2DEG;
+            row[SIM_COL_tilt_deg] = tilt;
+            row[SIM_COL_thrust_cmd_n] = out.thrust_n;
+            row[SIM_COL_vertical_force_n] = out.vertical_force_n;
+            row[SIM_COL_u_nom_n] = out.u_nom_n;
+            row[SIM_COL_u0_av_n] = out.u0_av_n;
+            row[SIM_COL_rho_n] = out.rho_n;
+            row[SIM_COL_sigma_mps] = out.sigma_mps;
+            row[SIM_COL_sigma_tilde_mps] = out.sigma_tilde_mps;
+            row[SIM_COL_theta_kg] = out.theta_kg;
+            row[SIM_COL_theta_star_kg] = theta_star;
+            row[SIM_COL_adaptation_term_mps2] = (out.theta_kg - theta_star) / theta_star * phi;
+            row[SIM_COL_ground_gain] = d.ground_gain;
+            row[SIM_COL_mass_kg] = pl.s.m;
+            row[SIM_COL_gear_clearance_m] = d.gear_clearance_m;
+            row[SIM_COL_contact_force_n] = d.contact_force_w.z;
+            row[SIM_COL_rotor_thrust_n] = thrust_sum;
+            row[SIM_COL_fsw_z_r_m] = out.z_r_m;
+            row[SIM_COL_u_mean] = usum / pl.p.rotor_count;
+            row[SIM_COL_u_min] = umin;
+            row[SIM_COL_u_max] = umax;
+            row[SIM_COL_motors_on] = out.motors_on;
+            row[SIM_COL_status] = out.status;
+            trace->rows++;
+        }
+
+        /* the plant over one controller step */
+        for (int j = 0; j < substeps; j++) {
+            if (j > 0) {
+                sensors_sample(&sens, &pl, t + j * h);
+            }
+            plant_step(&pl, h);
+        }
+        /* no drift of the plant's clock (the pad cached at the step's end moves with it) */
+        const double t_next = (double)(k + 1) * dt;
+        if (pl.pad_cache_t == pl.t) {
+            pl.pad_cache_t = t_next;
+        }
+        pl.t = t_next;
+        if (opt->progress != NULL && (k & 1023) == 0) {
+            opt->progress((double)k / (double)steps, opt->progress_user);
+        }
+    }
+    opt->backend->destroy(fsw);
+
+    sim_metrics *m = &res->metrics;
+    m->rms_error_m = a.window > 0 ? sqrt(a.sum_sq / (double)a.window) : (double)NAN;
+    m->max_abs_error_m = a.window > 0 ? a.max_abs : (double)NAN;
+    m->mass_step_peak_error_m = a.mass_step_seen ? a.mass_peak : (double)NAN;
+    m->control_tv_per_s = a.tv / sc->duration_s;
+    m->theta_end_kg = last_theta;
+    m->theta_star_end_kg = last_theta_star;
+    m->theta_rel_error =
+        sim_variant_is_adaptive(opt->variant) ? fabs(last_theta - last_theta_star) / last_theta_star : (double)NAN;
+    const bool landing = mission->landing;
+    m->min_clearance_m = landing ? a.min_clearance : (double)NAN;
+    m->touchdown_rel_speed_mps = landing ? a.touchdown_speed : (double)NAN;
+    m->touchdown_time_s = landing ? a.touchdown_time : (double)NAN;
+    m->bounces = landing && a.contact_ever ? (double)a.bounces : (landing ? 0.0 : (double)NAN);
+    m->max_tilt_deg = a.max_tilt;
+    m->nan_outputs = (double)a.nan_outputs;
+    plant_diag d;
+    plant_diagnose(&pl, &d);
+    m->final_height_m = d.gear_clearance_m;
+    res->controller_steps = steps;
+    res->plant_steps = steps * substeps;
+    res->wall_s = now_s() - t_start_wall;
+    res->cpu_s = clock_s(CLOCK_PROCESS_CPUTIME_ID) - t_start_cpu;
+    if (opt->progress != NULL) {
+        opt->progress(1.0, opt->progress_user);
+    }
+    return true;
+}

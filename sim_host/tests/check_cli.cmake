@@ -1,0 +1,38 @@
+# The command line: --list-controllers prints the variants in fc_altitude_variant
+# order, --list-scenarios the shipped scenarios, a bad option exits 2, and two
+# runs with the same seed give the same JSON metrics (determinism).
+#   cmake -DFCSIL=... -DWORK=... -P check_cli.cmake
+execute_process(COMMAND "${FCSIL}" --list-controllers OUTPUT_VARIABLE out RESULT_VARIABLE status)
+set(expected "ssc\nssc-adaptive\nssc-norm\nssc-norm-adaptive\nssc-extra\nssc-rel2\nssc-rel2-adaptive\nssc-rel2-norm\npid\nsmc\nsmc-boundary\nsuper-twisting\n")
+if(NOT status EQUAL 0 OR NOT out STREQUAL expected)
+  message(FATAL_ERROR "--list-controllers printed:\n${out}")
+endif()
+execute_process(COMMAND "${FCSIL}" --list-scenarios OUTPUT_VARIABLE out RESULT_VARIABLE status)
+foreach(name seed-4.4 cf2-pad hexa-deck)
+  if(NOT out MATCHES "(^|\n)${name}\n")
+    message(FATAL_ERROR "--list-scenarios misses ${name}:\n${out}")
+  endif()
+endforeach()
+execute_process(COMMAND "${FCSIL}" --controller no-such-law --quiet RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 2 OR NOT err MATCHES "unknown controller 'no-such-law'")
+  message(FATAL_ERROR "an unknown controller: status ${status}, ${err}")
+endif()
+execute_process(COMMAND "${FCSIL}" --scenario no-such-scenario --quiet RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 2)
+  message(FATAL_ERROR "an unknown scenario: status ${status}")
+endif()
+file(MAKE_DIRECTORY "${WORK}")
+foreach(i 1 2)
+  execute_process(COMMAND "${FCSIL}" --scenario cf2-pad --controller ssc --numeric fixed --duration 6 --json "${WORK}/run${i}.json"
+                          --quiet RESULT_VARIABLE status ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "cf2-pad failed: ${err}")
+  endif()
+  file(READ "${WORK}/run${i}.json" json${i})
+  # the wall time differs from run to run; the metrics must not
+  string(JSON json${i} REMOVE "${json${i}}" wall_time_s)
+  string(JSON json${i} REMOVE "${json${i}}" real_time_factor)
+endforeach()
+if(NOT json1 STREQUAL json2)
+  message(FATAL_ERROR "two runs with the same seed differ:\n${json1}\n${json2}")
+endif()

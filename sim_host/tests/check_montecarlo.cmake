@@ -1,0 +1,28 @@
+# Monte-Carlo: --runs 3 --seed 11 gives per-metric min <= median <= p95 <= max,
+# the worst seed among 11..13, three per-run entries with distinct metrics.
+#   cmake -DFCSIL=... -DOUT=... -P check_montecarlo.cmake
+execute_process(COMMAND "${FCSIL}" --scenario cf2-pad --controller ssc --duration 8 --runs 3 --seed 11 --json "${OUT}" --quiet
+                RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
+endif()
+file(READ "${OUT}" json)
+string(JSON runs GET "${json}" runs)
+string(JSON n LENGTH "${json}" per_run)
+if(NOT runs EQUAL 3 OR NOT n EQUAL 3)
+  message(FATAL_ERROR "runs ${runs}, per_run entries ${n}")
+endif()
+foreach(metric rms_error_m max_abs_error_m control_tv_per_s max_tilt_deg)
+  foreach(stat min median p95 max worst_seed)
+    string(JSON ${stat} GET "${json}" metrics ${metric} ${stat})
+  endforeach()
+  message(STATUS "${metric}: min ${min} median ${median} p95 ${p95} max ${max} worst seed ${worst_seed}")
+  if(median LESS min OR p95 LESS median OR max LESS p95 OR worst_seed LESS 11 OR worst_seed GREATER 13)
+    message(FATAL_ERROR "${metric}: inconsistent statistics")
+  endif()
+endforeach()
+string(JSON a GET "${json}" per_run 0 rms_error_m)
+string(JSON b GET "${json}" per_run 1 rms_error_m)
+if(a EQUAL b)
+  message(FATAL_ERROR "two perturbed runs gave the same rms error ${a}")
+endif()
