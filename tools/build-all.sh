@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the library for every target and backend and prints what each costs.
-# (The README's main command until the SIL demo exists.)
+# (A convenience beside the README's two commands.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -11,6 +11,8 @@ packages=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi   # Crazyflie 2.x (Cortex-M4F)
   gcc-avr avr-libc binutils-avr         # ATmega2560
   simavr libsimavr-dev libelf-dev       # ATmega2560 loop test in simavr (platform/atmega/sim)
+  clang libclang-rt-14-dev              # libFuzzer harnesses (tests/fuzz, presets fuzz, fuzz-fixed)
+  qemu-system-arm                       # Cortex-M4F benchmark in QEMU (tools/bench.sh)
 )
 
 missing=()

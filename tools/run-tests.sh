@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what it needs, then configures, builds and
 # tests every preset (host float/fixed, host under ASan+UBSan float/fixed,
-# and the cross builds for the Crazyflie and the ATmega in both backends,
-# whose tests check the archives). Prints one total line at the end.
+# the cross builds for the Crazyflie and the ATmega in both backends, whose
+# tests check the archives, and the libFuzzer harnesses with a bounded budget
+# in both backends: fuzz, fuzz-fixed). Prints one total line at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 tools/install-deps.sh
 
-presets=(host host-fixed host-asan host-asan-fixed cf2 cf2-fixed atmega atmega-fixed)
+presets=(host host-fixed host-asan host-asan-fixed cf2 cf2-fixed atmega atmega-fixed fuzz fuzz-fixed)
 passed=0
 failed=0
 failed_presets=()

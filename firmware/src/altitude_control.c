@@ -90,14 +90,39 @@ static bool relative_degree_two_minimum_phase(const fc_altitude_control_params *
     return ar.saturated == 0u && tau_f_l0 < FC_INT(1, RATIO) && tau_av_kappa_l0 < kp_min && third < kp_min;
 }
 
+/* Upper bounds: what the fixed formats hold (GAIN +-32768, VEL and ACCEL +-512,
+ * MASS +-128), applied in both backends so that they accept the same tunings
+ * and no float intermediate can overflow. */
+static bool gains_in_range(const fc_altitude_control_params *p)
+{
+    const fc_real gain_max = FC_INT(30000, GAIN);
+    const fc_real gains[] = {p->l0_per_s, p->a_m_per_s, p->kappa_m_per_kg, p->k0_ns_per_m,
+                             p->eta_fast_rate_per_s, p->eta_slow_rate_per_s, p->eta_slow_gain_kg_per_s,
+                             p->gamma, p->stw_k1, p->stw_k2_nps, p->pid_kp_z_per_s, p->pid_ki_z_per_s2,
+                             p->pid_kp_v_n_per_mps, p->pid_ki_v_n_per_m};
+    for (unsigned i = 0u; i < sizeof gains / sizeof gains[0]; i++) {
+        if (gains[i] > gain_max) {
+            return false;
+        }
+    }
+    return p->kappa_m_per_kg >= FC_C(0.01f, GAIN) && p->gravity_mps2 <= FC_INT(100, ACCEL) &&
+           p->boundary_layer_mps >= FC_C(1.0e-3f, VEL) && p->boundary_layer_mps <= FC_INT(500, VEL) &&
+           p->pid_vel_limit_mps <= FC_INT(500, VEL);
+}
+
 static bool params_valid(const fc_altitude_control_params *p)
 {
     const fc_real zero = FC_INT(0, UNIT);
-    return all_finite(p) && p->law < FC_ALT_LAW_COUNT &&
+    return all_finite(p) && gains_in_range(p) && p->law < FC_ALT_LAW_COUNT &&
            p->modulation <= FC_SSC_MODULATION_EXTRA && p->dt_s > zero &&
            p->dt_s <= FC_C(0.1f, DT) && p->gravity_mps2 > zero && p->mass_min_kg > zero &&
            p->mass_min_kg <= p->theta0_kg && p->theta0_kg <= p->mass_max_kg &&
-           p->ground_gain_max >= FC_INT(1, RATIO) && p->tilt_cos_min > zero &&
+           p->ground_gain_max >= FC_INT(1, RATIO) && p->ground_gain_max <= FC_INT(10, RATIO) &&
+           p->mass_max_kg <= FC_INT(100, MASS) && p->thrust_max_n <= FC_INT(2000, FORCE) &&
+           p->rho_n <= FC_INT(2000, FORCE) && p->delta_n <= FC_INT(2000, FORCE) &&
+           p->tau_av_s >= FC_C(1.0e-3f, DT) && p->tau_av_s <= FC_INT(1, DT) &&
+           (p->velocity_measured || (p->tau_f_s >= FC_C(1.0e-3f, DT) && p->tau_f_s <= FC_INT(1, DT))) &&
+           p->tilt_cos_min > zero &&
            p->tilt_cos_min <= FC_INT(1, RATIO) && p->thrust_min_n >= zero &&
            p->thrust_max_n > p->thrust_min_n && p->l0_per_s > zero && p->tau_av_s > zero &&
            p->a_m_per_s > zero && p->kappa_m_per_kg > zero && p->rho_n >= zero &&
@@ -491,11 +516,20 @@ static void safe_output(const fc_altitude_control *c, fc_altitude_control_output
     out->clamped = false;
 }
 
+/* finite and |x| <= limit (a NaN fails both comparisons) */
+static bool within(fc_real x, fc_real limit)
+{
+    return fc_is_finite(x) && x <= limit && x >= -limit;
+}
+
 static bool input_valid(const fc_altitude_control_input *in)
 {
-    return fc_is_finite(in->z_m) && fc_is_finite(in->vz_mps) && fc_is_finite(in->reference.z_m) &&
-           fc_is_finite(in->reference.vz_mps) && fc_is_finite(in->reference.az_mps2) &&
-           fc_is_finite(in->tilt_cos);
+    const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
+    const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
+    const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
+    return within(in->z_m, length) && within(in->vz_mps, speed) && within(in->reference.z_m, length) &&
+           within(in->reference.vz_mps, speed) && within(in->reference.az_mps2, accel) &&
+           within(in->tilt_cos, FC_INT(1, RATIO));
 }
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,

@@ -32,14 +32,21 @@ fc_init_result fc_altitude_reference_init(fc_altitude_reference *ref,
     ref->bias_m = p->bias_m;
     ref->ready = true;
     fc_altitude_reference_restart(ref, p->offset_init_m);
-    return ref->ar.saturated != 0u ? FC_INIT_BAD_PARAM : FC_INIT_OK;
+    if (ref->ar.saturated != 0u) {
+        /* the offset's rate or acceleration does not fit its format: not ready */
+        ref->ready = false;
+        return FC_INIT_BAD_PARAM;
+    }
+    return FC_INIT_OK;
 }
 
 void fc_altitude_reference_restart(fc_altitude_reference *ref, fc_real offset_m)
 {
     fc_arith *ar = &ref->ar;
     ref->decay = FC_INT(1, UNIT);
-    ref->offset_m = fc_is_finite(offset_m) ? offset_m : FC_INT(0, LENGTH);
+    /* the range init accepts; beyond it (or not finite) the offset is clamped / zero */
+    ref->offset_m = fc_is_finite(offset_m) ? fc_clamp(offset_m, FC_INT(-1000, LENGTH), FC_INT(1000, LENGTH))
+                                           : FC_INT(0, LENGTH);
     /* z_r_init / tau and z_r_init / tau^2 */
     ref->offset_rate_mps = fc_mul(ar, ref->offset_m, ref->inv_tau_per_s, FC_SHIFT(LENGTH, GAIN, VEL));
     ref->offset_accel_mps2 =
@@ -59,7 +66,12 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
     fc_vertical_trajectory pad_used = *pad;
-    if (!fc_is_finite(pad->z_m) || !fc_is_finite(pad->vz_mps) || !fc_is_finite(pad->az_mps2)) {
+    const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
+    const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
+    const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
+    if (!(fc_is_finite(pad->z_m) && pad->z_m <= length && pad->z_m >= -length) ||
+        !(fc_is_finite(pad->vz_mps) && pad->vz_mps <= speed && pad->vz_mps >= -speed) ||
+        !(fc_is_finite(pad->az_mps2) && pad->az_mps2 <= accel && pad->az_mps2 >= -accel)) {
         /* a still pad at the bias-free origin keeps the reference defined */
         pad_used.z_m = FC_INT(0, LENGTH);
         pad_used.vz_mps = FC_INT(0, VEL);

@@ -206,11 +206,27 @@ static fc_quat attitude_setpoint(fc_controller *ctl, const fc_controller_inputs 
     return fc_quat_from_rpy(ar, roll, pitch, in->yaw_setpoint_rad);
 }
 
-static bool controller_inputs_finite(const fc_controller_inputs *in)
+/* finite and |x| <= limit (a NaN fails both comparisons) */
+static bool within(fc_real x, fc_real limit)
 {
-    return fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
-           fc_vec3_is_finite(in->position_setpoint_m) && fc_is_finite(in->yaw_setpoint_rad) &&
-           fc_is_finite(in->pad.z_m) && fc_is_finite(in->pad.vz_mps) && fc_is_finite(in->pad.az_mps2);
+    return fc_is_finite(x) && x <= limit && x >= -limit;
+}
+
+static bool vec3_within(fc_vec3 v, fc_real limit)
+{
+    return within(v.x, limit) && within(v.y, limit) && within(v.z, limit);
+}
+
+/* The inputs are numbers inside the physical range (fc/status.h): beyond it
+ * a finite value is as bad as a NaN. */
+static bool controller_inputs_usable(const fc_controller_inputs *in)
+{
+    const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
+    const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
+    const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
+    return vec3_within(in->position_m, length) && vec3_within(in->velocity_mps, speed) &&
+           vec3_within(in->position_setpoint_m, length) && within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
+           within(in->pad.z_m, length) && within(in->pad.vz_mps, speed) && within(in->pad.az_mps2, accel);
 }
 
 /* The bits of a module's status that the controller passes on. */
@@ -250,7 +266,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     tm->rate_radps = estimate.rate_radps;
     tm->tilt_cos = tilt_cos_of(ar, attitude);
 
-    const bool inputs_ok = controller_inputs_finite(in);
+    const bool inputs_ok = controller_inputs_usable(in);
     if (!inputs_ok) {
         status |= FC_STEP_BAD_INPUT;
     }

@@ -28,6 +28,13 @@ typedef uint16_t fc_step_status;
 #define FC_STEP_ARITH_SATURATED (1u << 3)  /* fixed-point arithmetic saturated somewhere */
 #define FC_STEP_DEGRADED (1u << 4)         /* running on a fallback (e.g. no accelerometer trust) */
 
+/* The physical range of inputs the library accepts, the same in both backends
+ * (the fixed formats hold them: LENGTH +-2048 m, VEL and ACCEL +-512): a finite
+ * value beyond it is bad input, like a NaN, so no intermediate overflows. */
+#define FC_INPUT_MAX_LENGTH_M 2000.0f
+#define FC_INPUT_MAX_SPEED_MPS 500.0f
+#define FC_INPUT_MAX_ACCEL_MPS2 500.0f
+
 /* Which demanded axes the control allocation could not deliver, and in which
  * direction (bits of a uint8_t). Fed back to the integrators of the attitude
  * and altitude loops so they stop winding up in the saturated direction. */

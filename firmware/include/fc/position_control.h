@@ -1,0 +1,97 @@
+/*
+ * fc/position_control.h - horizontal position control and acceleration
+ * control, dissertation 2.6.2 and 2.6.4 (Figures 2.8, 2.9).
+ *
+ * Position (2.6.4), horizontal (x, y of the world ENU frame):
+ *   e   = sat(p_sp - p)            the error vector saturated by its length,
+ *                                  keeping its direction (fc_vec3_clamp_norm)
+ *   a_h = k_P e + k_D (v_sp - v) + I + a_ff,h,  |a_h| <= accel_max (direction kept)
+ *   I  += k_I dt e,  |I| <= integral_max, and only while a_h is not limited
+ *         (by accel_max, the tilt limit or the thrust limit) or the error
+ *         drives the output back out of the limit (e . a_h,unsat < 0)
+ *
+ * Acceleration (2.6.2), with a_des = (a_h, a_ff,z) and g = (0, 0, -g0):
+ *   F_req = m (a_des - g - I_a)                                       (2.11)
+ *   I_a  += k_a dt (a_meas - a_des),  |I_a| <= accel_fb_max           (Figure 2.8)
+ *         the acceleration feedback: a low-gain integral of the measured
+ *         minus the wanted acceleration, correcting mass errors and
+ *         aerodynamic differences; frozen while the thrust is limited.
+ *   F_req,z >= thrust_min; |F_req,h| <= F_req,z tan(tilt_max) (direction kept);
+ *   |F_req| <= thrust_max (direction kept).
+ *
+ * Attitude setpoint from the thrust direction b3 = F/|F| and a heading given as
+ * the unit vector (cos psi, sin psi) (no trigonometry per step):
+ *   q_tilt ~ [1 + b3_z, -b3_y, b3_x, 0]  the shortest rotation taking world z to b3
+ *   q_yaw  ~ [1 + cos psi, 0, 0, sin psi]  (psi in the left half plane:
+ *            [sin psi, 0, 0, 1 - cos psi], the same rotation without the
+ *            cancellation near psi = pi)
+ *   q_sp = normalise(q_tilt (x) q_yaw), w >= 0   (body -> world)
+ * Its body z axis is b3 exactly (q_yaw keeps z); its body x axis is the heading
+ * when level and tilts with the thrust. Collective thrust along body z = |F|.
+ * Cost per step: one square root and three divisions (|F|, F/|F|), one
+ * normalisation of q (rsqrt), the norms of the saturations.
+ */
+#ifndef FC_POSITION_CONTROL_H
+#define FC_POSITION_CONTROL_H
+
+#include "fc/quat.h"
+#include "fc/status.h"
+
+typedef struct fc_position_control_params {
+    fc_real dt_s;                 /* DT: the fixed step, (0, 0.1] */
+    fc_real kp_per_s2;            /* RATIO: k_P, [0, 100] (m/s2)/m */
+    fc_real ki_per_s3;            /* RATIO: k_I, [0, 100] (m/s2)/(m s) */
+    fc_real kd_per_s;             /* RATIO: k_D, [0, 100] (m/s2)/(m/s) */
+    fc_real error_max_m;          /* LENGTH: saturation of |e|, (0, 100] */
+    fc_real integral_max_mps2;    /* ACCEL: |I| limit, [0, 50] */
+    fc_real accel_max_mps2;       /* ACCEL: |a_h| limit, (0, 50] */
+    fc_real mass_kg;              /* MASS: m of (2.11), (0, 100] */
+    fc_real accel_fb_gain_per_s;  /* RATIO: k_a of the acceleration feedback, [0, 10] */
+    fc_real accel_fb_max_mps2;    /* ACCEL: |I_a| limit, [0, 20] */
+    fc_real tilt_max_rad;         /* ANGLE: largest tilt of the thrust from vertical, (0, 1.4] */
+    fc_real thrust_min_n;         /* FORCE: floor of the vertical thrust component, > 0 */
+    fc_real thrust_max_n;         /* FORCE: collective thrust limit, > thrust_min, <= 1000 */
+} fc_position_control_params;
+
+typedef struct fc_position_control_input {
+    fc_vec3 position_m;        /* LENGTH: p, world ENU (z unused by the position law) */
+    fc_vec3 velocity_mps;      /* VEL: v, world */
+    fc_vec3 position_sp_m;     /* LENGTH: p_sp */
+    fc_vec3 velocity_sp_mps;   /* VEL: v_sp (feedforward of the D term; zero to regulate) */
+    fc_vec3 accel_ff_mps2;     /* ACCEL: a_ff; z is the wanted vertical acceleration */
+    fc_vec3 accel_meas_mps2;   /* ACCEL: measured kinematic acceleration a, world (gravity removed) */
+    fc_real heading_cos;       /* UNIT: cos psi */
+    fc_real heading_sin;       /* UNIT: sin psi (only the direction matters, |(c, s)| in [0.5, 1.5]) */
+} fc_position_control_input;
+
+typedef struct fc_position_control_output {
+    fc_vec3 accel_des_mps2;    /* ACCEL: a_des (after the horizontal limit) */
+    fc_vec3 thrust_world_n;    /* FORCE: F_req after the limits, world */
+    fc_quat attitude_sp;       /* UNIT: attitude setpoint, body -> world */
+    fc_real thrust_n;          /* FORCE: collective thrust along body z, |F_req| */
+} fc_position_control_output;
+
+typedef struct fc_position_control {
+    fc_position_control_params p;
+    fc_real ki_dt;             /* RATIO: k_I dt */
+    fc_real fb_dt;             /* RATIO: k_a dt */
+    fc_real tan_tilt_max;      /* RATIO: tan(tilt_max), <= 5.8 */
+    fc_vec3 integral_mps2;     /* ACCEL: I (x, y; z = 0) */
+    fc_vec3 accel_fb_mps2;     /* ACCEL: I_a */
+    bool ready;
+    fc_arith ar;
+} fc_position_control;
+
+fc_init_result fc_position_control_init(fc_position_control *pc, const fc_position_control_params *p);
+
+/* Clears both integrators. */
+void fc_position_control_reset(fc_position_control *pc);
+
+/* Bad input: a non-finite position, velocity or setpoint gives a zero error
+ * (no integration); a non-finite feedforward is taken as zero; a non-finite
+ * measured acceleration freezes the acceleration feedback; a bad heading is
+ * taken as psi = 0. Not ready: identity attitude, zero thrust. */
+fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
+                                        fc_position_control_output *out);
+
+#endif /* FC_POSITION_CONTROL_H */

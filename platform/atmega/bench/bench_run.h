@@ -1,0 +1,126 @@
+/*
+ * bench_run.h - the benchmark's workload, shared by the ATmega2560 bench
+ * image (platform/atmega/bench) and the Cortex-M4F one (platform/cortex-m4-bench).
+ *
+ * fc_controller_init once (hexa 4 kg, ssc-adaptive, 20 Hz: the ATmega
+ * image's configuration), then BENCH_WARMUP steps at rest (the estimator's
+ * alignment), then bench_timed_begin() and BENCH_ROUNDS rounds over the
+ * BENCH_VECTORS fixed input vectors below, armed (FC_COMMAND_TRACK_PAD), then
+ * bench_timed_end(). The tools outside (simavr host program, QEMU plugin)
+ * time fc_controller_step and each module's step by symbol, only between the
+ * two markers. Constants are FC_C/FC_INT: no soft-float in the fixed image.
+ */
+#ifndef BENCH_RUN_H
+#define BENCH_RUN_H
+
+#include "fc/controller.h"
+
+/* an image may time each timed step itself (the M4F's DWT->CYCCNT path) */
+#ifndef BENCH_STEP_BEFORE
+#define BENCH_STEP_BEFORE() ((void)0)
+#define BENCH_STEP_AFTER() ((void)0)
+#endif
+
+#define BENCH_VECTORS 8
+#define BENCH_ROUNDS 2
+
+typedef struct bench_vector {
+    fc_real gyro[3];   /* RATE */
+    fc_real accel[3];  /* ACCEL */
+    fc_real pos[3];    /* LENGTH */
+    fc_real vel[3];    /* VEL */
+    fc_real pad_z, pad_vz, pad_az;
+} bench_vector;
+
+#define R(x) FC_C(x, RATE)
+#define A(x) FC_C(x, ACCEL)
+#define L(x) FC_C(x, LENGTH)
+#define V(x) FC_C(x, VEL)
+static const bench_vector bench_vectors[BENCH_VECTORS] = {
+    {{R(0.0f), R(0.0f), R(0.0f)}, {A(0.0f), A(0.0f), A(9.81f)}, {L(0.0f), L(0.0f), L(1.18f)},
+     {V(0.0f), V(0.0f), V(0.0f)}, L(0.0f), V(0.0f), A(0.0f)},
+    {{R(0.05f), R(-0.02f), R(0.01f)}, {A(0.1f), A(-0.2f), A(9.7f)}, {L(0.05f), L(-0.03f), L(1.10f)},
+     {V(0.1f), V(-0.05f), V(-0.2f)}, L(0.05f), V(0.1f), A(-0.3f)},
+    {{R(-0.3f), R(0.2f), R(-0.1f)}, {A(-0.5f), A(0.8f), A(9.9f)}, {L(-0.2f), L(0.1f), L(0.95f)},
+     {V(-0.3f), V(0.2f), V(-0.4f)}, L(0.12f), V(0.25f), A(0.5f)},
+    {{R(0.8f), R(-0.6f), R(0.4f)}, {A(1.2f), A(-1.5f), A(9.3f)}, {L(0.4f), L(-0.35f), L(0.70f)},
+     {V(0.5f), V(-0.4f), V(-0.6f)}, L(0.20f), V(-0.1f), A(1.2f)},
+    {{R(-1.5f), R(1.1f), R(-0.7f)}, {A(-2.0f), A(2.5f), A(8.5f)}, {L(-0.6f), L(0.5f), L(0.45f)},
+     {V(-0.8f), V(0.6f), V(-0.3f)}, L(0.15f), V(-0.3f), A(-1.0f)},
+    {{R(0.02f), R(0.03f), R(-0.04f)}, {A(0.05f), A(0.02f), A(10.2f)}, {L(0.01f), L(0.02f), L(0.30f)},
+     {V(0.02f), V(0.01f), V(-0.15f)}, L(0.08f), V(0.2f), A(0.2f)},
+    {{R(2.5f), R(-2.0f), R(1.5f)}, {A(3.0f), A(-2.0f), A(7.0f)}, {L(1.0f), L(-1.0f), L(2.0f)},
+     {V(1.5f), V(-1.2f), V(0.8f)}, L(-0.1f), V(0.4f), A(-2.0f)},
+    {{R(-0.01f), R(0.0f), R(0.02f)}, {A(0.0f), A(0.1f), A(9.8f)}, {L(0.0f), L(0.0f), L(0.10f)},
+     {V(0.0f), V(0.0f), V(-0.05f)}, L(0.02f), V(0.05f), A(0.1f)},
+};
+#undef R
+#undef A
+#undef L
+#undef V
+
+/* Markers seen from outside by their address; noinline and with a side
+ * effect so that the calls stay. */
+static volatile uint8_t bench_phase;
+__attribute__((noinline)) void bench_timed_begin(void);
+__attribute__((noinline)) void bench_timed_end(void);
+__attribute__((noinline)) void bench_timed_begin(void)
+{
+    bench_phase = 1;
+}
+__attribute__((noinline)) void bench_timed_end(void)
+{
+    bench_phase = 2;
+}
+
+static fc_controller bench_ctl;
+static fc_controller_inputs bench_in;
+static fc_controller_outputs bench_out;
+
+static void bench_load(const bench_vector *v)
+{
+    bench_in.imu.gyro_radps = fc_vec3_make(v->gyro[0], v->gyro[1], v->gyro[2]);
+    bench_in.imu.accel_mps2 = fc_vec3_make(v->accel[0], v->accel[1], v->accel[2]);
+    bench_in.position_m = fc_vec3_make(v->pos[0], v->pos[1], v->pos[2]);
+    bench_in.velocity_mps = fc_vec3_make(v->vel[0], v->vel[1], v->vel[2]);
+    bench_in.pad.z_m = v->pad_z;
+    bench_in.pad.vz_mps = v->pad_vz;
+    bench_in.pad.az_mps2 = v->pad_az;
+}
+
+/* Returns 0 when init succeeded and every step ran; the step statuses are
+ * OR-ed into *status. */
+static __attribute__((noinline)) int bench_run(uint16_t *status)
+{
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, FC_C(0.05f, DT));
+    if (fc_controller_init(&bench_ctl, &p) != FC_INIT_OK) {
+        return 1;
+    }
+    bench_in.attitude_external = fc_quat_make(FC_INT(1, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT));
+    bench_in.position_setpoint_m = fc_vec3_make(FC_INT(0, LENGTH), FC_INT(0, LENGTH), FC_INT(0, LENGTH));
+    bench_in.yaw_setpoint_rad = FC_INT(0, ANGLE);
+    bench_in.command = FC_COMMAND_DISARM;
+    bench_load(&bench_vectors[0]);
+    const unsigned warmup = (unsigned)p.estimator.alignment_samples + 2u;
+    for (unsigned i = 0; i < warmup; i++) {
+        (void)fc_controller_step(&bench_ctl, &bench_in, &bench_out);
+    }
+    bench_in.command = FC_COMMAND_TRACK_PAD;
+    uint16_t st = 0;
+    bench_timed_begin();
+    for (unsigned r = 0; r < BENCH_ROUNDS; r++) {
+        for (unsigned k = 0; k < BENCH_VECTORS; k++) {
+            bench_load(&bench_vectors[k]);
+            BENCH_STEP_BEFORE();
+            const fc_step_status s = fc_controller_step(&bench_ctl, &bench_in, &bench_out);
+            BENCH_STEP_AFTER();
+            st = (uint16_t)(st | (uint16_t)s);
+        }
+    }
+    bench_timed_end();
+    *status = st;
+    return 0;
+}
+
+#endif /* BENCH_RUN_H */

@@ -1,0 +1,301 @@
+/*
+ * insn_count.c - a QEMU TCG plugin (Debian bookworm's qemu-system-arm 7.2,
+ * plugin API version 1, declared by hand below: Debian ships no
+ * qemu-plugin.h) that counts the guest instructions executed per call of
+ * named functions, the way avr_bench times them on the AVR: a call starts
+ * when the PC reaches the function's address (the instruction before it, the
+ * BL, gives the return address: its address + its size) and ends when the PC
+ * reaches that return address. Only calls starting between the PCs `begin`
+ * and `end` (the image's bench_timed_begin/bench_timed_end) count.
+ *
+ * Arguments (-plugin insn_count.so,arg=...,arg=...):
+ *   begin=ADDR end=ADDR        the markers (hex, Thumb bit ignored)
+ *   fn=NAME@ADDR               a function to count (repeatable)
+ *   out=PATH                   where the results go (default: stderr)
+ * Output lines: "INSNS name min max mean calls", "INSNS_TOTAL n", and
+ * "CYCEST name min max mean calls": a cycle estimate from the Cortex-M4
+ * instruction timings (ARM DDI 0439B, table 3-1), each instruction costed
+ * from its disassembly (m4_cost below), with P = 2 cycles of pipeline refill
+ * for a taken branch (the manual gives 1 to 3). It leaves out: flash wait
+ * states and the ART accelerator's misses (the STM32F405 at 168 MHz has 5),
+ * the pipelining of neighbouring loads/stores (each counted 2 cycles, so an
+ * over-estimate there), the IT instruction's folding (counted 1), data-
+ * dependent divides (UDIV/SDIV counted 12, their worst case) and bus
+ * contention. Real cycles: bench-dwt.elf on the chip (DWT->CYCCNT).
+ * A function reached by a tail call (B, not BL) never sees its return
+ * address and reports 0 calls.
+ */
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- the v1 plugin API, the part used here (qemu/qemu-plugin.h of 7.2) ---- */
+typedef uint64_t qemu_plugin_id_t;
+struct qemu_info_t; /* not looked into */
+struct qemu_plugin_tb;
+struct qemu_plugin_insn;
+enum qemu_plugin_cb_flags { QEMU_PLUGIN_CB_NO_REGS, QEMU_PLUGIN_CB_R_REGS, QEMU_PLUGIN_CB_RW_REGS };
+typedef void (*qemu_plugin_vcpu_tb_trans_cb_t)(qemu_plugin_id_t id, struct qemu_plugin_tb *tb);
+typedef void (*qemu_plugin_vcpu_udata_cb_t)(unsigned int vcpu_index, void *userdata);
+typedef void (*qemu_plugin_udata_cb_t)(qemu_plugin_id_t id, void *userdata);
+void qemu_plugin_register_vcpu_tb_trans_cb(qemu_plugin_id_t id, qemu_plugin_vcpu_tb_trans_cb_t cb);
+void qemu_plugin_register_vcpu_insn_exec_cb(struct qemu_plugin_insn *insn, qemu_plugin_vcpu_udata_cb_t cb,
+                                            enum qemu_plugin_cb_flags flags, void *userdata);
+void qemu_plugin_register_atexit_cb(qemu_plugin_id_t id, qemu_plugin_udata_cb_t cb, void *userdata);
+size_t qemu_plugin_tb_n_insns(const struct qemu_plugin_tb *tb);
+struct qemu_plugin_insn *qemu_plugin_tb_get_insn(const struct qemu_plugin_tb *tb, size_t idx);
+uint64_t qemu_plugin_insn_vaddr(const struct qemu_plugin_insn *insn);
+size_t qemu_plugin_insn_size(const struct qemu_plugin_insn *insn);
+char *qemu_plugin_insn_disas(const struct qemu_plugin_insn *insn); /* malloc'd, capstone syntax */
+#define QEMU_PLUGIN_EXPORT __attribute__((visibility("default")))
+QEMU_PLUGIN_EXPORT extern int qemu_plugin_version;
+QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qemu_info_t *info, int argc,
+                                           char **argv);
+/* ------------------------------------------------------------------------- */
+
+QEMU_PLUGIN_EXPORT int qemu_plugin_version = 1;
+
+#define MAX_FN 16
+
+typedef struct counted_fn {
+    char name[64];
+    uint64_t addr;
+    bool in_call;
+    uint64_t start, ret, cstart;
+    uint64_t min, max, sum;
+    uint64_t cmin, cmax, csum; /* cycle estimate */
+    unsigned n;
+} counted_fn;
+
+static counted_fn fns[MAX_FN];
+static unsigned nfns;
+static uint64_t begin_addr = UINT64_MAX, end_addr = UINT64_MAX;
+static int phase; /* 0 before begin, 1 timed, 2 after end */
+static uint64_t count, prev_next, cycles;
+static bool prev_branch;
+#define REFILL 2u /* P: pipeline refill after a taken branch */
+static char out_path[512];
+
+/* one per translated instruction: its address and the address after it */
+typedef struct insn_info {
+    uint64_t pc, next;
+    uint32_t cost;  /* cycles when it does not branch */
+    bool branch;    /* may change the flow: a taken one costs REFILL more */
+} insn_info;
+
+static bool is_cond(const char *c)
+{
+    static const char *const conds[] = {"eq", "ne", "cs", "hs", "cc", "lo", "mi", "pl", "vs",
+                                        "vc", "hi", "ls", "ge", "lt", "gt", "le", "al"};
+    for (size_t i = 0; i < sizeof conds / sizeof conds[0]; i++) {
+        if (!strcmp(c, conds[i])) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* registers in the {...} list of the operands (a d register is two words) */
+static unsigned reg_list(const char *ops, bool *has_pc)
+{
+    const char *c = strchr(ops, '{');
+    unsigned n = 0;
+    *has_pc = false;
+    if (c == NULL) {
+        return 1;
+    }
+    for (c++; *c != '\0' && *c != '}'; c++) {
+        while (*c == ' ') {
+            c++;
+        }
+        n += *c == 'd' ? 2u : 1u;
+        *has_pc = *has_pc || (c[0] == 'p' && c[1] == 'c');
+        while (*c != '\0' && *c != ',' && *c != '}') {
+            c++;
+        }
+        if (*c != ',') {
+            break;
+        }
+    }
+    return n > 0 ? n : 1;
+}
+
+/* Cortex-M4 cycles of one instruction from its disassembly ("mnemonic ops") */
+static uint32_t m4_cost(const char *dis, bool *branch)
+{
+    char m[32];
+    size_t k = 0;
+    while (dis[k] != '\0' && dis[k] != ' ' && k + 1 < sizeof m) {
+        m[k] = dis[k];
+        k++;
+    }
+    m[k] = '\0';
+    const char *ops = dis + k;
+    char *dot = strchr(m, '.'); /* .w, .n, .f32 */
+    if (dot != NULL) {
+        *dot = '\0';
+    }
+    const bool pc_dest = strncmp(ops, " pc,", 4) == 0;
+    *branch = pc_dest;
+    if (!strcmp(m, "b") || !strcmp(m, "bl") || !strcmp(m, "blx") || !strcmp(m, "bx") || !strcmp(m, "cbz") ||
+        !strcmp(m, "cbnz") || (m[0] == 'b' && strlen(m) == 3 && is_cond(m + 1))) {
+        *branch = true;
+        return 1;
+    }
+    if (!strcmp(m, "tbb") || !strcmp(m, "tbh")) {
+        *branch = true;
+        return 2;
+    }
+    bool has_pc = false;
+    if (!strcmp(m, "push") || !strcmp(m, "pop") || !strncmp(m, "ldm", 3) || !strncmp(m, "stm", 3) ||
+        !strcmp(m, "vpush") || !strcmp(m, "vpop") || !strncmp(m, "vldm", 4) || !strncmp(m, "vstm", 4)) {
+        const unsigned n = reg_list(ops, &has_pc);
+        *branch = *branch || has_pc;
+        return 1u + n;
+    }
+    if (!strcmp(m, "ldrd") || !strcmp(m, "strd")) {
+        return 3;
+    }
+    if (!strncmp(m, "ldr", 3) || !strncmp(m, "str", 3) || !strcmp(m, "vldr") || !strcmp(m, "vstr")) {
+        return 2;
+    }
+    if (!strcmp(m, "mla") || !strcmp(m, "mls")) {
+        return 2;
+    }
+    if (!strcmp(m, "sdiv") || !strcmp(m, "udiv")) {
+        return 12;
+    }
+    if (!strcmp(m, "vdiv") || !strcmp(m, "vsqrt")) {
+        return 14;
+    }
+    if (!strcmp(m, "vmla") || !strcmp(m, "vmls") || !strcmp(m, "vnmla") || !strcmp(m, "vnmls") ||
+        !strcmp(m, "vfma") || !strcmp(m, "vfms") || !strcmp(m, "vfnma") || !strcmp(m, "vfnms")) {
+        return 3;
+    }
+    if (!strcmp(m, "vmov")) { /* two core registers <-> d or two s: 2 */
+        unsigned commas = 0;
+        for (const char *c = ops; *c != '\0'; c++) {
+            commas += *c == ',';
+        }
+        return commas >= 2 ? 2 : 1;
+    }
+    return 1; /* data processing, MUL, (S|U)MULL/MLAL, VADD/VMUL/VCMP/VCVT, IT, ... */
+}
+
+static void on_insn(unsigned int vcpu, void *udata)
+{
+    (void)vcpu;
+    const insn_info *ii = udata;
+    const uint64_t pc = ii->pc;
+    if (prev_branch && pc != prev_next) {
+        cycles += REFILL;
+    }
+    if (pc == begin_addr) {
+        phase = 1;
+    } else if (pc == end_addr) {
+        phase = 2;
+    }
+    for (unsigned k = 0; k < nfns; k++) {
+        counted_fn *f = &fns[k];
+        if (!f->in_call && pc == f->addr && phase == 1) {
+            f->in_call = true;
+            f->start = count;
+            f->cstart = cycles;
+            f->ret = prev_next;
+        } else if (f->in_call && pc == f->ret) {
+            const uint64_t c = count - f->start;
+            f->in_call = false;
+            f->min = c < f->min ? c : f->min;
+            f->max = c > f->max ? c : f->max;
+            f->sum += c;
+            const uint64_t cc = cycles - f->cstart;
+            f->cmin = cc < f->cmin ? cc : f->cmin;
+            f->cmax = cc > f->cmax ? cc : f->cmax;
+            f->csum += cc;
+            f->n++;
+        }
+    }
+    count++;
+    cycles += ii->cost;
+    prev_next = ii->next;
+    prev_branch = ii->branch;
+}
+
+static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
+{
+    (void)id;
+    const size_t n = qemu_plugin_tb_n_insns(tb);
+    for (size_t i = 0; i < n; i++) {
+        struct qemu_plugin_insn *insn = qemu_plugin_tb_get_insn(tb, i);
+        insn_info *ii = malloc(sizeof *ii); /* lives as long as the translation; never freed (a short run) */
+        if (ii == NULL) {
+            abort();
+        }
+        ii->pc = qemu_plugin_insn_vaddr(insn);
+        ii->next = ii->pc + qemu_plugin_insn_size(insn);
+        char *dis = qemu_plugin_insn_disas(insn);
+        ii->cost = m4_cost(dis != NULL ? dis : "", &ii->branch);
+        free(dis);
+        qemu_plugin_register_vcpu_insn_exec_cb(insn, on_insn, QEMU_PLUGIN_CB_NO_REGS, ii);
+    }
+}
+
+static void plugin_exit(qemu_plugin_id_t id, void *udata)
+{
+    (void)id;
+    (void)udata;
+    FILE *f = out_path[0] != '\0' ? fopen(out_path, "w") : stderr;
+    if (f == NULL) {
+        f = stderr;
+    }
+    for (unsigned k = 0; k < nfns; k++) {
+        const counted_fn *c = &fns[k];
+        fprintf(f, "INSNS %s %llu %llu %.0f %u\n", c->name, (unsigned long long)(c->n ? c->min : 0),
+                (unsigned long long)c->max, c->n ? (double)c->sum / c->n : 0.0, c->n);
+    }
+    for (unsigned k = 0; k < nfns; k++) {
+        const counted_fn *c = &fns[k];
+        fprintf(f, "CYCEST %s %llu %llu %.0f %u\n", c->name, (unsigned long long)(c->n ? c->cmin : 0),
+                (unsigned long long)c->cmax, c->n ? (double)c->csum / c->n : 0.0, c->n);
+    }
+    fprintf(f, "INSNS_TOTAL %llu\n", (unsigned long long)count);
+    if (f != stderr) {
+        fclose(f);
+    }
+}
+
+QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qemu_info_t *info, int argc,
+                                           char **argv)
+{
+    (void)info;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strncmp(a, "begin=", 6)) {
+            begin_addr = strtoull(a + 6, NULL, 0) & ~1ull;
+        } else if (!strncmp(a, "end=", 4)) {
+            end_addr = strtoull(a + 4, NULL, 0) & ~1ull;
+        } else if (!strncmp(a, "out=", 4)) {
+            snprintf(out_path, sizeof out_path, "%s", a + 4);
+        } else if (!strncmp(a, "fn=", 3) && nfns < MAX_FN) {
+            const char *at = strchr(a + 3, '@');
+            if (at == NULL) {
+                fprintf(stderr, "insn_count: fn=NAME@ADDR, not %s\n", a);
+                return -1;
+            }
+            counted_fn *f = &fns[nfns++];
+            snprintf(f->name, sizeof f->name, "%.*s", (int)(at - (a + 3)), a + 3);
+            f->addr = strtoull(at + 1, NULL, 0) & ~1ull;
+            f->min = UINT64_MAX;
+            f->cmin = UINT64_MAX;
+        } else {
+            fprintf(stderr, "insn_count: unknown argument %s\n", a);
+            return -1;
+        }
+    }
+    qemu_plugin_register_vcpu_tb_trans_cb(id, on_tb_trans);
+    qemu_plugin_register_atexit_cb(id, plugin_exit, NULL);
+    return 0;
+}

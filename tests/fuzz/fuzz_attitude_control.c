@@ -1,0 +1,54 @@
+/*
+ * fuzz_attitude_control: fc_attitude_control_step on raw
+ * fc_attitude_control_input bit patterns (quaternions of any length, NaN, inf,
+ * denormal rates, any saturation bits). Byte 0 picks the airframe (the
+ * controller's default attitude parameters for it, whose moment limit is the
+ * allocation's budget); bit 2 of it sets ki to kp so that the integrals and
+ * the anti-windup run too. Then up to FUZZ_MAX_STEPS inputs, then
+ * FUZZ_CLEAN_STEPS level ones. Checks: every moment finite and inside
+ * +-moment_limit, the error finite.
+ */
+#include "fc/controller.h"
+#include "fuzz_common.h"
+
+static void check(const fc_attitude_control_params *p, const fc_attitude_control_output *out)
+{
+    FUZZ_FINITE_VEC3(out->moment_nm, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.x, p->moment_limit_nm.x, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.y, p->moment_limit_nm.y, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.z, p->moment_limit_nm.z, MOMENT);
+    FUZZ_FINITE_VEC3(out->attitude_error_rad, ANGLE);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fuzz_bytes b = {data, size};
+    const uint8_t cfg = fuzz_byte(&b);
+    static fc_controller_params cp;
+    fc_controller_default_params(&cp, (fc_airframe)((cfg & 3u) % FC_AIRFRAME_COUNT), FC_ALT_VARIANT_SSC,
+                                 FC_C(0.002f, DT));
+    fc_attitude_control_params p = cp.attitude;
+    if (cfg & 4u) {
+        p.ki_per_s3 = p.kp_per_s2;
+    }
+    fc_attitude_control c;
+    FUZZ_CHECK(fc_attitude_control_init(&c, &p) == FC_INIT_OK);
+
+    fc_attitude_control_input level;
+    memset(&level, 0, sizeof level);
+    level.attitude.w = FC_C(1.0f, UNIT);
+    level.attitude_desired.w = FC_C(1.0f, UNIT);
+    fc_attitude_control_output out;
+    fc_attitude_control_input in;
+    for (int k = 0; k < FUZZ_MAX_STEPS && fuzz_take(&b, &in, sizeof in); k++) {
+        (void)fc_attitude_control_step(&c, &in, &out);
+        check(&p, &out);
+    }
+    for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
+        (void)fc_attitude_control_step(&c, &level, &out);
+        check(&p, &out);
+    }
+    return 0;
+}

@@ -1,0 +1,68 @@
+/*
+ * tests/fuzz/fuzz_controller_check.h - the checks of fc_controller_step's
+ * outputs against the limits in the parameters it was initialised with
+ * (shared by fuzz_controller and fuzz_params).
+ */
+#ifndef FC_FUZZ_CONTROLLER_CHECK_H
+#define FC_FUZZ_CONTROLLER_CHECK_H
+
+#include "fc/controller.h"
+#include "fuzz_common.h"
+
+static inline void fuzz_check_controller(const fc_controller_params *p, const fc_controller_outputs *out)
+{
+    FUZZ_CHECK(out->rotor_count <= FC_MAX_ROTORS);
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        if (i < out->rotor_count) {
+            FUZZ_WITHIN(out->rotor_speed[i], FC_C(0.0f, UNIT), FC_C(1.0f, UNIT), UNIT);
+            if (out->motors_on) {
+                FUZZ_WITHIN(out->rotor_speed[i], p->allocation.rotor[i].speed_min, FC_C(1.0f, UNIT), UNIT);
+            }
+        } else {
+            FUZZ_CHECK(out->rotor_speed[i] == 0);
+        }
+    }
+    if (out->motors_on) {
+        FUZZ_CHECK(out->rotor_count == p->allocation.rotor_count);
+        FUZZ_WITHIN(out->thrust_n, p->altitude.thrust_min_n, p->altitude.thrust_max_n, FORCE);
+    } else {
+        FUZZ_WITHIN(out->thrust_n, p->altitude.thrust_min_n < 0 ? p->altitude.thrust_min_n : 0,
+                    p->altitude.thrust_max_n, FORCE);
+    }
+    FUZZ_FINITE_VEC3(out->moment_nm, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.x, p->attitude.moment_limit_nm.x, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.y, p->attitude.moment_limit_nm.y, MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.z, p->attitude.moment_limit_nm.z, MOMENT);
+
+    const fc_controller_telemetry *t = &out->telemetry;
+    FUZZ_UNIT_QUAT(t->attitude);
+    FUZZ_UNIT_QUAT(t->attitude_setpoint);
+    FUZZ_FINITE_VEC3(t->rate_radps, RATE);
+    FUZZ_FINITE(t->reference.z_m, LENGTH);
+    FUZZ_FINITE(t->reference.vz_mps, VEL);
+    FUZZ_FINITE(t->reference.az_mps2, ACCEL);
+    FUZZ_FINITE(t->altitude.thrust_n, FORCE);
+    FUZZ_FINITE(t->altitude.vertical_force_n, FORCE);
+    FUZZ_FINITE(t->altitude.error_m, LENGTH);
+    FUZZ_FINITE(t->altitude.sigma_mps, VEL);
+    FUZZ_FINITE(t->altitude.sigma_tilde_mps, VEL);
+    FUZZ_FINITE(t->altitude.rho_n, FORCE);
+    FUZZ_FINITE(t->altitude.u0_av_n, FORCE);
+    FUZZ_FINITE(t->altitude.u_nom_n, FORCE);
+    FUZZ_FINITE(t->altitude.theta_kg, MASS);
+    FUZZ_FINITE(t->altitude.observer_bound_n, FORCE);
+    /* cos(roll) cos(pitch), computed from the quaternion: a few LSB past +-1 is rounding */
+    FUZZ_WITHIN(t->tilt_cos, FC_C(-1.001f, RATIO), FC_C(1.001f, RATIO), RATIO);
+}
+
+/* Hovering level at 1 m over a still pad at 0, tracking it. */
+static inline void fuzz_controller_hover_inputs(const fc_controller_params *p, fc_controller_inputs *in)
+{
+    memset(in, 0, sizeof *in);
+    in->imu.accel_mps2.z = p->gravity_mps2;
+    in->attitude_external.w = FC_C(1.0f, UNIT);
+    in->position_m.z = FC_C(1.0f, LENGTH);
+    in->command = FC_COMMAND_TRACK_PAD;
+}
+
+#endif /* FC_FUZZ_CONTROLLER_CHECK_H */

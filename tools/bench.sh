@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# The timing benchmark (issue 7): builds the atmega, atmega-fixed, cf2 and
+# cf2-fixed presets, builds one bench image per preset on the same fixed input
+# vectors (platform/atmega/bench/bench_run.h: init, warm-up, 2 rounds x 8
+# vectors, armed), measures, and prints one table:
+#   ATmega2560: exact cycles per call from simavr (atmega2560, 16 MHz), each
+#               function timed from outside by symbol address and return
+#               address (platform/atmega/bench/bench_host.c);
+#   Cortex-M4F: executed instructions per call in QEMU (netduinoplus2 =
+#               STM32F405), counted by a TCG plugin the same way
+#               (platform/cortex-m4-bench/insn_count.c); not cycles.
+# and per image: flash, static RAM, the largest stack frame (-fstack-usage)
+# and, on the AVR, the measured stack peak.
+# Usage: tools/bench.sh [--no-deps]   (everything lands in build/bench/)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+
+if [ "${1:-}" != "--no-deps" ]; then
+  tools/install-deps.sh
+fi
+
+presets=(atmega atmega-fixed cf2 cf2-fixed)
+for p in "${presets[@]}"; do
+  cmake --preset "$p" >/dev/null
+  cmake --build --preset "$p" >/dev/null
+  echo "built $p: build/$p" >&2
+done
+
+out=$root/build/bench
+mkdir -p "$out"
+warn=(-Wall -Wextra -Werror -Wdouble-promotion -Wshadow -Wundef)
+common=(-Os -DNDEBUG -std=gnu11 "${warn[@]}" -I"$root/firmware/include" -I"$root/platform/atmega/bench"
+        -ffunction-sections -fdata-sections -fstack-usage)
+modules=(fc_attitude_estimator_step fc_attitude_control_step fc_allocation_step
+         fc_altitude_reference_step fc_altitude_control_step fc_controller_step)
+
+# ---- host tools: the simavr runner and the QEMU plugin ----
+cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/platform/atmega/bench/bench_host.c" \
+   -o "$out/avr_bench" -lsimavr -lelf
+cc -std=gnu11 -O2 "${warn[@]}" -shared -fPIC "$root/platform/cortex-m4-bench/insn_count.c" -o "$out/insn_count.so"
+
+fixed_of() { case $1 in *-fixed) echo 1 ;; *) echo 0 ;; esac; }
+
+# largest frame among the library's and the bench image's .su files: "bytes function"
+largest_frame() {
+  find "$root/build/$1/firmware" "$out/$1" -name '*.su' -print0 | xargs -0 cat |
+    awk -F'\t' '{ n = split($1, a, ":"); print $2, a[n] }' | sort -rn | head -1
+}
+
+results=$out/results.txt
+: >"$results"
+for p in "${presets[@]}"; do
+  fx=$(fixed_of "$p")
+  mkdir -p "$out/$p"
+  cd "$out/$p"
+  case $p in
+  atmega*)
+    avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args "${common[@]}" -DFC_NUMERIC_FIXED="$fx" \
+      -o bench.elf "$root/platform/atmega/bench/bench_avr.c" "$root/build/$p/firmware/libfc.a" -lm \
+      -Wl,--gc-sections
+    if [ "$fx" = 1 ]; then
+      sf=$(avr-nm bench.elf | awk '{ print $NF }' |
+           grep -E '^__[a-z]+sf[0-9]?$|^__[a-z]+sf[a-z]+$|^__fp_|^(sqrt|sin|cos|tan|atan|atan2|asin|acos|exp|log|pow)f?$' || true)
+      if [ -n "$sf" ]; then
+        echo "bench: soft-float routines in the fixed AVR image: $sf" >&2
+        exit 1
+      fi
+    fi
+    targs=()
+    for m in "${modules[@]}"; do targs+=(--time "$m"); done
+    "$out/avr_bench" --elf bench.elf "${targs[@]}" >run.txt || { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
+    awk -v p="$p" '$1 == "CYCLES" { print p, "calls", $2, $3, $4, $5, $6 } $1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
+    read -r text data bss < <(avr-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
+    ;;
+  cf2*)
+    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
+      -DFC_NUMERIC_FIXED="$fx" --specs=rdimon.specs -nostartfiles -T "$root/platform/cortex-m4-bench/stm32f405.ld" \
+      -Wl,--gc-sections -o bench.elf "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" \
+      -lm -lrdimon
+    sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
+    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt"
+    for m in "${modules[@]}"; do pargs+=",fn=$m@$(sym "$m")"; done
+    rm -f plugin.txt
+    timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
+      -semihosting-config enable=on,target=native -kernel bench.elf -plugin "$out/insn_count.so,$pargs" >run.txt ||
+      { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
+    grep -q ': done' run.txt || { cat run.txt >&2; echo "bench: $p did not finish" >&2; exit 1; }
+    awk -v p="$p" '$1 == "INSNS" { print p, "calls", $2, $3, $4, $5, $6 }
+                   $1 == "CYCEST" { print p "~est", "calls", $2, $3, $4, $5, $6 }' plugin.txt >>"$results"
+    awk -v p="$p" '$1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
+    # the same image timing each step with DWT->CYCCNT, for a Crazyflie (not run here: CYCCNT reads 0 in QEMU)
+    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
+      -DFC_NUMERIC_FIXED="$fx" -DBENCH_DWT=1 --specs=rdimon.specs -nostartfiles \
+      -T "$root/platform/cortex-m4-bench/stm32f405.ld" -Wl,--gc-sections -o bench-dwt.elf \
+      "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" -lm -lrdimon
+    read -r text data bss < <(arm-none-eabi-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
+    ;;
+  esac
+  read -r fbytes fname < <(largest_frame "$p")
+  echo "$p size $((text + data)) $((data + bss)) $fbytes $fname" >>"$results"
+  cd "$root"
+done
+
+# ---- the table ----
+awk -v mods="${modules[*]}" '
+  $2 == "calls" { mn[$1, $3] = $4; mx[$1, $3] = $5; mean[$1, $3] = $6; n[$1, $3] = $7 }
+  $2 == "peak"  { peak[$1] = $3 }
+  $2 == "size"  { flash[$1] = $3; ram[$1] = $4; fr[$1] = $5 " B " $6 }
+  function rng(p, m) { return (p, m) in mn ? sprintf("%d-%d", mn[p, m], mx[p, m]) : "n/a" }
+  function ratio(a, b, m) { return mean[b, m] > 0 && mean[a, m] > 0 ? sprintf("%.2f", mean[b, m] / mean[a, m]) : "n/a" }
+  END {
+    k = split(mods, M, " ")
+    printf "Per call, %d calls each (2 rounds x 8 fixed input vectors, armed, hexa 4 kg, ssc-adaptive, dt 0.05 s)\n", n["atmega", "fc_controller_step"]
+    printf "AVR: ATmega2560 cycles, exact (simavr). M4F ins: Cortex-M4F executed instructions, exact (QEMU TCG plugin);\n"
+    printf "M4F est: cycles ESTIMATED from the Cortex-M4 instruction timings (no flash wait states; see insn_count.c).\n"
+    printf "ratio: fixed/float, of the means.\n\n"
+    printf "%-27s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", "function", "AVR float cyc", "AVR fixed cyc", "ratio", "M4F float ins", "M4F fixed ins", "ratio", "M4F float est", "M4F fixed est"
+    printf "%-27s|%16s-|%16s-|%6s-|%14s-|%14s-|%6s-|%14s-|%14s\n", "---------------------------", "----------------", "----------------", "------", "--------------", "--------------", "------", "--------------", "--------------"
+    for (i = 1; i <= k; i++) {
+      m = M[i]
+      printf "%-27s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m, rng("atmega", m), rng("atmega-fixed", m), ratio("atmega", "atmega-fixed", m), rng("cf2", m), rng("cf2-fixed", m), ratio("cf2", "cf2-fixed", m), rng("cf2~est", m), rng("cf2-fixed~est", m)
+    }
+    printf "\n%-13s | %12s | %10s | %-40s | %s\n", "image", "flash bytes", "RAM bytes", "largest stack frame (-fstack-usage)", "stack peak, run"
+    printf "%-13s-+-%12s-+-%10s-+-%-40s-+-%s\n", "-------------", "------------", "----------", "----------------------------------------", "---------------"
+    split("atmega atmega-fixed cf2 cf2-fixed", P, " ")
+    for (i = 1; i <= 4; i++) {
+      p = P[i]
+      printf "%-13s | %12d | %10d | %-40s | %s\n", p, flash[p], ram[p], fr[p], (p in peak) ? peak[p] " B" : "n/a"
+    }
+    printf "\nflash = .text + .data, RAM = .data + .bss (static), of the bench image (library + bench_run.h + startup;\n"
+    printf "on the M4F newlib semihosting printf). Stack peak of the run from reset (init included): AVR lowest SP\n"
+    printf "in simavr; M4F painted-stack high-water mark. Images and raw output: build/bench/<preset>/;\n"
+    printf "bench-dwt.elf there times each step with DWT->CYCCNT on a real STM32F405 (Crazyflie).\n"
+  }' "$results"
