@@ -516,20 +516,14 @@ static void safe_output(const fc_altitude_control *c, fc_altitude_control_output
     out->clamped = false;
 }
 
-/* finite and |x| <= limit (a NaN fails both comparisons) */
-static bool within(fc_real x, fc_real limit)
-{
-    return fc_is_finite(x) && x <= limit && x >= -limit;
-}
-
 static bool input_valid(const fc_altitude_control_input *in)
 {
     const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
     const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
-    return within(in->z_m, length) && within(in->vz_mps, speed) && within(in->reference.z_m, length) &&
-           within(in->reference.vz_mps, speed) && within(in->reference.az_mps2, accel) &&
-           within(in->tilt_cos, FC_INT(1, RATIO));
+    return fc_within(in->z_m, length) && fc_within(in->vz_mps, speed) && fc_within(in->reference.z_m, length) &&
+           fc_within(in->reference.vz_mps, speed) && fc_within(in->reference.az_mps2, accel) &&
+           fc_within(in->tilt_cos, FC_INT(1, RATIO));
 }
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,

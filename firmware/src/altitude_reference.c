@@ -69,9 +69,7 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
     const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
     const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
-    if (!(fc_is_finite(pad->z_m) && pad->z_m <= length && pad->z_m >= -length) ||
-        !(fc_is_finite(pad->vz_mps) && pad->vz_mps <= speed && pad->vz_mps >= -speed) ||
-        !(fc_is_finite(pad->az_mps2) && pad->az_mps2 <= accel && pad->az_mps2 >= -accel)) {
+    if (!fc_within(pad->z_m, length) || !fc_within(pad->vz_mps, speed) || !fc_within(pad->az_mps2, accel)) {
         /* a still pad at the bias-free origin keeps the reference defined */
         pad_used.z_m = FC_INT(0, LENGTH);
         pad_used.vz_mps = FC_INT(0, VEL);

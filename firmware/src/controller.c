@@ -206,15 +206,9 @@ static fc_quat attitude_setpoint(fc_controller *ctl, const fc_controller_inputs 
     return fc_quat_from_rpy(ar, roll, pitch, in->yaw_setpoint_rad);
 }
 
-/* finite and |x| <= limit (a NaN fails both comparisons) */
-static bool within(fc_real x, fc_real limit)
-{
-    return fc_is_finite(x) && x <= limit && x >= -limit;
-}
-
 static bool vec3_within(fc_vec3 v, fc_real limit)
 {
-    return within(v.x, limit) && within(v.y, limit) && within(v.z, limit);
+    return fc_within(v.x, limit) && fc_within(v.y, limit) && fc_within(v.z, limit);
 }
 
 /* The inputs are numbers inside the physical range (fc/status.h): beyond it
@@ -225,8 +219,8 @@ static bool controller_inputs_usable(const fc_controller_inputs *in)
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
     const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
     return vec3_within(in->position_m, length) && vec3_within(in->velocity_mps, speed) &&
-           vec3_within(in->position_setpoint_m, length) && within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
-           within(in->pad.z_m, length) && within(in->pad.vz_mps, speed) && within(in->pad.az_mps2, accel);
+           vec3_within(in->position_setpoint_m, length) && fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
+           fc_within(in->pad.z_m, length) && fc_within(in->pad.vz_mps, speed) && fc_within(in->pad.az_mps2, accel);
 }
 
 /* The bits of a module's status that the controller passes on. */

@@ -430,6 +430,12 @@ static inline fc_real fc_clamp(fc_real a, fc_real lo, fc_real hi)
     return a < lo ? lo : (a > hi ? hi : a);
 }
 
+/* x is a number with |x| <= limit (a NaN fails both comparisons). */
+static inline bool fc_within(fc_real x, fc_real limit)
+{
+    return fc_is_finite(x) && x <= limit && x >= -limit;
+}
+
 /* -1, 0 or +1 as a UNIT value (the relay of the sliding-mode laws). */
 static inline fc_real fc_sign_unit(fc_real a)
 {

@@ -56,6 +56,7 @@
 #include "sim_irq.h"
 
 #include "telemetry.h"
+#include "sim_support.h"
 
 #define MAX_FRAMES 4096
 #define MAX_CALLS 50000
@@ -377,49 +378,6 @@ static bool mpu_attach(avr_t *avr)
     avr_register_io_write(avr, MEGA2560_TWCR, twcr_write_fix, NULL);
     g_mpu.attached = true;
     return true;
-}
-
-/* simavr's raw mode sleeps in real time while the AVR sleeps: not here */
-static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
-{
-    (void)avr;
-    (void)how_long;
-}
-
-static bool elf_symbol(const char *path, const char *name, uint32_t *value)
-{
-    bool found = false;
-    const int fd = open(path, O_RDONLY);
-    if (fd < 0) {
-        return false;
-    }
-    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
-    Elf_Scn *scn = NULL;
-    while (elf != NULL && !found && (scn = elf_nextscn(elf, scn)) != NULL) {
-        GElf_Shdr sh;
-        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
-            continue;
-        }
-        Elf_Data *data = elf_getdata(scn, NULL);
-        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
-        for (size_t i = 0; data != NULL && i < n; i++) {
-            GElf_Sym sym;
-            if (gelf_getsym(data, (int)i, &sym) == NULL) {
-                continue;
-            }
-            const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
-            if (s != NULL && strcmp(s, name) == 0) {
-                *value = (uint32_t)sym.st_value;
-                found = true;
-                break;
-            }
-        }
-    }
-    if (elf != NULL) {
-        elf_end(elf);
-    }
-    close(fd);
-    return found;
 }
 
 /* ---- optional profile (--profile N): self cycles per function inside the
