@@ -1,0 +1,435 @@
+/* pad_motion.c - the pad's heave, learnt by recursive least squares on a
+ * grid of sinusoids, and predicted ahead (fc/pad_motion.h). */
+#include "fc/pad_motion.h"
+
+static bool in_range(fc_real x, fc_real lo, fc_real hi)
+{
+    return fc_is_finite(x) && x >= lo && x <= hi;
+}
+
+static bool pad_motion_params_valid(const fc_pad_motion_params *p)
+{
+    if (p->mode_count < 1u || p->mode_count > FC_PAD_MAX_MODES) {
+        return false;
+    }
+    if (!in_range(p->period_min_s, FC_C(0.5f, TIME), FC_INT(60, TIME)) ||
+        !in_range(p->period_max_s, p->period_min_s, FC_INT(60, TIME))) {
+        return false;
+    }
+    for (unsigned k = 0u; k < p->mode_count; k++) {
+        /* ascending and inside the band: distinct columns of phi, ordered bands */
+        const fc_real lower = k == 0u ? p->period_min_s : p->mode_period_s[k - 1u];
+        if (!in_range(p->mode_period_s[k], lower, p->period_max_s) || (k > 0u && p->mode_period_s[k] == lower)) {
+            return false;
+        }
+    }
+    return in_range(p->frequency_gain, FC_INT(0, UNIT), FC_INT(1, UNIT)) &&
+           in_range(p->adapt_amplitude_min_m, FC_C(1e-4f, LENGTH), FC_INT(10, LENGTH)) &&
+           in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
+           in_range(p->forgetting, FC_C(0.9f, UNIT), FC_C(0.99999f, UNIT)) &&
+           in_range(p->covariance_init, FC_C(0.01f, MAT), FC_INT(100, MAT)) &&
+           in_range(p->covariance_trace_max, p->covariance_init, FC_INT(127, MAT)) &&
+           in_range(p->outlier_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) && p->outlier_reset_count >= 1u &&
+           in_range(p->horizon_s, FC_C(0.05f, TIME), FC_INT(60, TIME)) &&
+           in_range(p->observe_min_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
+           in_range(p->tolerance_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           in_range(p->error_average_gain, FC_C(1e-4f, UNIT), FC_INT(1, UNIT));
+}
+
+/* An angle in GAIN (any size) wrapped into [-pi, pi] and given as an ANGLE. */
+static fc_real wrapped_angle(fc_arith *ar, fc_real angle_gain)
+{
+    const fc_real pi = FC_C(3.14159265f, GAIN), two_pi = FC_C(6.28318531f, GAIN);
+    while (angle_gain > pi) {
+        angle_gain = fc_sub(ar, angle_gain, two_pi);
+    }
+    while (angle_gain < -pi) {
+        angle_gain = fc_add(ar, angle_gain, two_pi);
+    }
+    return fc_convert(ar, angle_gain, FC_GAIN_FRAC, FC_ANGLE_FRAC);
+}
+
+/* w = 2 pi / T */
+static fc_real omega_of(fc_arith *ar, fc_real period_s)
+{
+    return fc_div(ar, FC_TWO_PI, period_s, FC_DIV_SHIFT(ANGLE, TIME, RATE));
+}
+
+static fc_real geometric_mean_s(fc_arith *ar, fc_real a_s, fc_real b_s)
+{
+    return fc_sqrt(ar, fc_mul(ar, a_s, b_s, FC_SHIFT(TIME, TIME, TIME)), FC_TIME_FRAC);
+}
+
+/* w_k and what follows from it: w_k^2, the rotation by w_k dt per step and by w_k H ahead. */
+static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radps)
+{
+    fc_arith *ar = &pm->ar;
+    pm->omega_radps[k] = omega_radps;
+    pm->omega_sq[k] = fc_mul(ar, omega_radps, omega_radps, FC_SHIFT(RATE, RATE, RATIO));
+    const fc_real step_angle = fc_mul(ar, omega_radps, pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
+    pm->step_cos[k] = fc_cos(ar, step_angle);
+    pm->step_sin[k] = fc_sin(ar, step_angle);
+    const fc_real ahead_angle = wrapped_angle(ar, fc_mul(ar, omega_radps, pm->p.horizon_s, FC_SHIFT(RATE, TIME, GAIN)));
+    pm->ahead_cos[k] = fc_cos(ar, ahead_angle);
+    pm->ahead_sin[k] = fc_sin(ar, ahead_angle);
+}
+
+void fc_pad_motion_reset(fc_pad_motion *pm)
+{
+    const unsigned n = pm->n;
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+        pm->theta[i] = pm->theta_old[i] = pm->theta_new[i] = FC_INT(0, LENGTH);
+        for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
+            pm->s[i][j] = (i == j && i < n) ? pm->p.covariance_init : FC_INT(0, MAT);
+        }
+    }
+    pm->error_mean_m = FC_INT(0, LENGTH);
+    pm->observed_s = FC_INT(0, TIME);
+    pm->since_sample_s = FC_INT(0, TIME);
+    pm->since_snapshot_s = FC_INT(0, TIME);
+    pm->snapshots = 0u;
+    pm->outliers_in_row = 0u;
+    pm->learning = false;
+}
+
+fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params *p)
+{
+    pm->ready = false;
+    pm->ar.saturated = 0u;
+    pm->n = 1u;
+    for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
+        /* phases start at t = 0: sin 0, cos 0 */
+        pm->phase_sin[k] = FC_INT(0, UNIT);
+        pm->phase_cos[k] = FC_INT(1, UNIT);
+    }
+    if (!pad_motion_params_valid(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    pm->p = *p;
+    pm->n = (uint8_t)(1u + 2u * p->mode_count);
+    fc_arith *ar = &pm->ar;
+    for (unsigned k = 0u; k < p->mode_count; k++) {
+        /* the band of mode k: between the geometric means with its neighbours */
+        const fc_real longest = k + 1u < p->mode_count ? geometric_mean_s(ar, p->mode_period_s[k], p->mode_period_s[k + 1u])
+                                                        : p->period_max_s;
+        const fc_real shortest = k > 0u ? geometric_mean_s(ar, p->mode_period_s[k - 1u], p->mode_period_s[k])
+                                        : p->period_min_s;
+        pm->omega_min_radps[k] = omega_of(ar, longest);
+        pm->omega_max_radps[k] = omega_of(ar, shortest);
+        set_mode_frequency(pm, k, omega_of(ar, p->mode_period_s[k]));
+    }
+    pm->amplitude_min_sq =
+        fc_mul(ar, p->adapt_amplitude_min_m, p->adapt_amplitude_min_m, FC_SHIFT(LENGTH, LENGTH, RATIO));
+    pm->one_minus_lambda = fc_sub(ar, FC_INT(1, UNIT), p->forgetting);
+    /* 1/lambda - 1 = (1 - lambda) / lambda */
+    pm->inflation = fc_div(ar, pm->one_minus_lambda, p->forgetting, FC_DIV_SHIFT(UNIT, UNIT, UNIT));
+    pm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    if (pm->ar.saturated != 0u) {
+        return FC_INIT_BAD_PARAM;
+    }
+    fc_pad_motion_reset(pm);
+    pm->ready = true;
+    return FC_INIT_OK;
+}
+
+/* ---------------------------------------------------------------------- */
+/* the model                                                               */
+/* ---------------------------------------------------------------------- */
+
+/* phi(t) = [1, sin w_1 t, cos w_1 t, ...] from the phases given. */
+static void regressor(const fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k, fc_real *phi)
+{
+    phi[0] = FC_INT(1, UNIT);
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        phi[1u + 2u * k] = sin_k[k];
+        phi[2u + 2u * k] = cos_k[k];
+    }
+}
+
+/* theta' phi: LENGTH x UNIT summed into LENGTH. */
+static fc_real model_value(fc_arith *ar, unsigned n, const fc_real *theta, const fc_real *phi)
+{
+    fc_acc acc = fc_acc_zero();
+    for (unsigned i = 0u; i < n; i++) {
+        acc = fc_acc_mac(acc, theta[i], phi[i]);
+    }
+    return fc_acc_result(ar, acc, FC_SHIFT(LENGTH, UNIT, LENGTH));
+}
+
+/* z, z', z'' of the model theta at the phases given. */
+static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k)
+{
+    fc_arith *ar = &pm->ar;
+    fc_real phi[FC_PAD_MAX_PARAMS];
+    regressor(pm, sin_k, cos_k, phi);
+    fc_vertical_trajectory t;
+    t.z_m = model_value(ar, pm->n, pm->theta, phi);
+    t.vz_mps = FC_INT(0, VEL);
+    t.az_mps2 = FC_INT(0, ACCEL);
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
+        /* z' = w (a cos - b sin),  z'' = -w^2 (a sin + b cos) */
+        const fc_real rate_part = fc_dot2(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        const fc_real accel_part = fc_dot2(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        t.vz_mps = fc_add(ar, t.vz_mps, fc_mul(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
+        t.az_mps2 = fc_sub(ar, t.az_mps2, fc_mul(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+    }
+    return t;
+}
+
+/* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). */
+static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
+{
+    const fc_real s_new = fc_dot2(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real c_new = fc_dot2(ar, *c, rc, fc_neg(ar, *s), rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    *s = s_new;
+    *c = c_new;
+}
+
+/* One step of every phase, renormalised by one Newton step of 1/sqrt:
+ * (s, c) (3 - s^2 - c^2) / 2, which keeps s^2 + c^2 at 1 to second order. */
+static void advance_phases(fc_pad_motion *pm)
+{
+    fc_arith *ar = &pm->ar;
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        rotate(ar, &pm->phase_sin[k], &pm->phase_cos[k], pm->step_cos[k], pm->step_sin[k]);
+        const fc_real norm_sq = fc_dot2(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k], pm->phase_cos[k],
+                                        FC_SHIFT(UNIT, UNIT, UNIT));
+        const fc_real factor =
+            fc_add(ar, FC_INT(1, UNIT),
+                   fc_mul(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq), FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
+        pm->phase_sin[k] = fc_mul(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        pm->phase_cos[k] = fc_mul(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+/* recursive least squares                                                 */
+/* ---------------------------------------------------------------------- */
+
+static void restart_from(fc_pad_motion *pm, fc_real height_m)
+{
+    fc_pad_motion_reset(pm);
+    pm->theta[0] = height_m; /* the level is the first sample; the modes start at zero */
+    pm->learning = true;
+}
+
+/* S back to s0 I when rounding has made it lose positive diagonal (fixed
+ * backend, a long run without excitation): never observed in the tests. */
+static bool covariance_usable(const fc_pad_motion *pm)
+{
+    for (unsigned i = 0u; i < pm->n; i++) {
+        if (!(pm->s[i][i] > FC_INT(0, MAT))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* The RLS update of theta and S with the a-priori residual e (see the header). */
+static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m)
+{
+    fc_arith *ar = &pm->ar;
+    const unsigned n = pm->n;
+    fc_real s_phi[FC_PAD_MAX_PARAMS]; /* MAT: S phi (= (phi' S)' as S is symmetric) */
+    fc_acc quad = fc_acc_zero();
+    for (unsigned i = 0u; i < n; i++) {
+        fc_acc acc = fc_acc_zero();
+        for (unsigned j = 0u; j < n; j++) {
+            acc = fc_acc_mac(acc, pm->s[i][j], phi[j]);
+        }
+        s_phi[i] = fc_acc_result(ar, acc, FC_SHIFT(MAT, UNIT, MAT));
+        quad = fc_acc_mac(quad, phi[i], s_phi[i]);
+    }
+    /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
+    const fc_real phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
+    const fc_real denominator =
+        fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
+               fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
+    const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
+    fc_real gain[FC_PAD_MAX_PARAMS]; /* MAT */
+    for (unsigned i = 0u; i < n; i++) {
+        gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
+        pm->theta[i] = fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
+    }
+    /* S = (S - g phi' S) / lambda, the upper triangle mirrored; no inflation
+     * while trace(S) is above its bound (a scratch sum: past the format is past the bound) */
+    fc_arith scratch = {0u};
+    fc_real trace = FC_INT(0, MAT);
+    for (unsigned i = 0u; i < n; i++) {
+        trace = fc_add(&scratch, trace, pm->s[i][i]);
+    }
+    const bool inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
+    for (unsigned i = 0u; i < n; i++) {
+        for (unsigned j = i; j < n; j++) {
+            fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
+            if (inflate) {
+                sij = fc_add(ar, sij, fc_mul(ar, sij, pm->inflation, FC_SHIFT(MAT, UNIT, MAT)));
+            }
+            pm->s[i][j] = sij;
+            pm->s[j][i] = sij;
+        }
+    }
+}
+
+/* w_k += kappa d_arg / T_sample, d_arg = (a_prev b - b_prev a) / |C|^2 (the header). */
+static void adapt_frequencies(fc_pad_motion *pm, const fc_real *amplitude_before)
+{
+    fc_arith *ar = &pm->ar;
+    if (pm->p.frequency_gain == FC_INT(0, UNIT) || pm->since_sample_s <= FC_INT(0, TIME)) {
+        return;
+    }
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        const fc_real a_prev = amplitude_before[2u * k], b_prev = amplitude_before[2u * k + 1u];
+        const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
+        const fc_real size_sq = fc_dot2(ar, a, a, b, b, FC_SHIFT(LENGTH, LENGTH, RATIO));
+        if (size_sq < pm->amplitude_min_sq) {
+            continue;
+        }
+        const fc_real cross = fc_dot2(ar, a_prev, b, fc_neg(ar, b_prev), a, FC_SHIFT(LENGTH, LENGTH, RATIO));
+        /* the turn in rad, |d_arg| <= 1 (a larger one is not a frequency error) */
+        const fc_real turn = fc_clamp(fc_div(ar, cross, size_sq, FC_DIV_SHIFT(RATIO, RATIO, UNIT)),
+                                      FC_INT(-1, UNIT), FC_INT(1, UNIT));
+        const fc_real drift_radps = fc_div(ar, turn, pm->since_sample_s, FC_DIV_SHIFT(UNIT, TIME, RATE));
+        const fc_real omega = fc_add(ar, pm->omega_radps[k],
+                                     fc_mul(ar, pm->p.frequency_gain, drift_radps, FC_SHIFT(UNIT, RATE, RATE)));
+        set_mode_frequency(pm, k, fc_clamp(omega, pm->omega_min_radps[k], pm->omega_max_radps[k]));
+    }
+}
+
+/* A sample: used (RLS and the prediction check), or an outlier. */
+static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
+{
+    fc_arith *ar = &pm->ar;
+    if (!pm->learning) {
+        restart_from(pm, height_m);
+        return FC_STEP_OK;
+    }
+    fc_real phi[FC_PAD_MAX_PARAMS];
+    regressor(pm, pm->phase_sin, pm->phase_cos, phi);
+    const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta, phi));
+    if (fc_abs(ar, residual) > pm->p.outlier_m) {
+        pm->outliers_in_row++;
+        if (pm->outliers_in_row >= pm->p.outlier_reset_count) {
+            restart_from(pm, height_m);
+            return FC_STEP_DEGRADED;
+        }
+        return FC_STEP_BAD_INPUT;
+    }
+    pm->outliers_in_row = 0u;
+    if (pm->snapshots >= 2u) {
+        /* what theta_old (H..2H old) predicted for now */
+        const fc_real error = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta_old, phi));
+        const fc_real step = fc_mul(ar, pm->p.error_average_gain, fc_sub(ar, fc_abs(ar, error), pm->error_mean_m),
+                                    FC_SHIFT(UNIT, LENGTH, LENGTH));
+        pm->error_mean_m = fc_add(ar, pm->error_mean_m, step);
+    }
+    fc_real amplitude_before[2u * FC_PAD_MAX_MODES];
+    for (unsigned i = 0u; i + 1u < pm->n; i++) {
+        amplitude_before[i] = pm->theta[1u + i];
+    }
+    rls_update(pm, phi, residual);
+    adapt_frequencies(pm, amplitude_before);
+    pm->since_sample_s = FC_INT(0, TIME);
+    if (!covariance_usable(pm)) {
+        for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+            for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
+                pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
+            }
+        }
+        return FC_STEP_DEGRADED;
+    }
+    return FC_STEP_OK;
+}
+
+/* Every H seconds: theta_old <- theta_new <- theta. */
+static void renew_snapshots(fc_pad_motion *pm)
+{
+    fc_arith *ar = &pm->ar;
+    pm->since_snapshot_s = fc_add(ar, pm->since_snapshot_s, pm->step_s);
+    if (pm->since_snapshot_s < pm->p.horizon_s) {
+        return;
+    }
+    pm->since_snapshot_s = FC_INT(0, TIME);
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+        pm->theta_old[i] = pm->theta_new[i];
+        pm->theta_new[i] = pm->theta[i];
+    }
+    if (pm->snapshots < 2u) {
+        pm->snapshots++;
+        if (pm->snapshots == 2u) {
+            /* the check starts pessimistic: confidence rises as predictions come true */
+            pm->error_mean_m = pm->p.tolerance_m;
+        }
+    }
+}
+
+static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
+{
+    fc_arith *ar = &pm->ar;
+    out->now = model_trajectory(pm, pm->phase_sin, pm->phase_cos);
+    fc_real sin_ahead[FC_PAD_MAX_MODES] = {0}, cos_ahead[FC_PAD_MAX_MODES] = {0};
+    out->heave_bound_m = FC_INT(0, LENGTH);
+    out->accel_bound_mps2 = FC_INT(0, ACCEL);
+    out->dominant_mode = 0u;
+    fc_real largest = FC_INT(-1, LENGTH);
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        sin_ahead[k] = pm->phase_sin[k];
+        cos_ahead[k] = pm->phase_cos[k];
+        rotate(ar, &sin_ahead[k], &cos_ahead[k], pm->ahead_cos[k], pm->ahead_sin[k]);
+        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[1u + 2u * k]), fc_abs(ar, pm->theta[2u + 2u * k]));
+        out->heave_bound_m = fc_add(ar, out->heave_bound_m, size);
+        out->accel_bound_mps2 =
+            fc_add(ar, out->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+        if (size > largest) {
+            largest = size;
+            out->dominant_mode = (uint8_t)k;
+        }
+    }
+    out->ahead = model_trajectory(pm, sin_ahead, cos_ahead);
+    out->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
+    out->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[out->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
+    out->mean_m = pm->theta[0];
+    out->prediction_error_m = pm->error_mean_m;
+    out->observed_s = pm->observed_s;
+    out->learning = pm->learning;
+    out->confidence = FC_INT(0, UNIT);
+    if (pm->learning && pm->snapshots >= 2u && pm->observed_s >= pm->p.observe_min_s) {
+        /* 1 - mean / tolerance, clamped to [0, 1] */
+        const fc_real ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
+        out->confidence = fc_clamp(fc_sub(ar, FC_INT(1, UNIT), fc_min(ratio, FC_INT(1, UNIT))), FC_INT(0, UNIT),
+                                   FC_INT(1, UNIT));
+    }
+}
+
+fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
+                                  fc_pad_motion_estimate *out)
+{
+    if (!pm->ready) {
+        *out = (fc_pad_motion_estimate){0};
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &pm->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+    if (sample->fresh) {
+        if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
+            status |= take_sample(pm, sample->height_m);
+        } else {
+            status |= FC_STEP_BAD_INPUT;
+        }
+    }
+    fill_estimate(pm, out);
+    /* then to the next step */
+    advance_phases(pm);
+    if (pm->learning) {
+        pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
+        pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));
+        renew_snapshots(pm);
+    }
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
