@@ -86,8 +86,8 @@ static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, si
     override(&p.altitude.l0_per_s, cfg->l0_per_s, FC_GAIN_FRAC);
     override(&p.altitude.a_m_per_s, cfg->a_m_per_s, FC_GAIN_FRAC);
     override(&p.altitude.kappa_m_per_kg, cfg->kappa_m_per_kg, FC_GAIN_FRAC);
-    override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_GAIN_FRAC);
-    override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_GAIN_FRAC);
+    override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_RATIO_FRAC);
+    override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_RATIO_FRAC);
     override(&p.horizontal.tilt_max_rad, cfg->tilt_max_rad, FC_ANGLE_FRAC);
 
     const fc_init_result r = fc_controller_init(ctl, &p);

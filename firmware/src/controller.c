@@ -38,6 +38,86 @@ static fc_vec3 moment_budget_nm(const fc_allocation_params *a)
     return fc_vec3_scale(&ar, sum, FC_C(0.5f, UNIT), FC_SHIFT(MOMENT, UNIT, MOMENT));
 }
 
+/* The landing mission's defaults for a vehicle with gear height gear_m over
+ * a pad whose periods lie in [period_min, period_max]; see fc/landing.h. */
+static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
+{
+    fc_landing_params *l = &p->landing;
+    fc_pad_motion_params *m = &p->pad_motion;
+    l->dt_s = p->dt_s;
+    m->dt_s = p->dt_s;
+    m->mode_count = 3u;
+    m->covariance_init = FC_INT(10, MAT);
+    m->covariance_trace_max = FC_INT(120, MAT);
+    m->outlier_reset_count = 25u;
+    m->horizon_s = FC_INT(1, TIME);
+    m->error_average_gain = FC_C(0.02f, UNIT);
+    m->adapt_amplitude_min_m = FC_C(0.003f, LENGTH);
+    l->hold_settle_s = FC_INT(1, TIME);
+    l->contact_confirm_s = FC_C(0.05f, TIME);
+    l->confidence_start = FC_C(0.6f, UNIT);
+    l->confidence_abort = FC_C(0.25f, UNIT);
+    l->tilt_cos_abort = FC_C(0.906f, RATIO); /* 25 deg */
+    l->range_timeout_s = FC_C(0.3f, TIME);
+    l->abort_retries_max = 3u;
+    p->failsafe.bad_input_hold_s = FC_C(0.5f, TIME);
+    p->failsafe.speed_gain_per_s = FC_INT(2, GAIN);
+    p->failsafe.max_s = FC_INT(60, TIME);
+    if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
+        /* a pad heaving 0-10 cm with periods of 2-10 s, a 50 Hz ToF ranger:
+         * one dominant sinusoid, its frequency adapted, a 10 s window */
+        m->mode_period_s[0] = FC_C(2.5f, TIME);
+        m->mode_period_s[1] = FC_C(4.5f, TIME);
+        m->mode_period_s[2] = FC_INT(8, TIME);
+        m->period_min_s = FC_C(1.8f, TIME);
+        m->period_max_s = FC_INT(12, TIME);
+        m->frequency_gain = FC_C(0.1f, UNIT);
+        m->forgetting = FC_C(0.998f, UNIT);
+        m->outlier_m = FC_C(0.15f, LENGTH);
+        m->observe_min_s = FC_INT(5, TIME);
+        m->tolerance_m = FC_C(0.02f, LENGTH);
+        l->gear_height_m = FC_C(0.02f, LENGTH);
+        l->hold_height_m = FC_C(0.3f, LENGTH);
+        l->hold_tau_s = FC_INT(1, TIME);
+        l->hold_settle_m = FC_C(0.05f, LENGTH);
+        l->descent_tau_s = FC_C(0.5f, TIME);
+        l->touchdown_dip_m = FC_C(0.01f, LENGTH);
+        l->touchdown_window_m = FC_C(0.01f, LENGTH);
+        l->contact_height_m = FC_C(0.008f, LENGTH);
+        l->ramp_s = FC_C(0.3f, TIME);
+        l->horizontal_start_m = FC_C(0.05f, LENGTH);
+        l->horizontal_abort_m = FC_C(0.15f, LENGTH);
+        l->pad_accel_max_mps2 = FC_INT(2, ACCEL);
+        p->failsafe.descent_mps = FC_C(0.3f, VEL);
+    } else {
+        /* a ship's deck heaving up to 1 m with periods of 6-20 s, a 100 Hz
+         * laser ranger: broadband, a fixed grid fitted over a 1 s window */
+        m->mode_period_s[0] = FC_C(6.5f, TIME);
+        m->mode_period_s[1] = FC_C(9.5f, TIME);
+        m->mode_period_s[2] = FC_INT(14, TIME);
+        m->period_min_s = FC_INT(5, TIME);
+        m->period_max_s = FC_INT(20, TIME);
+        m->frequency_gain = FC_INT(0, UNIT);
+        m->forgetting = FC_C(0.99f, UNIT);
+        m->outlier_m = FC_C(0.5f, LENGTH);
+        m->observe_min_s = FC_INT(10, TIME);
+        m->tolerance_m = FC_C(0.1f, LENGTH);
+        l->gear_height_m = airframe == FC_AIRFRAME_F450 ? FC_C(0.1f, LENGTH) : FC_C(0.18f, LENGTH);
+        l->hold_height_m = FC_C(1.5f, LENGTH);
+        l->hold_tau_s = FC_INT(2, TIME);
+        l->hold_settle_m = FC_C(0.15f, LENGTH);
+        l->descent_tau_s = FC_INT(1, TIME);
+        l->touchdown_dip_m = FC_C(0.05f, LENGTH);
+        l->touchdown_window_m = FC_C(0.03f, LENGTH);
+        l->contact_height_m = FC_C(0.02f, LENGTH);
+        l->ramp_s = FC_C(0.5f, TIME);
+        l->horizontal_start_m = FC_C(0.2f, LENGTH);
+        l->horizontal_abort_m = FC_C(0.5f, LENGTH);
+        l->pad_accel_max_mps2 = FC_INT(3, ACCEL);
+        p->failsafe.descent_mps = FC_C(0.5f, VEL);
+    }
+}
+
 void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
                                   fc_real dt_s)
 {
@@ -75,17 +155,36 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     p->reference.bias_m = FC_C(0.18f, LENGTH);
     fc_altitude_control_variant_params(&p->altitude, variant, dt_s, p->mass_kg);
     thrust_range_n(&p->allocation, &p->altitude.thrust_min_n, &p->altitude.thrust_max_n);
-    /* horizontal PD: wn = 1.5 rad/s, zeta = 0.9, tilt at most 30 deg */
-    p->horizontal.kp_per_s2 = FC_C(2.25f, GAIN);
-    p->horizontal.kd_per_s = FC_C(2.7f, GAIN);
-    p->horizontal.tilt_max_rad = FC_C(0.5236f, ANGLE);
+    /* horizontal PID (2.6.4): wn = 1.5 rad/s, zeta = 0.9, a slow integral,
+     * tilt at most 30 deg; no acceleration feedback (k_a = 0) */
+    fc_position_control_params *h = &p->horizontal;
+    h->dt_s = dt_s;
+    h->kp_per_s2 = FC_C(2.25f, RATIO);
+    h->ki_per_s3 = FC_C(0.3f, RATIO);
+    h->kd_per_s = FC_C(2.7f, RATIO);
+    h->error_max_m = FC_INT(2, LENGTH);
+    h->integral_max_mps2 = FC_INT(1, ACCEL);
+    h->accel_max_mps2 = FC_INT(6, ACCEL);
+    h->mass_kg = p->mass_kg;
+    h->accel_fb_gain_per_s = FC_INT(0, RATIO);
+    h->accel_fb_max_mps2 = FC_INT(0, ACCEL);
+    h->tilt_max_rad = FC_C(0.5236f, ANGLE);
+    /* only the direction of F is used: its floor is a tenth of the weight */
+    fc_arith ar = {0u};
+    h->thrust_min_n = fc_mul(&ar, fc_mul(&ar, p->mass_kg, p->gravity_mps2, FC_SHIFT(MASS, ACCEL, FORCE)),
+                             FC_C(0.1f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
+    h->thrust_max_n = p->altitude.thrust_max_n;
+    landing_defaults(p, airframe);
 }
 
-static bool horizontal_params_valid(const fc_horizontal_params *h)
+static bool failsafe_params_valid(const fc_failsafe_params *f)
 {
-    return fc_is_finite(h->kp_per_s2) && fc_is_finite(h->kd_per_s) && fc_is_finite(h->tilt_max_rad) &&
-           h->kp_per_s2 >= FC_INT(0, GAIN) && h->kd_per_s >= FC_INT(0, GAIN) &&
-           h->tilt_max_rad > FC_INT(0, ANGLE) && h->tilt_max_rad <= FC_C(1.2f, ANGLE);
+    return fc_is_finite(f->bad_input_hold_s) && f->bad_input_hold_s >= FC_INT(0, TIME) &&
+           f->bad_input_hold_s <= FC_INT(10, TIME) && fc_is_finite(f->descent_mps) &&
+           f->descent_mps > FC_INT(0, VEL) && f->descent_mps <= FC_INT(5, VEL) &&
+           fc_is_finite(f->speed_gain_per_s) && f->speed_gain_per_s > FC_INT(0, GAIN) &&
+           f->speed_gain_per_s <= FC_INT(50, GAIN) && fc_is_finite(f->max_s) && f->max_s > FC_INT(0, TIME) &&
+           f->max_s <= FC_INT(600, TIME);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -108,7 +207,19 @@ static void reset_loops(fc_controller *ctl)
     fc_altitude_control_reset(&ctl->altitude);
     fc_attitude_control_reset(&ctl->attitude);
     fc_allocation_reset(&ctl->allocation);
+    fc_position_control_reset(&ctl->position);
     ctl->last_saturation = 0u;
+    ctl->last_thrust_n = FC_INT(0, FORCE);
+}
+
+static void clear_failsafe(fc_controller *ctl)
+{
+    ctl->failsafe = false;
+    ctl->failsafe_s = FC_INT(0, TIME);
+    ctl->failsafe_vz_mps = FC_INT(0, VEL);
+    ctl->not_descending_s = FC_INT(0, TIME);
+    ctl->failsafe_landed = false;
+    ctl->good_input_s = FC_INT(0, TIME);
 }
 
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p)
@@ -119,6 +230,15 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     ctl->last_command = FC_COMMAND_DISARM;
     ctl->last_saturation = 0u;
     ctl->last_attitude = fc_quat_identity();
+    ctl->last_thrust_n = FC_INT(0, FORCE);
+    ctl->gear_height_m = FC_INT(0, LENGTH);
+    ctl->have_last_good = false;
+    ctl->bad_input_s = FC_INT(0, TIME);
+    clear_failsafe(ctl);
+    /* the heading cache starts at psi = 0 */
+    ctl->heading_rad = FC_INT(0, ANGLE);
+    ctl->heading_cos = FC_INT(1, UNIT);
+    ctl->heading_sin = FC_INT(0, UNIT);
     /* every module validates its own parameters; the first failure is the answer */
     fc_init_result result = FC_INIT_OK;
     const fc_init_result parts[] = {
@@ -127,6 +247,9 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
         fc_allocation_init(&ctl->allocation, &p->allocation),
         fc_altitude_reference_init(&ctl->reference, &p->reference),
         fc_altitude_control_init(&ctl->altitude, &p->altitude),
+        fc_position_control_init(&ctl->position, &p->horizontal),
+        fc_pad_motion_init(&ctl->pad_motion, &p->pad_motion),
+        fc_landing_init(&ctl->landing, &p->landing),
     };
     for (unsigned i = 0u; i < sizeof parts / sizeof parts[0]; i++) {
         if (parts[i] != FC_INIT_OK && result == FC_INIT_OK) {
@@ -134,19 +257,16 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
         }
     }
     const bool same_step = p->estimator.dt_s == p->dt_s && p->attitude.dt_s == p->dt_s &&
-                           p->reference.dt_s == p->dt_s && p->altitude.dt_s == p->dt_s;
+                           p->reference.dt_s == p->dt_s && p->altitude.dt_s == p->dt_s &&
+                           p->horizontal.dt_s == p->dt_s && p->pad_motion.dt_s == p->dt_s &&
+                           p->landing.dt_s == p->dt_s;
     if (result == FC_INIT_OK &&
-        (!same_step || !horizontal_params_valid(&p->horizontal) || !fc_is_finite(p->mass_kg) ||
+        (!same_step || !failsafe_params_valid(&p->failsafe) || !fc_is_finite(p->mass_kg) ||
          !(p->mass_kg > FC_INT(0, MASS)) || !fc_is_finite(p->gravity_mps2) ||
-         !(p->gravity_mps2 > FC_INT(0, ACCEL)))) {
+         !(p->gravity_mps2 > FC_INT(0, ACCEL)) || p->gravity_mps2 > FC_INT(100, ACCEL))) {
         result = FC_INIT_BAD_PARAM;
     }
-    if (result == FC_INIT_OK) {
-        /* |a| <= g tan(tilt_max): the tilt limit as a horizontal acceleration */
-        const fc_real tan_tilt = fc_div(&ctl->ar, fc_sin(&ctl->ar, p->horizontal.tilt_max_rad),
-                                        fc_cos(&ctl->ar, p->horizontal.tilt_max_rad), FC_DIV_SHIFT(UNIT, UNIT, RATIO));
-        ctl->horizontal_accel_max_mps2 = fc_mul(&ctl->ar, p->gravity_mps2, tan_tilt, FC_SHIFT(ACCEL, RATIO, ACCEL));
-    }
+    ctl->step_s = fc_convert(&ctl->ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     ctl->ready = result == FC_INIT_OK;
     return result;
 }
@@ -178,49 +298,24 @@ static fc_real tilt_cos_of(fc_arith *ar, fc_quat q)
     return fc_sub(ar, FC_INT(1, RATIO), fc_add(ar, xx_yy, xx_yy));
 }
 
-/* Horizontal PD -> wanted acceleration -> attitude setpoint. The acceleration
- * is saturated as a vector (direction kept, 2.6.4) to the tilt limit, turned
- * into the heading frame, and the thrust axis (a_x, a_y, g) gives pitch and roll
- * (ZYX): pitch = atan2(a_f.x, g), roll = atan2(-a_f.y, sqrt(a_f.x^2 + g^2)). */
-static fc_quat attitude_setpoint(fc_controller *ctl, const fc_controller_inputs *in)
-{
-    fc_arith *ar = &ctl->ar;
-    const fc_controller_params *p = &ctl->p;
-    const fc_vec3 position_error = fc_vec3_sub(ar, in->position_m, in->position_setpoint_m);
-    const fc_real ax = fc_neg(ar, fc_add(ar, fc_mul(ar, p->horizontal.kp_per_s2, position_error.x,
-                                                     FC_SHIFT(GAIN, LENGTH, ACCEL)),
-                                         fc_mul(ar, p->horizontal.kd_per_s, in->velocity_mps.x,
-                                                FC_SHIFT(GAIN, VEL, ACCEL))));
-    const fc_real ay = fc_neg(ar, fc_add(ar, fc_mul(ar, p->horizontal.kp_per_s2, position_error.y,
-                                                     FC_SHIFT(GAIN, LENGTH, ACCEL)),
-                                         fc_mul(ar, p->horizontal.kd_per_s, in->velocity_mps.y,
-                                                FC_SHIFT(GAIN, VEL, ACCEL))));
-    const fc_vec3 accel =
-        fc_vec3_clamp_norm(ar, fc_vec3_make(ax, ay, FC_INT(0, ACCEL)), ctl->horizontal_accel_max_mps2, FC_ACCEL_FRAC);
-    /* into the heading frame: R_z(-yaw) a */
-    const fc_real c = fc_cos(ar, in->yaw_setpoint_rad), s = fc_sin(ar, in->yaw_setpoint_rad);
-    const fc_real forward = fc_dot2(ar, c, accel.x, s, accel.y, FC_SHIFT(UNIT, ACCEL, ACCEL));
-    const fc_real left = fc_dot2(ar, fc_neg(ar, s), accel.x, c, accel.y, FC_SHIFT(UNIT, ACCEL, ACCEL));
-    const fc_real pitch = fc_atan2(ar, forward, p->gravity_mps2);
-    const fc_real roll = fc_atan2(ar, fc_neg(ar, left), fc_hypot3(ar, forward, p->gravity_mps2, FC_INT(0, ACCEL)));
-    return fc_quat_from_rpy(ar, roll, pitch, in->yaw_setpoint_rad);
-}
-
 static bool vec3_within(fc_vec3 v, fc_real limit)
 {
     return fc_within(v.x, limit) && fc_within(v.y, limit) && fc_within(v.z, limit);
 }
 
 /* The inputs are numbers inside the physical range (fc/status.h): beyond it
- * a finite value is as bad as a NaN. */
+ * a finite value is as bad as a NaN. The pad trajectory counts when tracking it. */
 static bool controller_inputs_usable(const fc_controller_inputs *in)
 {
     const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
     const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
+    const bool pad_ok = in->command != FC_COMMAND_TRACK_PAD ||
+                        (fc_within(in->pad.z_m, length) && fc_within(in->pad.vz_mps, speed) &&
+                         fc_within(in->pad.az_mps2, accel));
     return vec3_within(in->position_m, length) && vec3_within(in->velocity_mps, speed) &&
            vec3_within(in->position_setpoint_m, length) && fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
-           fc_within(in->pad.z_m, length) && fc_within(in->pad.vz_mps, speed) && fc_within(in->pad.az_mps2, accel);
+           pad_ok;
 }
 
 /* The bits of a module's status that the controller passes on. */
@@ -229,10 +324,8 @@ static fc_step_status passed_on(fc_step_status module_status)
     return module_status & (FC_STEP_BAD_INPUT | FC_STEP_OUTPUT_LIMITED | FC_STEP_ARITH_SATURATED | FC_STEP_DEGRADED);
 }
 
-fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs *in, fc_controller_outputs *out)
+static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
 {
-    fc_controller_telemetry *tm = &out->telemetry;
-    motors_off(ctl, out);
     tm->attitude = ctl->last_attitude;
     tm->attitude_setpoint = ctl->last_attitude;
     tm->rate_radps = fc_vec3_zero();
@@ -243,51 +336,296 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     tm->allocation_saturation = 0u;
     tm->estimator_status = tm->altitude_status = tm->attitude_status = tm->allocation_status = FC_STEP_OK;
     tm->altitude = (fc_altitude_control_output){0};
+    tm->pad = (fc_pad_motion_estimate){0};
+    tm->gear_height_m = ctl->gear_height_m;
+    tm->landing_state = ctl->ready ? ctl->landing.state : FC_LANDING_IDLE;
+    tm->landing_reason = ctl->ready ? ctl->landing.reason : FC_REASON_NONE;
+    tm->landing_changed = false;
+    tm->touchdown_window = false;
+    tm->aborts = ctl->ready ? ctl->landing.aborts : 0u;
+}
+
+/* The pad as the range finder sees it: a sample of its surface height
+ * z - range k_h (a level pad under the vehicle), and the gear's height above it. */
+static fc_step_status observe_pad(fc_controller *ctl, const fc_controller_inputs *in, bool position_ok,
+                                  fc_real tilt_cos, fc_pad_motion_estimate *estimate, bool *range_fresh)
+{
+    fc_arith *ar = &ctl->ar;
+    const bool range_ok = fc_within(in->range_m, FC_INT(100, LENGTH)) && in->range_m >= FC_INT(0, LENGTH);
+    *range_fresh = in->range_fresh && range_ok;
+    fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
+    fc_step_status status = (in->range_fresh && !range_ok) ? FC_STEP_BAD_INPUT : FC_STEP_OK;
+    if (*range_fresh) {
+        const fc_real vertical_range = fc_mul(ar, in->range_m, tilt_cos, FC_SHIFT(LENGTH, RATIO, LENGTH));
+        ctl->gear_height_m = fc_sub(ar, vertical_range, ctl->p.landing.gear_height_m);
+        sample.height_m = fc_sub(ar, in->position_m.z, vertical_range);
+        sample.fresh = position_ok;
+    }
+    return status | passed_on(fc_pad_motion_step(&ctl->pad_motion, &sample, estimate));
+}
+
+/* The heading's (cos, sin), recomputed only when the setpoint changes. */
+static void update_heading(fc_controller *ctl, fc_real yaw_rad)
+{
+    if (yaw_rad != ctl->heading_rad) {
+        ctl->heading_rad = yaw_rad;
+        ctl->heading_cos = fc_cos(&ctl->ar, yaw_rad);
+        ctl->heading_sin = fc_sin(&ctl->ar, yaw_rad);
+    }
+}
+
+/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h). */
+static fc_step_status horizontal_step(fc_controller *ctl, const fc_controller_inputs *in, fc_quat *attitude_sp)
+{
+    update_heading(ctl, in->yaw_setpoint_rad);
+    const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
+                                           fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
+                                           ctl->heading_cos,   ctl->heading_sin};
+    fc_position_control_output pout;
+    const fc_step_status status = fc_position_control_step(&ctl->position, &pin, &pout);
+    *attitude_sp = pout.attitude_sp;
+    return passed_on(status);
+}
+
+/* Level at the heading: the shortest rotation about z, [cos psi/2, 0, 0, sin psi/2]
+ * from (cos psi, sin psi) by the half-angle formula, normalised. */
+static fc_quat level_attitude(fc_controller *ctl, fc_real yaw_rad)
+{
+    update_heading(ctl, fc_within(yaw_rad, FC_C(7.0f, ANGLE)) ? yaw_rad : FC_INT(0, ANGLE));
+    fc_arith *ar = &ctl->ar;
+    fc_quat q;
+    if (ctl->heading_cos >= FC_INT(0, UNIT)) {
+        q = (fc_quat){fc_add(ar, FC_INT(1, UNIT), ctl->heading_cos), FC_INT(0, UNIT), FC_INT(0, UNIT),
+                      ctl->heading_sin};
+    } else {
+        /* the same rotation without the cancellation near psi = pi */
+        q = (fc_quat){ctl->heading_sin, FC_INT(0, UNIT), FC_INT(0, UNIT), fc_sub(ar, FC_INT(1, UNIT), ctl->heading_cos)};
+    }
+    bool ok = false;
+    const fc_quat n = fc_quat_normalize(ar, q, &ok);
+    return ok ? n : fc_quat_identity();
+}
+
+/* Failsafe: a vertical-speed loop on the speed integrated from the
+ * accelerometer, T = m (g + k_v (v_fs - v)) / k_h, and the motors stop when the
+ * vehicle has stopped descending for 1 s (it is on the ground) or after max_s. */
+static fc_real failsafe_thrust(fc_controller *ctl, const fc_controller_inputs *in, fc_quat attitude,
+                               fc_real tilt_cos, fc_step_status estimator_status)
+{
+    fc_arith *ar = &ctl->ar;
+    const fc_failsafe_params *f = &ctl->p.failsafe;
+    if ((estimator_status & FC_STEP_BAD_INPUT) == 0u) {
+        /* a_z = (R f)_z - g */
+        const fc_vec3 specific_force_world = fc_quat_rotate(ar, attitude, in->imu.accel_mps2);
+        const fc_real accel_z = fc_sub(ar, specific_force_world.z, ctl->p.gravity_mps2);
+        ctl->failsafe_vz_mps =
+            fc_clamp(fc_add(ar, ctl->failsafe_vz_mps, fc_mul(ar, accel_z, ctl->p.dt_s, FC_SHIFT(ACCEL, DT, VEL))),
+                     FC_INT(-20, VEL), FC_INT(20, VEL));
+    }
+    ctl->failsafe_s = fc_min(fc_add(ar, ctl->failsafe_s, ctl->step_s), FC_INT(600, TIME));
+    /* not descending: slower than a third of the failsafe rate */
+    const bool descending = ctl->failsafe_vz_mps < fc_neg(ar, fc_mul(ar, f->descent_mps, FC_C(0.33f, UNIT),
+                                                                      FC_SHIFT(VEL, UNIT, VEL)));
+    ctl->not_descending_s = descending ? FC_INT(0, TIME) : fc_add(ar, ctl->not_descending_s, ctl->step_s);
+    if ((ctl->failsafe_s > FC_C(1.5f, TIME) && ctl->not_descending_s > FC_INT(1, TIME)) || ctl->failsafe_s >= f->max_s) {
+        ctl->failsafe_landed = true;
+    }
+    /* the mass: the adapted Theta of the altitude law (its nominal when not adaptive) */
+    const fc_real mass = fc_clamp(ctl->altitude.theta_kg, ctl->p.altitude.mass_min_kg, ctl->p.altitude.mass_max_kg);
+    const fc_real speed_error = fc_sub(ar, fc_neg(ar, f->descent_mps), ctl->failsafe_vz_mps);
+    const fc_real accel = fc_add(ar, ctl->p.gravity_mps2,
+                                 fc_mul(ar, f->speed_gain_per_s, speed_error, FC_SHIFT(GAIN, VEL, ACCEL)));
+    const fc_real vertical = fc_mul(ar, mass, accel, FC_SHIFT(MASS, ACCEL, FORCE));
+    const fc_real k_h = fc_max(tilt_cos, FC_C(0.5f, RATIO));
+    const fc_real thrust = fc_div(ar, vertical, k_h, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
+    return fc_clamp(thrust, ctl->p.altitude.thrust_min_n, ctl->p.altitude.thrust_max_n);
+}
+
+/* The bad-input bookkeeping: the inputs to fly on (the last good ones for a
+ * while), and whether the failsafe takes over. */
+static const fc_controller_inputs *inputs_to_use(fc_controller *ctl, const fc_controller_inputs *in, bool inputs_ok,
+                                                 bool armed)
+{
+    fc_arith *ar = &ctl->ar;
+    if (inputs_ok) {
+        ctl->last_good = *in;
+        ctl->have_last_good = true;
+        ctl->bad_input_s = FC_INT(0, TIME);
+        if (ctl->failsafe) {
+            ctl->good_input_s = fc_add(ar, ctl->good_input_s, ctl->step_s);
+            if (ctl->good_input_s > ctl->p.failsafe.bad_input_hold_s && !ctl->failsafe_landed) {
+                /* back: the mission starts again from HOLD (tracking from its reference) */
+                clear_failsafe(ctl);
+                ctl->last_command = FC_COMMAND_DISARM;
+                fc_landing_force(&ctl->landing, FC_LANDING_IDLE, FC_REASON_INPUTS_BACK);
+            }
+        }
+        return in;
+    }
+    ctl->good_input_s = FC_INT(0, TIME);
+    ctl->bad_input_s = fc_min(fc_add(ar, ctl->bad_input_s, ctl->step_s), FC_INT(600, TIME));
+    if (armed && !ctl->failsafe && (ctl->bad_input_s > ctl->p.failsafe.bad_input_hold_s || !ctl->have_last_good)) {
+        ctl->failsafe = true;
+        ctl->failsafe_vz_mps = ctl->have_last_good ? ctl->last_good.velocity_mps.z : FC_INT(0, VEL);
+        fc_landing_force(&ctl->landing, FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST);
+    }
+    if (ctl->have_last_good) {
+        /* the sensors' values from the last good step; the command and IMU of this one */
+        ctl->last_good.imu = in->imu;
+        ctl->last_good.attitude_external = in->attitude_external;
+        ctl->last_good.range_m = in->range_m;
+        ctl->last_good.range_fresh = in->range_fresh;
+        ctl->last_good.command = in->command;
+        return &ctl->last_good;
+    }
+    return in;
+}
+
+static fc_landing_request landing_request_of(fc_controller_command command)
+{
+    switch (command) {
+    case FC_COMMAND_HOLD:
+        return FC_LANDING_REQUEST_HOLD;
+    case FC_COMMAND_LAND:
+        return FC_LANDING_REQUEST_LAND;
+    case FC_COMMAND_DISARM:
+    case FC_COMMAND_TRACK_PAD:
+    case FC_COMMAND_COUNT:
+    default:
+        return FC_LANDING_REQUEST_NONE;
+    }
+}
+
+static bool command_arms(fc_controller_command command)
+{
+    return command == FC_COMMAND_TRACK_PAD || command == FC_COMMAND_HOLD || command == FC_COMMAND_LAND;
+}
+
+/* The horizontal error to the pad's centre, |p_xy - sp_xy|. */
+static fc_real horizontal_error_m(fc_arith *ar, const fc_controller_inputs *in)
+{
+    const fc_real dx = fc_sub(ar, in->position_m.x, in->position_setpoint_m.x);
+    const fc_real dy = fc_sub(ar, in->position_m.y, in->position_setpoint_m.y);
+    return fc_hypot3(ar, dx, dy, FC_INT(0, LENGTH));
+}
+
+static void landing_telemetry(const fc_controller *ctl, fc_controller_telemetry *tm, fc_landing_state state_before,
+                              fc_landing_reason reason_before)
+{
+    tm->landing_state = ctl->landing.state;
+    tm->landing_reason = ctl->landing.reason;
+    tm->landing_changed = ctl->landing.state != state_before || ctl->landing.reason != reason_before;
+    tm->aborts = ctl->landing.aborts;
+}
+
+fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs *in_raw, fc_controller_outputs *out)
+{
+    fc_controller_telemetry *tm = &out->telemetry;
+    motors_off(ctl, out);
+    default_telemetry(ctl, tm);
     if (!ctl->ready) {
         return FC_STEP_NOT_READY;
     }
     fc_arith *ar = &ctl->ar;
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
+    const fc_landing_state state_before = ctl->landing.state;
+    const fc_landing_reason reason_before = ctl->landing.reason;
 
     /* attitude: the filter runs on every step, armed or not, to stay aligned */
     fc_attitude_estimate estimate;
-    tm->estimator_status = fc_attitude_estimator_step(&ctl->estimator, &in->imu, &estimate);
+    tm->estimator_status = fc_attitude_estimator_step(&ctl->estimator, &in_raw->imu, &estimate);
     status |= passed_on(tm->estimator_status);
-    const fc_quat attitude = attitude_in_use(ctl, in, &estimate, &status);
+    const fc_quat attitude = attitude_in_use(ctl, in_raw, &estimate, &status);
     ctl->last_attitude = attitude;
     tm->attitude = attitude;
+    tm->attitude_setpoint = attitude;
     tm->rate_radps = estimate.rate_radps;
     tm->tilt_cos = tilt_cos_of(ar, attitude);
 
-    const bool inputs_ok = controller_inputs_usable(in);
+    const bool command_valid = command_arms(in_raw->command);
+    const bool inputs_ok = controller_inputs_usable(in_raw);
     if (!inputs_ok) {
         status |= FC_STEP_BAD_INPUT;
     }
-    if (in->command != FC_COMMAND_TRACK_PAD || !inputs_ok) {
-        /* disarmed, or nothing to fly on: motors off, loops reset */
+    const fc_controller_inputs *in = inputs_to_use(ctl, in_raw, inputs_ok, command_valid);
+
+    /* the pad, learnt on every step from the range finder */
+    bool range_fresh = false;
+    status |= observe_pad(ctl, in_raw, inputs_ok, tm->tilt_cos, &tm->pad, &range_fresh);
+    tm->gear_height_m = ctl->gear_height_m;
+
+    if (!command_valid || (ctl->failsafe && ctl->failsafe_landed)) {
+        /* disarmed, or the failsafe ended on the ground: motors off, loops reset */
         if (ctl->last_command != FC_COMMAND_DISARM) {
             reset_loops(ctl);
         }
+        if (!command_valid) {
+            clear_failsafe(ctl);
+            fc_landing_reset(&ctl->landing);
+        } else {
+            fc_landing_force(&ctl->landing, FC_LANDING_LANDED, FC_REASON_FAILSAFE_LANDED);
+            status |= FC_STEP_DEGRADED;
+        }
         ctl->last_command = FC_COMMAND_DISARM;
+        landing_telemetry(ctl, tm, state_before, reason_before);
         return status;
     }
-    if (ctl->last_command != FC_COMMAND_TRACK_PAD) {
-        /* a new approach: the reference (3.6) starts again from z_r_init */
-        reset_loops(ctl);
-        fc_altitude_reference_restart(&ctl->reference, ctl->p.reference.offset_init_m);
+    if (ctl->last_command != in->command && !ctl->failsafe) {
+        const bool from_mission = ctl->last_command == FC_COMMAND_HOLD || ctl->last_command == FC_COMMAND_LAND;
+        const bool to_mission = in->command == FC_COMMAND_HOLD || in->command == FC_COMMAND_LAND;
+        if (!(from_mission && to_mission)) {
+            /* a new task: loops start clean; (3.6) starts again from z_r_init */
+            reset_loops(ctl);
+            fc_altitude_reference_restart(&ctl->reference, ctl->p.reference.offset_init_m);
+            fc_landing_reset(&ctl->landing);
+        }
     }
-    ctl->last_command = FC_COMMAND_TRACK_PAD;
+    ctl->last_command = in->command;
 
-    /* altitude: reference (3.6) around the pad, then the altitude law */
-    status |= passed_on(fc_altitude_reference_step(&ctl->reference, &in->pad, &tm->reference));
-    const fc_altitude_control_input altitude_in = {in->position_m.z, in->velocity_mps.z, tm->reference,
-                                                   tm->tilt_cos, ctl->last_saturation};
-    tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
-    status |= passed_on(tm->altitude_status);
+    /* the vertical: what the altitude law tracks, or the ramp, or the failsafe */
+    bool fly_reference = true;
+    bool motors_on = true;
+    fc_real thrust_n = FC_INT(0, FORCE);
+    bool level = false;
+    if (ctl->failsafe) {
+        thrust_n = failsafe_thrust(ctl, in_raw, attitude, tm->tilt_cos, tm->estimator_status);
+        fly_reference = false;
+        level = true;
+        status |= FC_STEP_DEGRADED;
+    } else if (in->command == FC_COMMAND_TRACK_PAD) {
+        status |= passed_on(fc_altitude_reference_step(&ctl->reference, &in->pad, &tm->reference));
+    } else {
+        const fc_landing_input lin = {landing_request_of(in->command), in->position_m.z, horizontal_error_m(ar, in),
+                                      tm->tilt_cos, ctl->gear_height_m, range_fresh, ctl->last_thrust_n, &tm->pad};
+        fc_landing_output lout;
+        status |= passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
+        tm->reference = lout.reference;
+        tm->touchdown_window = lout.touchdown_window;
+        fly_reference = lout.fly_reference;
+        motors_on = lout.motors_on;
+        thrust_n = lout.ramp_thrust_n;
+        level = !fly_reference;
+    }
+    landing_telemetry(ctl, tm, state_before, reason_before);
+    if (!motors_on) {
+        reset_loops(ctl);
+        return status;
+    }
+    if (fly_reference) {
+        const fc_altitude_control_input altitude_in = {in->position_m.z, in->velocity_mps.z, tm->reference,
+                                                       tm->tilt_cos, ctl->last_saturation};
+        tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
+        status |= passed_on(tm->altitude_status);
+        thrust_n = tm->altitude.thrust_n;
+    }
 
-    /* attitude: setpoint from the horizontal loop, then the moments */
-    tm->attitude_setpoint = attitude_setpoint(ctl, in);
+    /* attitude: setpoint from the horizontal loop (level in the failsafe and the ramp), then the moments */
+    if (level) {
+        tm->attitude_setpoint = level_attitude(ctl, in->yaw_setpoint_rad);
+    } else {
+        status |= horizontal_step(ctl, in, &tm->attitude_setpoint);
+    }
     const fc_attitude_control_input attitude_in = {attitude, tm->attitude_setpoint, estimate.rate_radps,
                                                    fc_vec3_zero(), ctl->last_saturation};
     fc_attitude_control_output attitude_out;
@@ -295,11 +633,12 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     status |= passed_on(tm->attitude_status);
 
     /* allocation */
-    const fc_allocation_demand demand = {tm->altitude.thrust_n, attitude_out.moment_nm};
+    const fc_allocation_demand demand = {thrust_n, attitude_out.moment_nm};
     fc_allocation_output allocation_out;
     tm->allocation_status = fc_allocation_step(&ctl->allocation, &demand, &allocation_out);
     status |= passed_on(tm->allocation_status);
     ctl->last_saturation = allocation_out.saturation;
+    ctl->last_thrust_n = thrust_n;
     tm->allocation_saturation = allocation_out.saturation;
 
     for (int i = 0; i < FC_MAX_ROTORS; i++) {

@@ -88,8 +88,8 @@ bool cf_tuning_prepare(cf_tuning *t)
         t->tau_zr = CF_DEFAULT_TAU_ZR_S;
         t->z_init = R(p.reference.offset_init_m, LENGTH);
         t->z_bias = R(p.reference.bias_m, LENGTH);
-        t->h_kp = R(p.horizontal.kp_per_s2, GAIN);
-        t->h_kd = R(p.horizontal.kd_per_s, GAIN);
+        t->h_kp = R(p.horizontal.kp_per_s2, RATIO);
+        t->h_kd = R(p.horizontal.kd_per_s, RATIO);
     }
     t->loaded_variant = t->variant;
     return true;
@@ -126,8 +126,8 @@ bool cf_params_from_tuning(const cf_tuning *t, float offset_m, fc_controller_par
     p->reference.tau_s = tuned(p->reference.tau_s, t->tau_zr, FC_TIME_FRAC, &finite);
     p->reference.offset_init_m = tuned(p->reference.offset_init_m, offset_m, FC_LENGTH_FRAC, &finite);
     p->reference.bias_m = tuned(p->reference.bias_m, t->z_bias, FC_LENGTH_FRAC, &finite);
-    p->horizontal.kp_per_s2 = tuned(p->horizontal.kp_per_s2, t->h_kp, FC_GAIN_FRAC, &finite);
-    p->horizontal.kd_per_s = tuned(p->horizontal.kd_per_s, t->h_kd, FC_GAIN_FRAC, &finite);
+    p->horizontal.kp_per_s2 = tuned(p->horizontal.kp_per_s2, t->h_kp, FC_RATIO_FRAC, &finite);
+    p->horizontal.kd_per_s = tuned(p->horizontal.kd_per_s, t->h_kd, FC_RATIO_FRAC, &finite);
     return finite;
 }
 

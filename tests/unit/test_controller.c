@@ -114,7 +114,8 @@ static void test_bad_input_is_safe(void **state)
 #if !FC_NUMERIC_FIXED
     in.position_m.z = NAN;
     assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_BAD_INPUT) != 0u);
-    assert_false(out.motors_on);
+    assert_true(out.motors_on); /* flying on the last good inputs */
+    assert_int_equal(out.telemetry.landing_state, FC_LANDING_IDLE);
     in = level_at_rest(1.0);
     in.imu.gyro_radps.x = INFINITY;
     const fc_step_status s = fc_controller_step(&ctl, &in, &out);
@@ -131,6 +132,66 @@ static void test_bad_input_is_safe(void **state)
         assert_true(out.rotor_speed[i] >= 0 && out.rotor_speed[i] <= FC_INT(1, UNIT));
     }
 #endif
+}
+
+/* Inputs bad for longer than failsafe.bad_input_hold_s: FAILSAFE (level, a
+ * descent below hover thrust); a vehicle that does not descend (here: the IMU
+ * says at rest, as on the ground) has its motors stopped; good inputs again
+ * and a new command fly again. */
+static void test_failsafe_when_inputs_stay_bad(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(1.0);
+    fc_controller_outputs out;
+    for (int k = 0; k < 500; k++) {
+        (void)fc_controller_step(&ctl, &in, &out);
+    }
+    const double hover_n = 4.0 * 9.81;
+    in.velocity_mps.x = F(1000, VEL); /* beyond the physical range: bad (saturates in fixed) */
+    bool entered = false, stopped = false;
+    double failsafe_thrust_n = 0.0;
+    for (int k = 0; k < 2000; k++) { /* 4 s */
+        const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+        assert_true((st & FC_STEP_BAD_INPUT) != 0u);
+        if (k < 240) {
+            assert_true(out.motors_on); /* 0.48 s on the last good inputs */
+            assert_int_not_equal(out.telemetry.landing_state, FC_LANDING_FAILSAFE);
+        }
+        if (out.telemetry.landing_state == FC_LANDING_FAILSAFE && !entered) {
+            entered = true;
+            assert_int_equal(out.telemetry.landing_reason, FC_REASON_INPUTS_LOST);
+            assert_true(out.telemetry.landing_changed);
+            assert_true((st & FC_STEP_DEGRADED) != 0u);
+        }
+        if (entered && out.motors_on) {
+            failsafe_thrust_n = D(out.thrust_n, FORCE);
+            /* level setpoint */
+            assert_true(fabs(D(out.telemetry.attitude_setpoint.x, UNIT)) < 1e-6);
+            assert_true(fabs(D(out.telemetry.attitude_setpoint.y, UNIT)) < 1e-6);
+        }
+        if (entered && !out.motors_on) {
+            stopped = true;
+            assert_int_equal(out.telemetry.landing_state, FC_LANDING_LANDED);
+            assert_int_equal(out.telemetry.landing_reason, FC_REASON_FAILSAFE_LANDED);
+            break;
+        }
+    }
+    print_message("failsafe thrust %.2f N (hover %.2f N)\n", failsafe_thrust_n, hover_n);
+    assert_true(entered && stopped);
+    assert_true(failsafe_thrust_n < hover_n && failsafe_thrust_n > 0.5 * hover_n);
+    /* good inputs, disarm, arm again: flying */
+    in = level_at_rest(1.0);
+    in.command = FC_COMMAND_DISARM;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_false(out.motors_on);
+    in.command = FC_COMMAND_TRACK_PAD;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true(out.motors_on);
+    assert_int_equal(out.telemetry.landing_state, FC_LANDING_IDLE);
 }
 
 /* ---- a small 6-DOF check of the composition --------------------------- */
@@ -220,6 +281,7 @@ int main(void)
         cmocka_unit_test(test_disarmed_motors_off),
         cmocka_unit_test(test_bad_params_not_ready),
         cmocka_unit_test(test_bad_input_is_safe),
+        cmocka_unit_test(test_failsafe_when_inputs_stay_bad),
         cmocka_unit_test(test_hexa_tracks_the_4_4_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

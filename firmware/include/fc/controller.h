@@ -6,12 +6,24 @@
  *
  * One step (at the dt fixed at init):
  *   attitude   complementary filter on the IMU (2.5), or the platform's own estimate
- *   reference  z_r (3.6) around the pad's trajectory
+ *   pad        the pad's height from the range finder (z - range k_h) learnt and
+ *              predicted (fc/pad_motion.h)
+ *   mission    TRACK_PAD: z_r (3.6) around the pad trajectory the platform gives
+ *              (the 4.4 task); HOLD / LAND: the landing manager (fc/landing.h)
+ *              chooses the reference, the thrust ramp and when the motors stop
  *   altitude   the altitude law (SSC or a baseline) -> body thrust, tilt compensated
- *   horizontal PD on the position error -> wanted acceleration -> attitude setpoint
- *              (F = m (a_des - g) (2.11), its direction and the heading give q_d)
+ *   horizontal position PID -> wanted acceleration -> F = m (a_des - g) (2.11),
+ *              its direction and the heading give the attitude setpoint
+ *              (fc/position_control.h, no trigonometry per step)
  *   attitude   quaternion attitude control (2.9) -> body moments
  *   allocation thrust and moments -> normalised rotor speeds (2.2)-(2.6)
+ * Bad input: position, velocity, setpoints (and the pad trajectory when
+ * tracking it) that are not numbers inside the physical range are replaced by
+ * the last good ones for failsafe.bad_input_hold_s; beyond that the step
+ * falls back to FAILSAFE: level attitude, a descent at failsafe.descent_mps
+ * on the vertical speed integrated from the accelerometer, motors off once it
+ * stops descending (on the ground) or after failsafe.max_s. The landing state
+ * says so (FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST), FC_STEP_DEGRADED is set.
  * Frames: world ENU (z up), body FLU; q is body -> world.
  */
 #ifndef FC_CONTROLLER_H
@@ -22,6 +34,9 @@
 #include "fc/altitude_reference.h"
 #include "fc/attitude_control.h"
 #include "fc/attitude_estimator.h"
+#include "fc/landing.h"
+#include "fc/pad_motion.h"
+#include "fc/position_control.h"
 #include "fc/quat.h"
 #include "fc/status.h"
 
@@ -35,14 +50,17 @@ typedef enum fc_airframe {
 typedef enum fc_controller_command {
     FC_COMMAND_DISARM = 0,   /* motors off, states reset */
     FC_COMMAND_TRACK_PAD,    /* follow the reference (3.6) over the pad: the 4.4 task */
+    FC_COMMAND_HOLD,         /* landing mission: hold above the pad and learn it; aborts a descent */
+    FC_COMMAND_LAND,         /* landing mission: hold, learn, descend, touch down, motors off */
     FC_COMMAND_COUNT
 } fc_controller_command;
 
-typedef struct fc_horizontal_params {
-    fc_real kp_per_s2;       /* GAIN: wanted acceleration per m of position error */
-    fc_real kd_per_s;        /* GAIN: per m/s of velocity error */
-    fc_real tilt_max_rad;    /* ANGLE: the attitude setpoint's tilt limit */
-} fc_horizontal_params;
+typedef struct fc_failsafe_params {
+    fc_real bad_input_hold_s;   /* TIME: bad inputs replaced by the last good ones this long, [0, 10] */
+    fc_real descent_mps;        /* VEL: the failsafe's descent rate, (0, 5] */
+    fc_real speed_gain_per_s;   /* GAIN: vertical-speed loop gain, (0, 50] */
+    fc_real max_s;              /* TIME: motors off after this long in failsafe, (0, 600] */
+} fc_failsafe_params;
 
 typedef struct fc_controller_params {
     fc_real dt_s;                       /* DT: the fixed step of everything below */
@@ -54,7 +72,10 @@ typedef struct fc_controller_params {
     fc_allocation_params allocation;
     fc_altitude_reference_params reference;
     fc_altitude_control_params altitude;
-    fc_horizontal_params horizontal;
+    fc_position_control_params horizontal;
+    fc_pad_motion_params pad_motion;
+    fc_landing_params landing;
+    fc_failsafe_params failsafe;
 } fc_controller_params;
 
 typedef struct fc_controller_inputs {
@@ -62,8 +83,10 @@ typedef struct fc_controller_inputs {
     fc_quat attitude_external;          /* used with use_external_attitude */
     fc_vec3 position_m;                 /* LENGTH: world ENU, centre of mass */
     fc_vec3 velocity_mps;               /* VEL: world */
-    fc_vertical_trajectory pad;         /* the pad's height and its derivatives */
-    fc_vec3 position_setpoint_m;        /* LENGTH: x, y held over the pad (z unused) */
+    fc_vertical_trajectory pad;         /* TRACK_PAD: the pad's height and its derivatives */
+    fc_real range_m;                    /* LENGTH: range finder, CG to the pad along body -z */
+    bool range_fresh;                   /* range_m is a new sample this step */
+    fc_vec3 position_setpoint_m;        /* LENGTH: x, y held over the pad (the pad's centre; z unused) */
     fc_real yaw_setpoint_rad;           /* ANGLE */
     fc_controller_command command;
 } fc_controller_inputs;
@@ -77,6 +100,13 @@ typedef struct fc_controller_telemetry {
     fc_real tilt_cos;                   /* RATIO: k_h */
     uint8_t allocation_saturation;      /* FC_SAT_* */
     fc_step_status estimator_status, altitude_status, attitude_status, allocation_status;
+    fc_pad_motion_estimate pad;         /* what the vehicle knows of the pad */
+    fc_real gear_height_m;              /* LENGTH: gear above the pad from the range finder (last sample) */
+    fc_landing_state landing_state;
+    fc_landing_reason landing_reason;   /* of the newest transition */
+    bool landing_changed;               /* a transition at this step */
+    bool touchdown_window;              /* the landing plan expects contact from now on */
+    uint8_t aborts;
 } fc_controller_telemetry;
 
 typedef struct fc_controller_outputs {
@@ -95,10 +125,27 @@ typedef struct fc_controller {
     fc_allocation allocation;
     fc_altitude_reference reference;
     fc_altitude_control altitude;
+    fc_position_control position;
+    fc_pad_motion pad_motion;
+    fc_landing landing;
     fc_controller_command last_command;
     uint8_t last_saturation;
     fc_quat last_attitude;
-    fc_real horizontal_accel_max_mps2;  /* ACCEL: g tan(tilt_max) */
+    fc_real last_thrust_n;              /* FORCE */
+    fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
+    /* bad input */
+    fc_controller_inputs last_good;     /* the newest inputs that were usable */
+    bool have_last_good;
+    fc_real bad_input_s;                /* TIME: how long the inputs have been bad */
+    fc_real good_input_s;               /* TIME: how long good again (in failsafe) */
+    bool failsafe;
+    fc_real failsafe_s;                 /* TIME */
+    fc_real failsafe_vz_mps;            /* VEL: vertical speed integrated from the accelerometer */
+    fc_real not_descending_s;           /* TIME */
+    bool failsafe_landed;
+    /* the heading of the setpoint, kept between steps (trigonometry only when it changes) */
+    fc_real heading_rad, heading_cos, heading_sin;
+    fc_real step_s;                     /* TIME: dt */
     bool ready;
     fc_arith ar;
 } fc_controller;

@@ -470,7 +470,7 @@ static void test_tuning_overrides_and_variants(void **state)
     near_fmt(D(p.altitude.theta0_kg, MASS), 0.031, FC_MASS_FRAC, 1);
     near_fmt(D(p.reference.bias_m, LENGTH), 0.3, FC_LENGTH_FRAC, 1);
     near_fmt(D(p.reference.offset_init_m, LENGTH), 0.7, FC_LENGTH_FRAC, 1);
-    near_fmt(D(p.horizontal.kp_per_s2, GAIN), 1.5, FC_GAIN_FRAC, 1);
+    near_fmt(D(p.horizontal.kp_per_s2, RATIO), 1.5, FC_RATIO_FRAC, 1);
     /* a new variant brings its own law gains; the rest stays as tuned */
     t.variant = (uint8_t)FC_ALT_VARIANT_SSC;
     assert_true(cf_tuning_prepare(&t));

@@ -1,0 +1,155 @@
+/*
+ * fc/landing.h - the landing mission: a small explicit state machine
+ * (SPEC "landing mission", dissertation 1.1 and 2.6.7), stepped by
+ * fc_controller_step. It decides; the altitude law flies what it decides.
+ *
+ *   IDLE ----LAND/HOLD----> HOLD ---settled---> OBSERVE ---pad learnt---> DESCEND
+ *   DESCEND ---contact seen---> TOUCHDOWN ---confirmed---> DISARM (thrust ramp) --> LANDED
+ *   OBSERVE/DESCEND/TOUCHDOWN --(a reason below)--> ABORT ---back at the hold point---> HOLD
+ *
+ * HOLD / OBSERVE: the reference (3.6) takes the gear to hold_height above
+ *   the pad's mean level (learnt), clear of its heave: z_d = c, z_r_bias =
+ *   gear + hold, the offset starting from where the vehicle is. OBSERVE is
+ *   HOLD while the pad estimator's confidence is not yet enough.
+ * DESCEND: (3.6) around the pad's estimated motion (z_d, z_d', z_d'' now):
+ *   z_r = z_d + (gear - dip) + z_0 e^(-t/tau_d). The reference follows the
+ *   pad's speed, so the gear meets the surface with a relative speed near
+ *   dip / tau_d when the offset has decayed to dip: the planned touchdown. The
+ *   touchdown window opens when the reference's gear is window_m above the
+ *   surface (touchdown_window in the output): no contact is planned before.
+ * TOUCHDOWN: the gear height from the range finder (range k_h - gear) is below
+ *   contact_height_m; confirmed after contact_confirm_s of it, else back to DESCEND.
+ * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
+ *   LANDED, motors off.
+ * ABORT (from OBSERVE only for a lost range; from DESCEND and TOUCHDOWN for
+ *   any): horizontal error, tilt, prediction confidence, pad acceleration, a
+ *   range finder gone quiet, or the operator (request HOLD). The reference
+ *   climbs back to the hold point; after abort_retries_max aborts the mission
+ *   stays in HOLD.
+ * Every transition carries a reason (fc_landing_reason) for the platform's log.
+ */
+#ifndef FC_LANDING_H
+#define FC_LANDING_H
+
+#include "fc/altitude_reference.h"
+#include "fc/pad_motion.h"
+#include "fc/status.h"
+
+typedef enum fc_landing_state {
+    FC_LANDING_IDLE = 0,  /* not flying a landing (disarmed, or tracking the pad) */
+    FC_LANDING_HOLD,      /* going to / holding the hold point */
+    FC_LANDING_OBSERVE,   /* at the hold point, learning the pad */
+    FC_LANDING_DESCEND,
+    FC_LANDING_TOUCHDOWN, /* contact seen, being confirmed */
+    FC_LANDING_DISARM,    /* thrust ramp-down */
+    FC_LANDING_LANDED,    /* motors off on the pad */
+    FC_LANDING_ABORT,     /* climbing back to the hold point */
+    FC_LANDING_FAILSAFE,  /* inputs lost: level, controlled descent (set by fc_controller) */
+    FC_LANDING_STATE_COUNT
+} fc_landing_state;
+
+typedef enum fc_landing_reason {
+    FC_REASON_NONE = 0,
+    FC_REASON_COMMANDED,            /* the request changed (LAND, HOLD, or disarm) */
+    FC_REASON_HOLD_SETTLED,         /* at the hold point */
+    FC_REASON_PAD_LEARNT,           /* confidence, accelerations and position allow a descent */
+    FC_REASON_CONTACT,              /* the range finder sees the gear on the pad */
+    FC_REASON_CONTACT_LOST,         /* ... and then not */
+    FC_REASON_CONTACT_CONFIRMED,
+    FC_REASON_RAMP_DONE,            /* motors off */
+    FC_REASON_ABORT_COMMANDED,      /* HOLD requested during a descent */
+    FC_REASON_ABORT_HORIZONTAL,     /* horizontal error beyond its limit */
+    FC_REASON_ABORT_TILT,           /* tilt beyond its limit */
+    FC_REASON_ABORT_CONFIDENCE,     /* the pad's prediction is no longer trusted */
+    FC_REASON_ABORT_PAD_ACCEL,      /* the pad accelerates too hard for a safe contact */
+    FC_REASON_ABORT_RANGE_LOST,     /* no range sample for range_timeout_s */
+    FC_REASON_ABORT_CLIMB_DONE,     /* back at the hold point after an abort */
+    FC_REASON_RETRIES_EXHAUSTED,    /* too many aborts: holding */
+    FC_REASON_INPUTS_LOST,          /* position or velocity bad too long: failsafe (fc_controller) */
+    FC_REASON_INPUTS_BACK,          /* good again: the mission resumes from HOLD */
+    FC_REASON_FAILSAFE_LANDED,      /* failsafe descent ended on the ground: motors off */
+    FC_REASON_COUNT
+} fc_landing_reason;
+
+typedef enum fc_landing_request {
+    FC_LANDING_REQUEST_NONE = 0,    /* not flying the mission: IDLE */
+    FC_LANDING_REQUEST_HOLD,        /* hold and learn; abort any descent */
+    FC_LANDING_REQUEST_LAND
+} fc_landing_request;
+
+typedef struct fc_landing_params {
+    fc_real dt_s;                   /* DT: the fixed step */
+    fc_real gear_height_m;          /* LENGTH: CG to the bottom of the gear, (0, 10] */
+    fc_real hold_height_m;          /* LENGTH: gear above the pad's mean while holding, (0, 100] */
+    fc_real hold_tau_s;             /* TIME: tau of (3.6) to the hold point, [0.05, 100] */
+    fc_real hold_settle_m;          /* LENGTH: |z - z_r| and |z - hold point| within this ... , (0, 10] */
+    fc_real hold_settle_s;          /* TIME: ... for this long: settled, [0, 600] */
+    fc_real descent_tau_s;          /* TIME: tau of (3.6) in the descent, [0.05, 100] */
+    fc_real touchdown_dip_m;        /* LENGTH: the reference's gear ends this far below the surface, (0, 1] */
+    fc_real touchdown_window_m;     /* LENGTH: contact expected once the reference's gear is this close, [0, 1] */
+    fc_real contact_height_m;       /* LENGTH: gear height from range under which contact is seen, (0, 1] */
+    fc_real contact_confirm_s;      /* TIME: [0, 10] */
+    fc_real ramp_s;                 /* TIME: thrust ramp-down after touchdown, (0, 10] */
+    fc_real confidence_start;       /* UNIT: confidence to start a descent, (0, 1] */
+    fc_real confidence_abort;       /* UNIT: a descent aborts below this, [0, confidence_start] */
+    fc_real horizontal_start_m;     /* LENGTH: largest horizontal error to start a descent, (0, 100] */
+    fc_real horizontal_abort_m;     /* LENGTH: ... to go on with it, >= horizontal_start_m */
+    fc_real tilt_cos_abort;         /* RATIO: a descent aborts while k_h is below this, [0, 1] */
+    fc_real pad_accel_max_mps2;     /* ACCEL: the pad's acceleration bound to start or go on, (0, 100] */
+    fc_real range_timeout_s;        /* TIME: (0, 10] */
+    uint8_t abort_retries_max;      /* descents after the first that an abort may lead to */
+} fc_landing_params;
+
+typedef struct fc_landing_input {
+    fc_landing_request request;
+    fc_real z_m;                    /* LENGTH: the vehicle's CG, world z */
+    fc_real horizontal_error_m;     /* LENGTH: |p_xy - pad centre|, >= 0 */
+    fc_real tilt_cos;               /* RATIO: k_h */
+    fc_real gear_height_m;          /* LENGTH: gear above the pad from the range finder (range k_h - gear) */
+    bool range_fresh;               /* gear_height_m is a new sample */
+    fc_real thrust_n;               /* FORCE: the thrust of the previous step (the ramp starts from it) */
+    const fc_pad_motion_estimate *pad;
+} fc_landing_input;
+
+typedef struct fc_landing_output {
+    fc_landing_state state;
+    fc_landing_reason reason;       /* of the newest transition */
+    bool changed;                   /* a transition at this step */
+    bool fly_reference;             /* the altitude law tracks `reference` */
+    fc_vertical_trajectory reference;
+    bool motors_on;
+    fc_real ramp_thrust_n;          /* FORCE: the thrust in DISARM (fly_reference false) */
+    bool touchdown_window;          /* the plan expects contact from now on */
+    uint8_t aborts;                 /* since the mission started */
+} fc_landing_output;
+
+typedef struct fc_landing {
+    fc_landing_params p;
+    fc_altitude_reference hold_reference;     /* (3.6), tau = hold_tau, bias = gear + hold */
+    fc_altitude_reference descent_reference;  /* (3.6), tau = descent_tau, bias = gear - dip */
+    fc_landing_state state;
+    fc_landing_reason reason;
+    fc_real state_time_s;           /* TIME: in this state (saturates) */
+    fc_real settled_s;              /* TIME */
+    fc_real since_range_s;          /* TIME: since the newest range sample */
+    fc_real touchdown_thrust_n;     /* FORCE */
+    fc_real window_offset_m;        /* LENGTH: dip + window: the offset where the window opens */
+    fc_real hold_level_m;           /* LENGTH: the pad level the hold point stands on */
+    fc_real inv_ramp_per_s;         /* GAIN: 1 / ramp_s */
+    fc_real step_s;                 /* TIME: dt */
+    uint8_t aborts;
+    bool ready;
+    fc_arith ar;
+} fc_landing;
+
+fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p);
+
+/* Back to IDLE (disarm, another command). */
+void fc_landing_reset(fc_landing *lm);
+
+/* Enters FAILSAFE (fc_controller: inputs lost) or leaves it for HOLD; reason logged. */
+void fc_landing_force(fc_landing *lm, fc_landing_state state, fc_landing_reason reason);
+
+fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out);
+
+#endif /* FC_LANDING_H */

@@ -1,0 +1,309 @@
+/* landing.c - the landing mission's state machine (fc/landing.h). */
+#include "fc/landing.h"
+
+static bool in_range(fc_real x, fc_real lo, fc_real hi)
+{
+    return fc_is_finite(x) && x >= lo && x <= hi;
+}
+
+static bool landing_params_valid(const fc_landing_params *p)
+{
+    return in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
+           in_range(p->gear_height_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           in_range(p->hold_height_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
+           in_range(p->hold_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
+           in_range(p->hold_settle_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           in_range(p->hold_settle_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
+           in_range(p->descent_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
+           in_range(p->touchdown_dip_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
+           in_range(p->touchdown_window_m, FC_INT(0, LENGTH), FC_INT(1, LENGTH)) &&
+           in_range(p->contact_height_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
+           in_range(p->contact_confirm_s, FC_INT(0, TIME), FC_INT(10, TIME)) &&
+           in_range(p->ramp_s, FC_C(0.05f, TIME), FC_INT(10, TIME)) &&
+           in_range(p->confidence_start, FC_C(0.01f, UNIT), FC_INT(1, UNIT)) &&
+           in_range(p->confidence_abort, FC_INT(0, UNIT), p->confidence_start) &&
+           in_range(p->horizontal_start_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) &&
+           in_range(p->horizontal_abort_m, p->horizontal_start_m, FC_INT(100, LENGTH)) &&
+           in_range(p->tilt_cos_abort, FC_INT(0, RATIO), FC_INT(1, RATIO)) &&
+           in_range(p->pad_accel_max_mps2, FC_C(0.001f, ACCEL), FC_INT(100, ACCEL)) &&
+           in_range(p->range_timeout_s, FC_C(0.01f, TIME), FC_INT(10, TIME));
+}
+
+fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p)
+{
+    lm->ready = false;
+    lm->ar.saturated = 0u;
+    lm->state = FC_LANDING_IDLE;
+    lm->reason = FC_REASON_NONE;
+    if (!landing_params_valid(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    lm->p = *p;
+    fc_arith *ar = &lm->ar;
+    const fc_altitude_reference_params hold = {p->dt_s, p->hold_tau_s, FC_INT(0, LENGTH),
+                                               fc_add(ar, p->gear_height_m, p->hold_height_m)};
+    const fc_altitude_reference_params descent = {p->dt_s, p->descent_tau_s, FC_INT(0, LENGTH),
+                                                  fc_sub(ar, p->gear_height_m, p->touchdown_dip_m)};
+    if (fc_altitude_reference_init(&lm->hold_reference, &hold) != FC_INIT_OK ||
+        fc_altitude_reference_init(&lm->descent_reference, &descent) != FC_INIT_OK) {
+        return FC_INIT_BAD_PARAM;
+    }
+    lm->window_offset_m = fc_add(ar, p->touchdown_dip_m, p->touchdown_window_m);
+    lm->inv_ramp_per_s = fc_div(ar, FC_INT(1, TIME), p->ramp_s, FC_DIV_SHIFT(TIME, TIME, GAIN));
+    lm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    if (ar->saturated != 0u) {
+        return FC_INIT_BAD_PARAM;
+    }
+    lm->ready = true;
+    fc_landing_reset(lm);
+    return FC_INIT_OK;
+}
+
+static void enter(fc_landing *lm, fc_landing_state state, fc_landing_reason reason)
+{
+    lm->state = state;
+    lm->reason = reason;
+    lm->state_time_s = FC_INT(0, TIME);
+    lm->settled_s = FC_INT(0, TIME);
+}
+
+void fc_landing_reset(fc_landing *lm)
+{
+    enter(lm, FC_LANDING_IDLE, lm->state == FC_LANDING_IDLE ? lm->reason : FC_REASON_COMMANDED);
+    lm->since_range_s = FC_INT(10, TIME);
+    lm->touchdown_thrust_n = FC_INT(0, FORCE);
+    lm->hold_level_m = FC_INT(0, LENGTH);
+    lm->aborts = 0u;
+}
+
+/* Toward the hold point from height z: (3.6) restarted with the offset
+ * from there; the level is the pad's learnt mean, or (nothing learnt yet)
+ * the level under where the vehicle is now. */
+static void start_hold(fc_landing *lm, const fc_landing_input *in)
+{
+    fc_arith *ar = &lm->ar;
+    const fc_real above = fc_add(ar, lm->p.gear_height_m, lm->p.hold_height_m);
+    lm->hold_level_m = in->pad->learning ? in->pad->mean_m : fc_sub(ar, in->z_m, above);
+    fc_altitude_reference_restart(&lm->hold_reference, fc_sub(ar, in->z_m, fc_add(ar, lm->hold_level_m, above)));
+}
+
+void fc_landing_force(fc_landing *lm, fc_landing_state state, fc_landing_reason reason)
+{
+    if (lm->ready && lm->state != state) {
+        enter(lm, state, reason);
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+/* conditions                                                              */
+/* ---------------------------------------------------------------------- */
+
+static bool range_alive(const fc_landing *lm)
+{
+    return lm->since_range_s <= lm->p.range_timeout_s;
+}
+
+/* Why a descent may not start now (FC_REASON_NONE: it may). */
+static fc_landing_reason descent_blocked(const fc_landing *lm, const fc_landing_input *in)
+{
+    const fc_pad_motion_estimate *pad = in->pad;
+    if (!range_alive(lm)) {
+        return FC_REASON_ABORT_RANGE_LOST;
+    }
+    if (in->horizontal_error_m > lm->p.horizontal_start_m) {
+        return FC_REASON_ABORT_HORIZONTAL;
+    }
+    if (in->tilt_cos < lm->p.tilt_cos_abort) {
+        return FC_REASON_ABORT_TILT;
+    }
+    if (pad->confidence < lm->p.confidence_start) {
+        return FC_REASON_ABORT_CONFIDENCE;
+    }
+    if (pad->accel_bound_mps2 > lm->p.pad_accel_max_mps2) {
+        return FC_REASON_ABORT_PAD_ACCEL;
+    }
+    return FC_REASON_NONE;
+}
+
+/* Why a descent must stop now (FC_REASON_NONE: it goes on). */
+static fc_landing_reason descent_abort_reason(const fc_landing *lm, const fc_landing_input *in)
+{
+    if (in->request != FC_LANDING_REQUEST_LAND) {
+        return FC_REASON_ABORT_COMMANDED;
+    }
+    if (in->horizontal_error_m > lm->p.horizontal_abort_m) {
+        return FC_REASON_ABORT_HORIZONTAL;
+    }
+    if (in->tilt_cos < lm->p.tilt_cos_abort) {
+        return FC_REASON_ABORT_TILT;
+    }
+    if (in->pad->confidence < lm->p.confidence_abort) {
+        return FC_REASON_ABORT_CONFIDENCE;
+    }
+    if (in->pad->accel_bound_mps2 > lm->p.pad_accel_max_mps2) {
+        return FC_REASON_ABORT_PAD_ACCEL;
+    }
+    if (!range_alive(lm)) {
+        return FC_REASON_ABORT_RANGE_LOST;
+    }
+    return FC_REASON_NONE;
+}
+
+/* Near the hold point (and the reference near it too) for hold_settle_s. */
+static bool settled_at_hold(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
+{
+    fc_arith *ar = &lm->ar;
+    const fc_real hold_point =
+        fc_add(ar, lm->hold_level_m, fc_add(ar, lm->p.gear_height_m, lm->p.hold_height_m));
+    const bool near = fc_abs(ar, fc_sub(ar, in->z_m, hold_point)) <= lm->p.hold_settle_m &&
+                      fc_abs(ar, fc_sub(ar, reference->z_m, hold_point)) <= lm->p.hold_settle_m;
+    lm->settled_s = near ? fc_min(fc_add(ar, lm->settled_s, lm->step_s), FC_INT(600, TIME)) : FC_INT(0, TIME);
+    return near && lm->settled_s >= lm->p.hold_settle_s;
+}
+
+static void start_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_reason reason)
+{
+    if (lm->aborts < 255u) {
+        lm->aborts++;
+    }
+    start_hold(lm, in);
+    enter(lm, FC_LANDING_ABORT, reason);
+}
+
+/* ---------------------------------------------------------------------- */
+/* one step                                                                */
+/* ---------------------------------------------------------------------- */
+
+/* The hold point's reference: (3.6) on the pad's level, which follows the estimate. */
+static fc_step_status hold_reference(fc_landing *lm, const fc_landing_input *in, fc_vertical_trajectory *reference)
+{
+    if (in->pad->learning) {
+        lm->hold_level_m = in->pad->mean_m;
+    }
+    const fc_vertical_trajectory level = {lm->hold_level_m, FC_INT(0, VEL), FC_INT(0, ACCEL)};
+    return fc_altitude_reference_step(&lm->hold_reference, &level, reference);
+}
+
+static fc_step_status descent_reference(fc_landing *lm, const fc_landing_input *in,
+                                        fc_vertical_trajectory *reference, bool *window)
+{
+    const fc_real offset_now =
+        fc_mul(&lm->ar, lm->descent_reference.offset_m, lm->descent_reference.decay, FC_SHIFT(LENGTH, UNIT, LENGTH));
+    *window = offset_now <= lm->window_offset_m;
+    return fc_altitude_reference_step(&lm->descent_reference, &in->pad->now, reference);
+}
+
+static bool contact_seen(const fc_landing *lm, const fc_landing_input *in)
+{
+    return in->range_fresh && in->gear_height_m <= lm->p.contact_height_m;
+}
+
+fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
+{
+    *out = (fc_landing_output){0};
+    out->state = lm->state;
+    out->reason = lm->reason;
+    if (!lm->ready) {
+        out->state = FC_LANDING_IDLE;
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &lm->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+    const fc_landing_state before = lm->state;
+    lm->state_time_s = fc_min(fc_add(ar, lm->state_time_s, lm->step_s), FC_INT(600, TIME));
+    lm->since_range_s =
+        in->range_fresh ? FC_INT(0, TIME) : fc_min(fc_add(ar, lm->since_range_s, lm->step_s), FC_INT(60, TIME));
+
+    if (in->request == FC_LANDING_REQUEST_NONE) {
+        if (lm->state != FC_LANDING_IDLE) {
+            fc_landing_reset(lm);
+        }
+    } else if (lm->state == FC_LANDING_IDLE) {
+        lm->aborts = 0u;
+        start_hold(lm, in);
+        enter(lm, FC_LANDING_HOLD, FC_REASON_COMMANDED);
+    }
+
+    switch (lm->state) {
+    case FC_LANDING_HOLD:
+    case FC_LANDING_OBSERVE:
+    case FC_LANDING_ABORT:
+        status |= hold_reference(lm, in, &out->reference);
+        out->fly_reference = true;
+        out->motors_on = true;
+        if (lm->state == FC_LANDING_OBSERVE) {
+            const bool may_retry = lm->aborts <= lm->p.abort_retries_max;
+            if (in->request == FC_LANDING_REQUEST_LAND && may_retry &&
+                descent_blocked(lm, in) == FC_REASON_NONE) {
+                /* (3.6) from here around the pad's motion */
+                const fc_real surface_offset = fc_sub(ar, in->z_m,
+                                                      fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
+                fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
+                enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
+            } else if (!range_alive(lm) && lm->state_time_s > lm->p.range_timeout_s) {
+                /* nothing to learn from: back to HOLD, which waits for the range finder */
+                enter(lm, FC_LANDING_HOLD, FC_REASON_ABORT_RANGE_LOST);
+            }
+        } else if (settled_at_hold(lm, in, &out->reference)) {
+            const bool exhausted = lm->aborts > lm->p.abort_retries_max;
+            if (lm->state == FC_LANDING_ABORT) {
+                enter(lm, FC_LANDING_HOLD, exhausted ? FC_REASON_RETRIES_EXHAUSTED : FC_REASON_ABORT_CLIMB_DONE);
+            } else if (range_alive(lm)) {
+                enter(lm, FC_LANDING_OBSERVE, FC_REASON_HOLD_SETTLED);
+            }
+        }
+        break;
+    case FC_LANDING_DESCEND:
+    case FC_LANDING_TOUCHDOWN: {
+        status |= descent_reference(lm, in, &out->reference, &out->touchdown_window);
+        out->fly_reference = true;
+        out->motors_on = true;
+        const fc_landing_reason abort = descent_abort_reason(lm, in);
+        if (lm->state == FC_LANDING_DESCEND) {
+            if (abort != FC_REASON_NONE) {
+                start_abort(lm, in, abort);
+            } else if (contact_seen(lm, in)) {
+                enter(lm, FC_LANDING_TOUCHDOWN, FC_REASON_CONTACT);
+            }
+        } else if (abort == FC_REASON_ABORT_COMMANDED) {
+            start_abort(lm, in, abort);
+        } else if (in->range_fresh && !contact_seen(lm, in)) {
+            enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
+        } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
+            lm->touchdown_thrust_n = fc_is_finite(in->thrust_n) ? fc_max(in->thrust_n, FC_INT(0, FORCE))
+                                                                 : FC_INT(0, FORCE);
+            enter(lm, FC_LANDING_DISARM, FC_REASON_CONTACT_CONFIRMED);
+        }
+        break;
+    }
+    case FC_LANDING_DISARM: {
+        /* T = T_contact (1 - t / ramp) */
+        const fc_real elapsed = fc_min(fc_mul(ar, lm->state_time_s, lm->inv_ramp_per_s, FC_SHIFT(TIME, GAIN, UNIT)),
+                                       FC_INT(1, UNIT));
+        out->ramp_thrust_n = fc_mul(ar, lm->touchdown_thrust_n, fc_sub(ar, FC_INT(1, UNIT), elapsed),
+                                    FC_SHIFT(FORCE, UNIT, FORCE));
+        out->motors_on = elapsed < FC_INT(1, UNIT);
+        if (!out->motors_on) {
+            enter(lm, FC_LANDING_LANDED, FC_REASON_RAMP_DONE);
+        }
+        break;
+    }
+    case FC_LANDING_FAILSAFE:
+        out->motors_on = true; /* what flies is the controller's failsafe */
+        break;
+    case FC_LANDING_IDLE:
+    case FC_LANDING_LANDED:
+    case FC_LANDING_STATE_COUNT:
+    default:
+        break;
+    }
+    out->state = lm->state;
+    out->reason = lm->reason;
+    out->changed = lm->state != before;
+    out->aborts = lm->aborts;
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
