@@ -28,6 +28,12 @@ _Static_assert(FSW_VARIANT_COUNT == (int)FC_ALT_VARIANT_COUNT, "variant list dif
 _Static_assert(FSW_AIRFRAME_COUNT == (int)FC_AIRFRAME_COUNT, "airframe list differs from the firmware's");
 _Static_assert(FSW_AIRFRAME_HEXA_4KG == (int)FC_AIRFRAME_HEXA_4KG, "airframe numbering differs");
 _Static_assert(FSW_COMMAND_TRACK_PAD == (int)FC_COMMAND_TRACK_PAD, "command numbering differs");
+_Static_assert(FSW_COMMAND_LAND == (int)FC_COMMAND_LAND && FSW_COMMAND_HOLD == (int)FC_COMMAND_HOLD,
+               "command numbering differs");
+_Static_assert(FSW_LANDING_STATE_COUNT == (int)FC_LANDING_STATE_COUNT, "landing states differ");
+_Static_assert(FSW_LANDING_REASON_COUNT == (int)FC_REASON_COUNT, "landing reasons differ");
+_Static_assert(FSW_LANDING_DESCEND == (int)FC_LANDING_DESCEND && FSW_LANDING_ABORT == (int)FC_LANDING_ABORT,
+               "landing state numbering differs");
 
 #define TO_FC(x, KIND) fc_from_float((float)(x), FC_##KIND##_FRAC)
 #define FROM_FC(x, KIND) ((double)fc_to_float((x), FC_##KIND##_FRAC))
@@ -89,6 +95,10 @@ static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, si
     override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_RATIO_FRAC);
     override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_RATIO_FRAC);
     override(&p.horizontal.tilt_max_rad, cfg->tilt_max_rad, FC_ANGLE_FRAC);
+    override(&p.landing.hold_height_m, cfg->landing_hold_height_m, FC_LENGTH_FRAC);
+    override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
+    override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
+    override(&p.landing.confidence_start, cfg->landing_confidence_start, FC_UNIT_FRAC);
 
     const fc_init_result r = fc_controller_init(ctl, &p);
     if (r != FC_INIT_OK) {
@@ -158,9 +168,12 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     fin.pad.z_m = TO_FC(in->pad_z_m, LENGTH);
     fin.pad.vz_mps = TO_FC(in->pad_vz_mps, VEL);
     fin.pad.az_mps2 = TO_FC(in->pad_az_mps2, ACCEL);
+    fin.range_m = TO_FC(in->range_m, LENGTH);
+    fin.range_fresh = in->range_fresh != 0;
     fin.position_setpoint_m = vec_to_fc(in->position_setpoint_m, FC_LENGTH_FRAC);
     fin.yaw_setpoint_rad = TO_FC(in->yaw_setpoint_rad, ANGLE);
-    fin.command = in->command == FSW_COMMAND_TRACK_PAD ? FC_COMMAND_TRACK_PAD : FC_COMMAND_DISARM;
+    fin.command = (in->command >= 0 && in->command < (int)FC_COMMAND_COUNT) ? (fc_controller_command)in->command
+                                                                           : FC_COMMAND_DISARM;
 
     fc_controller_outputs fout;
     out->status = fc_controller_step(ctl, &fin, &fout);
@@ -197,6 +210,17 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     out->altitude_status = tm->altitude_status;
     out->attitude_status = tm->attitude_status;
     out->allocation_status = tm->allocation_status;
+    out->landing_state = (int)tm->landing_state;
+    out->landing_reason = (int)tm->landing_reason;
+    out->landing_changed = tm->landing_changed ? 1 : 0;
+    out->touchdown_window = tm->touchdown_window ? 1 : 0;
+    out->aborts = tm->aborts;
+    out->pad_est_z_m = FROM_FC(tm->pad.now.z_m, LENGTH);
+    out->pad_est_vz_mps = FROM_FC(tm->pad.now.vz_mps, VEL);
+    out->pad_confidence = FROM_FC(tm->pad.confidence, UNIT);
+    out->pad_accel_bound_mps2 = FROM_FC(tm->pad.accel_bound_mps2, ACCEL);
+    out->pad_period_s = FROM_FC(tm->pad.dominant_period_s, TIME);
+    out->gear_height_m = FROM_FC(tm->gear_height_m, LENGTH);
 }
 
 const fsw_backend FSW_TABLE = {FSW_STR(FSW_BACKEND), adapter_create, adapter_destroy, adapter_step};

@@ -21,7 +21,11 @@
 /* The firmware's airframes (fc_airframe) and commands (fc_controller_command),
  * by value: the adapter checks that they agree with the firmware's enums. */
 enum { FSW_AIRFRAME_CRAZYFLIE2 = 0, FSW_AIRFRAME_F450 = 1, FSW_AIRFRAME_HEXA_4KG = 2, FSW_AIRFRAME_COUNT = 3 };
-enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1 };
+enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1, FSW_COMMAND_HOLD = 2, FSW_COMMAND_LAND = 3 };
+/* fc_landing_state and fc_landing_reason, by value (names in sim.c). */
+#define FSW_LANDING_STATE_COUNT 9
+#define FSW_LANDING_REASON_COUNT 19
+enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_ABORT = 7 };
 /* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
 #define FSW_VARIANT_COUNT 12
 
@@ -43,6 +47,8 @@ typedef struct fsw_config {
     /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
     double rho_scale, gamma_scale, kappa_m_scale;
     double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
+    /* the landing mission */
+    double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
 } fsw_config;
 
 /* One step's inputs (world ENU, body FLU, SI units). */
@@ -52,7 +58,9 @@ typedef struct fsw_inputs {
     double attitude_q[4];    /* w, x, y, z: body -> world (used with external attitude) */
     double position_m[3];
     double velocity_mps[3];
-    double pad_z_m, pad_vz_mps, pad_az_mps2;
+    double pad_z_m, pad_vz_mps, pad_az_mps2; /* the pad trajectory for TRACK_PAD */
+    double range_m;          /* range finder, CG to the pad along body -z */
+    int range_fresh;         /* a new range sample this step */
     double position_setpoint_m[3];
     double yaw_setpoint_rad;
     int command;             /* FSW_COMMAND_* */
@@ -76,6 +84,9 @@ typedef struct fsw_outputs {
     int clamped;
     unsigned allocation_saturation;
     unsigned estimator_status, altitude_status, attitude_status, allocation_status;
+    /* the landing mission */
+    int landing_state, landing_reason, landing_changed, touchdown_window, aborts;
+    double pad_est_z_m, pad_est_vz_mps, pad_confidence, pad_accel_bound_mps2, pad_period_s, gear_height_m;
 } fsw_outputs;
 
 /* What the firmware was configured with (for reports and for the plant's

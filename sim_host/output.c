@@ -85,6 +85,23 @@ static void add_metrics(cJSON *obj, const sim_metrics *m)
     }
 }
 
+/* The landing mission's course: final state, aborts, the planned touchdown, every transition. */
+static void add_landing(cJSON *o, const sim_result *res)
+{
+    cJSON *l = cJSON_AddObjectToObject(o, "landing");
+    cJSON_AddStringToObject(l, "final_state", sim_landing_state_names[res->final_landing_state]);
+    cJSON_AddNumberToObject(l, "aborts", res->aborts);
+    add_number(l, "touchdown_planned_s", res->touchdown_planned_s);
+    cJSON *events = cJSON_AddArrayToObject(l, "events");
+    for (int i = 0; i < res->event_count; i++) {
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddNumberToObject(e, "t_s", res->events[i].t_s);
+        cJSON_AddStringToObject(e, "state", sim_landing_state_names[res->events[i].state]);
+        cJSON_AddStringToObject(e, "reason", sim_landing_reason_names[res->events[i].reason]);
+        cJSON_AddItemToArray(events, e);
+    }
+}
+
 static cJSON *record_json(const run_record *r)
 {
     cJSON *o = cJSON_CreateObject();
@@ -125,6 +142,9 @@ static cJSON *record_json(const run_record *r)
         add_number(o, "theta_star_end_kg", r->result.metrics.theta_star_end_kg);
         add_number(o, "wall_time_s", r->result.wall_s);
         add_number(o, "real_time_factor", r->result.wall_s > 0.0 ? r->sc->duration_s / r->result.wall_s : (double)NAN);
+        if (r->sc->mission.command == MISSION_LAND) {
+            add_landing(o, &r->result);
+        }
         return o;
     }
     cJSON_AddNumberToObject(o, "runs", r->runs);
@@ -552,6 +572,19 @@ void output_print(const run_record *records, int count, bool compare)
             print_value(mc ? r->stats[k].median : sim_metric_value(&r->result.metrics, k), scales[k]);
         }
         printf("\n");
+    }
+    for (int i = 0; i < count && !mc; i++) {
+        const sim_result *res = &records[i].result;
+        if (records[i].failed || records[i].sc->mission.command != MISSION_LAND) {
+            continue;
+        }
+        printf("landing (%s, %s): final %s, %d abort(s), touchdown window from %.3f s\n",
+               sim_variant_names[records[i].variant], records[i].backend,
+               sim_landing_state_names[res->final_landing_state], res->aborts, res->touchdown_planned_s);
+        for (int e = 0; e < res->event_count; e++) {
+            printf("  %8.3f s  %-10s %s\n", res->events[e].t_s, sim_landing_state_names[res->events[e].state],
+                   sim_landing_reason_names[res->events[e].reason]);
+        }
     }
     if (!mc || compare) {
         return;

@@ -33,6 +33,15 @@ void pad_eval(const pad_params *p, double t, pad_state *out)
     default:
         break;
     }
+    if (t > p->growth_start_s) {
+        /* the heave grows linearly to growth_scale over growth_duration_s (a fault; the
+         * growth's own rate is left out of z' and z'') */
+        const double ramp = fmin(1.0, (t - p->growth_start_s) / fmax(p->growth_duration_s, 1e-9));
+        const double factor = 1.0 + (p->growth_scale - 1.0) * ramp;
+        out->z_m = p->base_m + factor * (out->z_m - p->base_m);
+        out->vz_mps *= factor;
+        out->az_mps2 *= factor;
+    }
 }
 
 double plant_ground_gain(double radius_m, double rho, double height_m)
@@ -192,14 +201,14 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     }
 
     const double m = s->m;
-    const v3 force_w = v3_add(v3_add(mat_apply(r, force_b), contact_w), v3_scale(s->v, -p->drag_n_per_mps));
+    const v3 force_w = v3_add(v3_add(mat_apply(r, force_b), contact_w), v3_scale(v3_sub(s->v, pl->wind_mps), -p->drag_n_per_mps));
     ds->p = s->v;
     ds->v = v3_make(force_w.x / m, force_w.y / m, force_w.z / m - p->gravity_mps2);
     /* q' = 1/2 q (x) [0, w] */
     const quat dq = quat_mul(s->q, quat_make(0.0, s->w.x, s->w.y, s->w.z));
     ds->q = quat_make(0.5 * dq.w, 0.5 * dq.x, 0.5 * dq.y, 0.5 * dq.z);
     const v3 inertia = plant_inertia(p, m);
-    const v3 moment = v3_add(moment_b, mat_apply_t(r, contact_moment_w));
+    const v3 moment = v3_add(v3_add(moment_b, mat_apply_t(r, contact_moment_w)), pl->disturbance_moment_b);
     const v3 gyro = v3_cross(s->w, v3_mul(inertia, s->w));
     ds->w = v3_make((moment.x - gyro.x) / inertia.x, (moment.y - gyro.y) / inertia.y, (moment.z - gyro.z) / inertia.z);
     ds->m = (mu - m) / p->mass_tau_s;
@@ -246,6 +255,8 @@ void plant_init(plant *pl, const plant_params *p, const plant_state *s0)
     pl->s.q = quat_normalize(pl->s.q);
     pl->t = 0.0;
     pl->pad_cache_t = -1.0;
+    pl->wind_mps = v3_make(0.0, 0.0, 0.0);
+    pl->disturbance_moment_b = v3_make(0.0, 0.0, 0.0);
     for (int i = 0; i < p->rotor_count; i++) {
         pl->lever[i] = v3_cross(p->rotor[i].position_m, p->rotor[i].axis);
         pl->height_min[i] = plant_rotor_height_min(p, i);

@@ -8,9 +8,9 @@
  *   u_i        normalised rotor speeds, u_i' = (u_cmd,i - u_i) / tau_i (first-order motor lag)
  * Equations ((2.1), (3.3) in vector form):
  *   p' = v
- *   m v' = R F_b + F_contact + F_drag - m g e_z
+ *   m v' = R F_b + F_contact - c_d (v - v_wind) - m g e_z
  *   q' = 1/2 q (x) [0, w]
- *   I(m) w' = M_b + M_contact - w x I(m) w
+ *   I(m) w' = M_b + M_contact + M_disturbance - w x I(m) w
  * Rotors (2.2)-(2.3): T_i = eff_i T_max,i u_i^r_i along d_i, Q_i = eff_i Q_max,i u_i^s_i
  * along d_i (Q_max signed by the spin), the thrust scaled by the ground-effect
  * gain (3.2) of that rotor's height above the pad,
@@ -47,6 +47,8 @@ typedef struct pad_params {
     double wave_amplitude_m[PAD_MAX_WAVES];
     double wave_omega_radps[PAD_MAX_WAVES];
     double wave_phase_rad[PAD_MAX_WAVES];
+    /* a fault: from growth_start_s (INFINITY: never) the heave grows to growth_scale times */
+    double growth_start_s, growth_duration_s, growth_scale;
 } pad_params;
 
 typedef struct pad_state {
@@ -126,6 +128,8 @@ typedef struct plant {
     plant_state s;
     double t;
     double u_cmd[PLANT_MAX_ROTORS]; /* held over the step */
+    v3 wind_mps;                    /* air velocity, world: the drag acts on v - wind (held over the step) */
+    v3 disturbance_moment_b;        /* an external body moment (held over the step) */
     double pad_cache_t;             /* the pad at the end of the last step */
     pad_state pad_cache;
     /* computed at init from p */

@@ -114,6 +114,14 @@ typedef struct raw {
     v3 init_velocity;
     int init_motors_hover;
     /* [mission] */
+    int mission_command;
+    /* [wind], [fault] */
+    wind_params wind;
+    int fault_kind;
+    double fault_delay_s, fault_duration_s, fault_scale;
+    v3 fault_vector;
+    /* landing overrides */
+    double land_hold_m, land_tau_s, land_accel_max, land_conf_start;
     double track_start_s, disarm_delay_s, touchdown_planned_s, sp_x, sp_y, sp_yaw_deg;
     int landing, disarm_on_contact;
     /* sensors */
@@ -138,6 +146,9 @@ static const char *const layout_names[] = {"quad-x", "hexa-x", "custom", NULL};
 static const char *const pad_names[] = {"still", "sine", "waves", NULL};
 static const char *const motors_names[] = {"off", "hover", NULL};
 static const char *const altitude_names[] = {"position", "absolute", "range", NULL};
+static const char *const command_names[] = {"track", "land", NULL};
+static const char *const fault_names[] = {"none", "hold-command", "range-dropout", "gust", "torque", "pad-amplitude",
+                                          NULL};
 static const char *variant_names_z[FSW_VARIANT_COUNT + 1];
 
 #define OPEN_LO 1  /* the lower bound is excluded */
@@ -252,7 +263,23 @@ static const key_def keys[] = {
     {"initial", "velocity_mps", K_VEC3, R(init_velocity), -100.0, 100.0, NULL, 0},
     {"initial", "motors", K_ENUM, R(init_motors_hover), 0, 0, motors_names, 0},
 
+    {"controller", "landing_hold_height_m", K_DOUBLE, R(land_hold_m), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "landing_descent_tau_s", K_DOUBLE, R(land_tau_s), 0.05, 100.0, NULL, OPTIONAL},
+    {"controller", "landing_pad_accel_max_mps2", K_DOUBLE, R(land_accel_max), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "landing_confidence_start", K_DOUBLE, R(land_conf_start), 0.0, 1.0, NULL, OPEN_LO | OPTIONAL},
+
+    {"mission", "command", K_ENUM, R(mission_command), 0, 0, command_names, 0},
     {"mission", "track_start_s", K_DOUBLE, R(track_start_s), 0.0, 36000.0, NULL, 0},
+
+    {"wind", "mean_mps", K_VEC3, R(wind.mean_mps), -100.0, 100.0, NULL, 0},
+    {"wind", "gust_std_mps", K_DOUBLE, R(wind.gust_std_mps), 0.0, 100.0, NULL, 0},
+    {"wind", "gust_tau_s", K_DOUBLE, R(wind.gust_tau_s), 0.0, 1000.0, NULL, OPEN_LO},
+
+    {"fault", "kind", K_ENUM, R(fault_kind), 0, 0, fault_names, 0},
+    {"fault", "delay_s", K_DOUBLE, R(fault_delay_s), 0.0, 1000.0, NULL, 0},
+    {"fault", "duration_s", K_DOUBLE, R(fault_duration_s), 0.0, 1000.0, NULL, 0},
+    {"fault", "scale", K_DOUBLE, R(fault_scale), 0.0, 100.0, NULL, 0},
+    {"fault", "vector", K_VEC3, R(fault_vector), -1000.0, 1000.0, NULL, 0},
     {"mission", "landing", K_BOOL, R(landing), 0, 0, NULL, 0},
     {"mission", "disarm_on_contact", K_BOOL, R(disarm_on_contact), 0, 0, NULL, 0},
     {"mission", "disarm_delay_s", K_DOUBLE, R(disarm_delay_s), 0.0, 100.0, NULL, 0},
@@ -298,6 +325,11 @@ static const key_def keys[] = {
     {"metrics", "error_until_contact", K_BOOL, R(error_until_contact), 0, 0, NULL, 0},
 
     {"montecarlo", "mass_rel", K_DOUBLE, R(mc.mass_rel), 0.0, 0.9, NULL, 0},
+    {"montecarlo", "pad_amplitude_min_m", K_DOUBLE, R(mc.pad_amplitude_min_m), 0.0, 100.0, NULL, OPTIONAL},
+    {"montecarlo", "pad_amplitude_max_m", K_DOUBLE, R(mc.pad_amplitude_max_m), 0.0, 100.0, NULL, OPTIONAL},
+    {"montecarlo", "pad_period_min_s", K_DOUBLE, R(mc.pad_period_min_s), 0.1, 1000.0, NULL, OPTIONAL},
+    {"montecarlo", "pad_period_max_s", K_DOUBLE, R(mc.pad_period_max_s), 0.1, 1000.0, NULL, OPTIONAL},
+    {"montecarlo", "gust_std_max_mps", K_DOUBLE, R(mc.gust_std_max_mps), 0.0, 100.0, NULL, OPTIONAL},
     {"montecarlo", "inertia_rel", K_DOUBLE, R(mc.inertia_rel), 0.0, 0.9, NULL, 0},
     {"montecarlo", "pad_amplitude_rel", K_DOUBLE, R(mc.pad_amplitude_rel), 0.0, 0.9, NULL, 0},
     {"montecarlo", "pad_period_rel", K_DOUBLE, R(mc.pad_period_rel), 0.0, 0.9, NULL, 0},
@@ -314,7 +346,7 @@ static const key_def keys[] = {
 static const char *const sections[] = {"scenario", "controller", "vehicle", "mass", "ground_effect",
                                        "gear", "contact", "pad", "initial", "mission", "sensors", "imu",
                                        "position_sensor", "altitude_sensor", "attitude_sensor", "metrics",
-                                       "montecarlo", NULL};
+                                       "montecarlo", "wind", "fault", NULL};
 
 static void raw_defaults(raw *r)
 {
@@ -331,6 +363,12 @@ static void raw_defaults(raw *r)
     r->thrust_min_n = r->thrust_max_n = r->ground_gain_max = (double)NAN;
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
     r->hkp = r->hkd = r->tilt_max_deg = (double)NAN;
+    r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = (double)NAN;
+    r->wind.gust_tau_s = 2.0;
+    r->fault_duration_s = 1.0;
+    r->fault_scale = 1.0;
+    r->mc.pad_amplitude_min_m = r->mc.pad_amplitude_max_m = (double)NAN;
+    r->mc.pad_period_min_s = r->mc.pad_period_max_s = r->mc.gust_std_max_mps = (double)NAN;
     r->rho_scale = r->gamma_scale = r->kappa_m_scale = (double)NAN;
     r->mass_kg = 4.0;
     r->inertia = v3_make(0.082, 0.082, 0.149);
@@ -771,6 +809,10 @@ static bool build(parse_ctx *c, scenario *sc)
     f->horizontal_kp_per_s2 = r->hkp;
     f->horizontal_kd_per_s = r->hkd;
     f->tilt_max_rad = isnan(r->tilt_max_deg) ? (double)NAN : r->tilt_max_deg * DEG;
+    f->landing_hold_height_m = r->land_hold_m;
+    f->landing_descent_tau_s = r->land_tau_s;
+    f->landing_pad_accel_max_mps2 = r->land_accel_max;
+    f->landing_confidence_start = r->land_conf_start;
 
     /* plant */
     plant_params *p = &sc->plant;
@@ -873,6 +915,9 @@ static bool build(parse_ctx *c, scenario *sc)
     p->slip_speed_mps = r->slip_speed;
     pad_params *pad = &p->pad;
     pad->model = (pad_model)r->pad_model;
+    pad->growth_start_s = (double)INFINITY;
+    pad->growth_duration_s = 1.0;
+    pad->growth_scale = 1.0;
     pad->base_m = r->pad_base;
     pad->amplitude_m = r->pad_amplitude;
     pad->omega_radps = 2.0 * PI / r->pad_period;
@@ -921,7 +966,17 @@ static bool build(parse_ctx *c, scenario *sc)
 
     /* mission, initial state, metrics, Monte-Carlo */
     mission_params *m = &sc->mission;
+    m->command = (mission_command)r->mission_command;
     m->track_start_s = r->track_start_s;
+    sc->wind = r->wind;
+    sc->fault.kind = (fault_kind)r->fault_kind;
+    sc->fault.delay_s = r->fault_delay_s;
+    sc->fault.duration_s = r->fault_duration_s;
+    sc->fault.scale = r->fault_scale;
+    sc->fault.vector = r->fault_vector;
+    if (m->command == MISSION_LAND && r->altitude.source != ALTITUDE_RANGE) {
+        return fail_key(c, "mission", "command", "land needs [altitude_sensor] source = range");
+    }
     m->landing = r->landing != 0;
     m->disarm_on_contact = r->disarm_on_contact != 0;
     m->disarm_delay_s = r->disarm_delay_s;
@@ -1087,6 +1142,42 @@ void scenario_list(const char *argv0, void (*emit)(const char *name, void *user)
 /* Monte-Carlo                                                             */
 /* ---------------------------------------------------------------------- */
 
+/* A landing family: the heave's peak to peak and its longest period drawn
+ * from absolute ranges (the shape of a wave set kept). */
+static void perturb_pad_family(scenario *sc, rng *r)
+{
+    const montecarlo_params *mc = &sc->montecarlo;
+    pad_params *pad = &sc->plant.pad;
+    if (!isnan(mc->pad_amplitude_min_m) && !isnan(mc->pad_amplitude_max_m)) {
+        const double peak_to_peak = rng_range(r, mc->pad_amplitude_min_m, mc->pad_amplitude_max_m);
+        if (pad->model == PAD_SINE) {
+            pad->amplitude_m = peak_to_peak;
+        } else if (pad->model == PAD_WAVES) {
+            double sum = 0.0;
+            for (int k = 0; k < pad->wave_count; k++) {
+                sum += pad->wave_amplitude_m[k];
+            }
+            for (int k = 0; k < pad->wave_count && sum > 0.0; k++) {
+                pad->wave_amplitude_m[k] *= 0.5 * peak_to_peak / sum;
+            }
+        }
+    }
+    if (!isnan(mc->pad_period_min_s) && !isnan(mc->pad_period_max_s)) {
+        const double period = rng_range(r, mc->pad_period_min_s, mc->pad_period_max_s);
+        if (pad->model == PAD_SINE) {
+            pad->omega_radps = 2.0 * PI / period;
+        } else if (pad->model == PAD_WAVES) {
+            double slowest = INFINITY;
+            for (int k = 0; k < pad->wave_count; k++) {
+                slowest = fmin(slowest, pad->wave_omega_radps[k]);
+            }
+            for (int k = 0; k < pad->wave_count && isfinite(slowest); k++) {
+                pad->wave_omega_radps[k] *= (2.0 * PI / period) / slowest;
+            }
+        }
+    }
+}
+
 void scenario_perturb(scenario *sc, uint64_t seed)
 {
     const montecarlo_params *mc = &sc->montecarlo;
@@ -1122,5 +1213,9 @@ void scenario_perturb(scenario *sc, uint64_t seed)
     sc->initial.x_m += rng_range(&r, -mc->initial_offset_m, mc->initial_offset_m);
     sc->initial.y_m += rng_range(&r, -mc->initial_offset_m, mc->initial_offset_m);
     p->ge_rho *= 1.0 + rng_range(&r, -mc->ground_effect_rho_rel, mc->ground_effect_rho_rel);
+    perturb_pad_family(sc, &r);
+    if (!isnan(mc->gust_std_max_mps)) {
+        sc->wind.gust_std_mps = rng_range(&r, 0.0, mc->gust_std_max_mps);
+    }
     sc->seed = seed;
 }

@@ -36,10 +36,41 @@ typedef struct montecarlo_params {
     double rotor_efficiency_min;  /* one random rotor's efficiency x U(min, 1) */
     double initial_offset_m;      /* initial x, y + U(-a, a) */
     double ground_effect_rho_rel; /* rho of (3.2) x (1 + U(-a, a)) */
+    /* landing families: absolute ranges (NaN: not used) */
+    double pad_amplitude_min_m, pad_amplitude_max_m; /* peak to peak of the whole heave, U(min, max) */
+    double pad_period_min_s, pad_period_max_s;       /* the (longest) period, U(min, max); others scale with it */
+    double gust_std_max_mps;                         /* gust std U(0, max) (NaN: as the file) */
 } montecarlo_params;
 
+typedef enum mission_command { MISSION_TRACK = 0, MISSION_LAND } mission_command;
+
+/* A fault injected into a landing run, timed from the first DESCEND the
+ * firmware reports (so that each abort cause is exercised deterministically). */
+typedef enum fault_kind {
+    FAULT_NONE = 0,
+    FAULT_HOLD_COMMAND,   /* the operator commands HOLD (abort) */
+    FAULT_RANGE_DROPOUT,  /* the range finder goes quiet for duration_s */
+    FAULT_GUST,           /* wind of `vector` m/s (world) for duration_s */
+    FAULT_TORQUE,         /* a body moment of `vector` N m for duration_s */
+    FAULT_PAD_AMPLITUDE   /* the pad's heave grows by the factor `scale` from then on */
+} fault_kind;
+
+typedef struct fault_params {
+    fault_kind kind;
+    double delay_s, duration_s, scale;
+    v3 vector;
+} fault_params;
+
+/* Wind: a mean plus horizontal gusts, first-order Gauss-Markov per axis. */
+typedef struct wind_params {
+    v3 mean_mps;
+    double gust_std_mps;
+    double gust_tau_s;
+} wind_params;
+
 typedef struct mission_params {
-    double track_start_s;         /* FC_COMMAND_TRACK_PAD from here (DISARM before) */
+    mission_command command;      /* track: FC_COMMAND_TRACK_PAD (the pad given); land: FC_COMMAND_LAND (range finder) */
+    double track_start_s;         /* the command from here (DISARM before) */
     bool landing;                 /* a landing scenario: touchdown metrics are reported */
     bool disarm_on_contact;       /* the stand-in for the landing mission: cut the motors after touchdown */
     double disarm_delay_s;
@@ -81,6 +112,8 @@ typedef struct scenario {
     initial_params initial;
     metric_params metrics;
     montecarlo_params montecarlo;
+    wind_params wind;
+    fault_params fault;
 } scenario;
 
 /* Loads and validates a scenario. On error returns false with err holding

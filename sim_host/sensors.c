@@ -52,19 +52,24 @@ static void channel_push(sensor_channel *c, double t, const double *v)
     }
 }
 
-/* The newest sample taken at or before t - delay (the oldest one if none is). */
-static const double *channel_read(const sensor_channel *c, double t)
+/* The ring index of the newest sample taken at or before t - delay (the oldest one if none is). */
+static int channel_index(const sensor_channel *c, double t)
 {
     int idx = c->head;
     for (int k = 0; k < c->count; k++) {
         if (c->t[idx] + c->delay_s <= t + TIME_EPS) {
-            return c->value[idx];
+            return idx;
         }
         if (k + 1 < c->count) {
             idx = (idx + SENSOR_RING - 1) % SENSOR_RING;
         }
     }
-    return c->value[idx];
+    return idx;
+}
+
+static const double *channel_read(const sensor_channel *c, double t)
+{
+    return c->value[channel_index(c, t)];
 }
 
 static bool channel_due(sensor_channel *c, double t)
@@ -181,6 +186,8 @@ void sensors_read(const sensors *s, double t, sensor_readout *out)
     out->has_altitude = s->p.altitude.source != ALTITUDE_FROM_POSITION;
     out->altitude_is_range = s->p.altitude.source == ALTITUDE_RANGE;
     out->altitude_m = out->has_altitude ? channel_read(&s->altitude, t)[0] : pos[2];
+    out->altitude_sample_t = out->has_altitude && s->altitude.count > 0 ? s->altitude.t[channel_index(&s->altitude, t)]
+                                                                          : (double)NAN;
     const double *att = channel_read(&s->attitude, t);
     out->attitude = quat_make(att[0], att[1], att[2], att[3]);
 }

@@ -86,6 +86,7 @@ typedef struct sensor_readout {
     double altitude_m;         /* absolute z, or the range when altitude_is_range */
     bool altitude_is_range;
     bool has_altitude;         /* a separate altitude channel exists */
+    double altitude_sample_t;  /* when the altitude sample read was taken (a new one: a fresh sample) */
     quat attitude;
 } sensor_readout;
 

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "plant.h"
+#include "rng.h"
 #include "sensors.h"
 
 #define RAD2DEG (180.0 / 3.14159265358979323846)
@@ -40,6 +41,17 @@ const char *const sim_trace_column_names[SIM_TRACE_COLUMN_COUNT] = {
 #define SIM_TRACE_NAME(name) #name,
     SIM_TRACE_COLUMNS(SIM_TRACE_NAME)
 #undef SIM_TRACE_NAME
+};
+
+const char *const sim_landing_state_names[FSW_LANDING_STATE_COUNT] = {
+    "idle", "hold", "observe", "descend", "touchdown", "disarm", "landed", "abort", "failsafe",
+};
+
+const char *const sim_landing_reason_names[FSW_LANDING_REASON_COUNT] = {
+    "none",         "commanded",        "hold-settled",      "pad-learnt",         "contact",
+    "contact-lost", "contact-confirmed", "ramp-done",        "abort-commanded",    "abort-horizontal",
+    "abort-tilt",   "abort-confidence", "abort-pad-accel",   "abort-range-lost",   "abort-climb-done",
+    "retries-exhausted", "inputs-lost", "inputs-back",       "failsafe-landed",
 };
 
 double sim_reference(const fsw_info *info, double pad_z_m, double t_since_start_s)
@@ -171,6 +183,16 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     fsw_outputs out;
     memset(&out, 0, sizeof out);
     double last_theta = (double)NAN, last_theta_star = (double)NAN;
+    /* the landing mission: range freshness, wind, the fault (timed from the first DESCEND) */
+    const bool land = mission->command == MISSION_LAND;
+    double last_range_t = (double)NAN;
+    double fault_at = (double)INFINITY;
+    rng wind_rng;
+    rng_seed(&wind_rng, sc->seed, 200);
+    v3 gust = v3_make(0.0, 0.0, 0.0);
+    const double gust_pole = exp(-dt / sc->wind.gust_tau_s);
+    const double gust_drive = sc->wind.gust_std_mps * sqrt(1.0 - gust_pole * gust_pole);
+    res->touchdown_planned_s = (double)NAN;
 
     for (long k = 0; k < steps; k++) {
         const double t = k * dt;
@@ -179,7 +201,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         sensor_readout sr;
         sensors_read(&sens, t, &sr);
         pad_state pad;
-        pad_eval(&sc->plant.pad, t, &pad);
+        pad_eval(&pl.p.pad, t, &pad);
 
         fsw_inputs in;
         memset(&in, 0, sizeof in);
@@ -196,11 +218,29 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.position_m[0] = sr.position_m.x;
         in.position_m[1] = sr.position_m.y;
         in.position_m[2] = sr.position_m.z;
-        if (sr.has_altitude) {
+        const bool fault_active = t >= fault_at && t < fault_at + sc->fault.duration_s;
+        if (land) {
+            /* the landing mission: absolute z from the position sensor, the range finder to the pad apart */
+            in.range_m = sr.altitude_m;
+            in.range_fresh = sr.altitude_sample_t != last_range_t;
+            last_range_t = sr.altitude_sample_t;
+            if (fault_active && sc->fault.kind == FAULT_RANGE_DROPOUT) {
+                in.range_fresh = 0;
+            }
+        } else if (sr.has_altitude) {
             /* the platform's altitude: absolute, or the pad's height plus the
              * range projected on the vertical with the firmware's own k_h */
             in.position_m[2] = sr.altitude_is_range ? pad.z_m + sr.altitude_m * last_tilt_cos : sr.altitude_m;
         }
+        /* wind: mean + Gauss-Markov gusts (horizontal) + a gust fault */
+        gust.x = gust_pole * gust.x + gust_drive * rng_normal(&wind_rng);
+        gust.y = gust_pole * gust.y + gust_drive * rng_normal(&wind_rng);
+        pl.wind_mps = v3_add(sc->wind.mean_mps, gust);
+        if (fault_active && sc->fault.kind == FAULT_GUST) {
+            pl.wind_mps = v3_add(pl.wind_mps, sc->fault.vector);
+        }
+        pl.disturbance_moment_b =
+            (fault_active && sc->fault.kind == FAULT_TORQUE) ? sc->fault.vector : v3_make(0.0, 0.0, 0.0);
         in.velocity_mps[0] = sr.velocity_mps.x;
         in.velocity_mps[1] = sr.velocity_mps.y;
         in.velocity_mps[2] = sr.velocity_mps.z;
@@ -210,10 +250,31 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.position_setpoint_m[0] = mission->setpoint_x_m;
         in.position_setpoint_m[1] = mission->setpoint_y_m;
         in.yaw_setpoint_rad = mission->setpoint_yaw_rad;
-        in.command = (t + 1e-9 >= mission->track_start_s && t < disarm_at) ? FSW_COMMAND_TRACK_PAD
-                                                                           : FSW_COMMAND_DISARM;
+        const int armed_command = !land ? FSW_COMMAND_TRACK_PAD
+                                  : (sc->fault.kind == FAULT_HOLD_COMMAND && fault_active) ? FSW_COMMAND_HOLD
+                                                                                           : FSW_COMMAND_LAND;
+        in.command = (t + 1e-9 >= mission->track_start_s && t < disarm_at) ? armed_command : FSW_COMMAND_DISARM;
 
         opt->backend->step(fsw, &in, &out);
+        if (out.landing_changed && res->event_count < SIM_MAX_EVENTS) {
+            sim_event *ev = &res->events[res->event_count++];
+            ev->t_s = t;
+            ev->state = out.landing_state;
+            ev->reason = out.landing_reason;
+        }
+        if (land && out.landing_state == FSW_LANDING_DESCEND && isinf(fault_at) && sc->fault.kind != FAULT_NONE) {
+            fault_at = t + sc->fault.delay_s;
+            if (sc->fault.kind == FAULT_PAD_AMPLITUDE) {
+                pl.p.pad.growth_start_s = fault_at;
+                pl.p.pad.growth_duration_s = sc->fault.duration_s;
+                pl.p.pad.growth_scale = sc->fault.scale;
+            }
+        }
+        if (land && out.touchdown_window && !a.contact_ever && isnan(res->touchdown_planned_s)) {
+            res->touchdown_planned_s = t;
+        }
+        res->final_landing_state = out.landing_state;
+        res->aborts = out.aborts;
         last_tilt_cos = out.tilt_cos;
         if (!all_finite(&out)) {
             a.nan_outputs++;
@@ -254,7 +315,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         }
         /* before the planned touchdown (a contact earlier shows as its depth, a
          * collision); with no plan, before the first contact */
-        if (t < planned && (isfinite(planned) || !a.contact_ever) && d.gear_clearance_m < a.min_clearance) {
+        const bool before_plan = land ? (!a.contact_ever && !out.touchdown_window)
+                                      : (t < planned && (isfinite(planned) || !a.contact_ever));
+        if (before_plan && d.gear_clearance_m < a.min_clearance) {
             a.min_clearance = d.gear_clearance_m;
         }
         const bool contact = sc->plant.contact && d.feet_in_contact > 0;
@@ -326,6 +389,11 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_u_max] = umax;
             row[SIM_COL_motors_on] = out.motors_on;
             row[SIM_COL_status] = out.status;
+            row[SIM_COL_landing_state] = out.landing_state;
+            row[SIM_COL_fsw_gear_height_m] = out.gear_height_m;
+            row[SIM_COL_fsw_pad_z_m] = out.pad_est_z_m;
+            row[SIM_COL_fsw_pad_vz_mps] = out.pad_est_vz_mps;
+            row[SIM_COL_pad_confidence] = out.pad_confidence;
             trace->rows++;
         }
 

@@ -48,7 +48,7 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(yaw_deg) X(tilt_deg) X(thrust_cmd_n) X(vertical_force_n) X(u_nom_n) X(u0_av_n) X(rho_n) X(sigma_mps)        \
     X(sigma_tilde_mps) X(theta_kg) X(theta_star_kg) X(adaptation_term_mps2) X(ground_gain) X(mass_kg)             \
     X(gear_clearance_m) X(contact_force_n) X(rotor_thrust_n) X(fsw_z_r_m) X(u_mean) X(u_min) X(u_max)          \
-    X(motors_on) X(status)
+    X(motors_on) X(status) X(landing_state) X(fsw_gear_height_m) X(fsw_pad_z_m) X(fsw_pad_vz_mps) X(pad_confidence)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,
@@ -73,11 +73,27 @@ typedef struct sim_options {
     void *progress_user;
 } sim_options;
 
+#define SIM_MAX_EVENTS 64
+
+/* A transition of the landing mission (fc_landing_state / fc_landing_reason values). */
+typedef struct sim_event {
+    double t_s;
+    int state, reason;
+} sim_event;
+
+extern const char *const sim_landing_state_names[FSW_LANDING_STATE_COUNT];
+extern const char *const sim_landing_reason_names[FSW_LANDING_REASON_COUNT];
+
 typedef struct sim_result {
     sim_metrics metrics;
     fsw_info info;
     double wall_s;             /* the run's wall-clock time */
     double cpu_s;              /* the process's CPU time over the run */
+    /* the landing mission */
+    int event_count;
+    sim_event events[SIM_MAX_EVENTS];
+    int final_landing_state, aborts;
+    double touchdown_planned_s; /* the firmware's touchdown window opened (NaN: never) */
     long controller_steps, plant_steps;
     uint64_t seed;
 } sim_result;

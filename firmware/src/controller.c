@@ -80,10 +80,12 @@ static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
         l->hold_height_m = FC_C(0.3f, LENGTH);
         l->hold_tau_s = FC_INT(1, TIME);
         l->hold_settle_m = FC_C(0.05f, LENGTH);
-        l->descent_tau_s = FC_C(0.5f, TIME);
-        l->touchdown_dip_m = FC_C(0.01f, LENGTH);
-        l->touchdown_window_m = FC_C(0.01f, LENGTH);
-        l->contact_height_m = FC_C(0.008f, LENGTH);
+        l->descent_tau_s = FC_C(1.5f, TIME);
+        l->touchdown_dip_m = FC_C(0.04f, LENGTH);
+        l->touchdown_window_m = FC_C(0.015f, LENGTH);
+        /* the ToF's noise is 2-4 mm: five samples in a row under 5 mm */
+        l->contact_height_m = FC_C(0.005f, LENGTH);
+        l->contact_confirm_s = FC_C(0.1f, TIME);
         l->ramp_s = FC_C(0.3f, TIME);
         l->horizontal_start_m = FC_C(0.05f, LENGTH);
         l->horizontal_abort_m = FC_C(0.15f, LENGTH);
@@ -109,7 +111,8 @@ static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
         l->descent_tau_s = FC_INT(1, TIME);
         l->touchdown_dip_m = FC_C(0.05f, LENGTH);
         l->touchdown_window_m = FC_C(0.03f, LENGTH);
-        l->contact_height_m = FC_C(0.02f, LENGTH);
+        /* the laser's noise is 5-10 mm: five samples in a row under 12 mm */
+        l->contact_height_m = FC_C(0.012f, LENGTH);
         l->ramp_s = FC_C(0.5f, TIME);
         l->horizontal_start_m = FC_C(0.2f, LENGTH);
         l->horizontal_abort_m = FC_C(0.5f, LENGTH);

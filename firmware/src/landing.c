@@ -49,6 +49,7 @@ fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p)
         return FC_INIT_BAD_PARAM;
     }
     lm->window_offset_m = fc_add(ar, p->touchdown_dip_m, p->touchdown_window_m);
+    lm->stuck_error_m = fc_mul(ar, p->touchdown_dip_m, FC_C(0.25f, UNIT), FC_SHIFT(LENGTH, UNIT, LENGTH));
     lm->inv_ramp_per_s = fc_div(ar, FC_INT(1, TIME), p->ramp_s, FC_DIV_SHIFT(TIME, TIME, GAIN));
     lm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     if (ar->saturated != 0u) {
@@ -193,9 +194,15 @@ static fc_step_status descent_reference(fc_landing *lm, const fc_landing_input *
     return fc_altitude_reference_step(&lm->descent_reference, &in->pad->now, reference);
 }
 
-static bool contact_seen(const fc_landing *lm, const fc_landing_input *in)
+/* On the pad: the range finder puts the gear on the surface, and the vehicle
+ * no longer follows the reference, which goes on to dip below the surface
+ * (z - z_r >= dip / 4). The second cue keeps range noise during the last
+ * centimetres of a descent (the vehicle on its reference) from counting. */
+static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
 {
-    return in->range_fresh && in->gear_height_m <= lm->p.contact_height_m;
+    fc_arith *ar = &lm->ar;
+    const fc_real behind_m = fc_sub(ar, in->z_m, reference->z_m);
+    return in->range_fresh && in->gear_height_m <= lm->p.contact_height_m && behind_m >= lm->stuck_error_m;
 }
 
 fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
@@ -263,12 +270,12 @@ fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_la
         if (lm->state == FC_LANDING_DESCEND) {
             if (abort != FC_REASON_NONE) {
                 start_abort(lm, in, abort);
-            } else if (contact_seen(lm, in)) {
+            } else if (contact_seen(lm, in, &out->reference)) {
                 enter(lm, FC_LANDING_TOUCHDOWN, FC_REASON_CONTACT);
             }
         } else if (abort == FC_REASON_ABORT_COMMANDED) {
             start_abort(lm, in, abort);
-        } else if (in->range_fresh && !contact_seen(lm, in)) {
+        } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
             enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
         } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
             lm->touchdown_thrust_n = fc_is_finite(in->thrust_n) ? fc_max(in->thrust_n, FC_INT(0, FORCE))

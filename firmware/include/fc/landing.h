@@ -18,7 +18,9 @@
  *   touchdown window opens when the reference's gear is window_m above the
  *   surface (touchdown_window in the output): no contact is planned before.
  * TOUCHDOWN: the gear height from the range finder (range k_h - gear) is below
- *   contact_height_m; confirmed after contact_confirm_s of it, else back to DESCEND.
+ *   contact_height_m and the vehicle stays above its reference by dip / 4 (the
+ *   pad holds it while the reference goes on down); confirmed after
+ *   contact_confirm_s of both, else back to DESCEND.
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
  * ABORT (from OBSERVE only for a lost range; from DESCEND and TOUCHDOWN for
@@ -135,6 +137,7 @@ typedef struct fc_landing {
     fc_real touchdown_thrust_n;     /* FORCE */
     fc_real window_offset_m;        /* LENGTH: dip + window: the offset where the window opens */
     fc_real hold_level_m;           /* LENGTH: the pad level the hold point stands on */
+    fc_real stuck_error_m;          /* LENGTH: dip / 4: z - z_r beyond it, the vehicle is held by the pad */
     fc_real inv_ramp_per_s;         /* GAIN: 1 / ramp_s */
     fc_real step_s;                 /* TIME: dt */
     uint8_t aborts;
