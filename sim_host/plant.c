@@ -33,7 +33,7 @@ void pad_eval(const pad_params *p, double t, pad_state *out)
     default:
         break;
     }
-    if (t > p->growth_start_s) {
+    if (p->growth_scale > 0.0 && t > p->growth_start_s) {
         /* the heave grows linearly to growth_scale over growth_duration_s (a fault; the
          * growth's own rate is left out of z' and z'') */
         const double ramp = fmin(1.0, (t - p->growth_start_s) / fmax(p->growth_duration_s, 1e-9));

@@ -47,7 +47,7 @@ typedef struct pad_params {
     double wave_amplitude_m[PAD_MAX_WAVES];
     double wave_omega_radps[PAD_MAX_WAVES];
     double wave_phase_rad[PAD_MAX_WAVES];
-    /* a fault: from growth_start_s (INFINITY: never) the heave grows to growth_scale times */
+    /* a fault: from growth_start_s (INFINITY: never) the heave grows to growth_scale times (0: off) */
     double growth_start_s, growth_duration_s, growth_scale;
 } pad_params;
 

@@ -138,11 +138,11 @@ static fc_landing_reason descent_abort_reason(const fc_landing *lm, const fc_lan
     if (in->tilt_cos < lm->p.tilt_cos_abort) {
         return FC_REASON_ABORT_TILT;
     }
+    if (in->pad->accel_bound_mps2 > lm->p.pad_accel_max_mps2) {
+        return FC_REASON_ABORT_PAD_ACCEL; /* a stated bound broken: before the confidence it also lowers */
+    }
     if (in->pad->confidence < lm->p.confidence_abort) {
         return FC_REASON_ABORT_CONFIDENCE;
-    }
-    if (in->pad->accel_bound_mps2 > lm->p.pad_accel_max_mps2) {
-        return FC_REASON_ABORT_PAD_ACCEL;
     }
     if (!range_alive(lm)) {
         return FC_REASON_ABORT_RANGE_LOST;

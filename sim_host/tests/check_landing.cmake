@@ -1,0 +1,36 @@
+# Runs fc-sil on a landing scenario and checks the mission's course in its JSON:
+# an event with the expected reason, the expected final state, no NaN output.
+#   cmake -DFCSIL=... -DSCENARIO=... -DNUMERIC=... -DOUT=... -DREASON=abort-tilt -DFINAL=landed
+#         -P check_landing.cmake
+execute_process(
+  COMMAND "${FCSIL}" --scenario "${SCENARIO}" --numeric "${NUMERIC}" --json "${OUT}" --quiet
+  RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
+endif()
+file(READ "${OUT}" json)
+string(JSON nan_outputs GET "${json}" nan_outputs)
+if(NOT nan_outputs EQUAL 0)
+  message(FATAL_ERROR "${nan_outputs} NaN outputs")
+endif()
+string(JSON final GET "${json}" landing final_state)
+string(JSON count LENGTH "${json}" landing events)
+set(seen FALSE)
+set(course "")
+math(EXPR last "${count} - 1")
+foreach(i RANGE ${last})
+  string(JSON t GET "${json}" landing events ${i} t_s)
+  string(JSON state GET "${json}" landing events ${i} state)
+  string(JSON reason GET "${json}" landing events ${i} reason)
+  string(APPEND course " ${t}:${state}/${reason}")
+  if(reason STREQUAL "${REASON}")
+    set(seen TRUE)
+  endif()
+endforeach()
+message(STATUS "final ${final};${course}")
+if(NOT seen)
+  message(FATAL_ERROR "no transition with reason ${REASON}")
+endif()
+if(DEFINED FINAL AND NOT final STREQUAL "${FINAL}")
+  message(FATAL_ERROR "final state ${final}, expected ${FINAL}")
+endif()
