@@ -206,6 +206,20 @@ FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
 #endif
 }
 
+/* a * b exactly, unsigned, as halves (the square roots of scalar.c). */
+FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
+{
+    fc_fx_wide product;
+#if defined(__AVR__)
+    fc_avr_mul_u32(a, b, &product.low, &product.high);
+#else
+    const uint64_t whole = (uint64_t)a * b;
+    product.low = (uint32_t)whole;
+    product.high = (uint32_t)(whole >> 32);
+#endif
+    return product;
+}
+
 /* fc_fx_add64 on halves: a + b, clamped at +-INT64_MAX. */
 FC_FX_INLINE fc_fx_wide fc_fx_add_wide(fc_fx_wide a, fc_fx_wide b)
 {
