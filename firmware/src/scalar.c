@@ -35,24 +35,105 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     return fc_fx_saturate(ar, rounded / den64);
 }
 
-/* floor(sqrt(v)) by the digit-by-digit method: 32 rounds, no division. */
-static uint32_t isqrt_u64(uint64_t v)
+/* floor(sqrt(m)) of a 32-bit m by the digit-by-digit method: 16 rounds of
+ * 32-bit operations, no division. */
+static uint32_t isqrt_u32(uint32_t m)
 {
-    uint64_t root = 0u;
-    uint64_t bit = (uint64_t)1u << 62;
-    while (bit > v) {
+    uint32_t root = 0u;
+    uint32_t bit = (uint32_t)1u << 30;
+    while (bit > m) {
         bit >>= 2;
     }
     while (bit != 0u) {
-        if (v >= root + bit) {
-            v -= root + bit;
+        if (m >= root + bit) {
+            m -= root + bit;
             root = (root >> 1) + bit;
         } else {
             root >>= 1;
         }
         bit >>= 2;
     }
-    return (uint32_t)root;
+    return root;
+}
+
+/* a > b for unsigned 64-bit values held as halves */
+static bool wide_above(fc_fx_wide a, fc_fx_wide b)
+{
+    return a.high > b.high || (a.high == b.high && a.low > b.low);
+}
+
+static fc_fx_wide wide_plus(fc_fx_wide a, uint32_t b)
+{
+    fc_fx_wide sum;
+    sum.low = a.low + b;
+    sum.high = a.high + (sum.low < b ? 1u : 0u);
+    return sum;
+}
+
+static fc_fx_wide wide_minus(fc_fx_wide a, uint32_t b)
+{
+    fc_fx_wide difference;
+    difference.low = a.low - b;
+    difference.high = a.high - (a.low < b ? 1u : 0u);
+    return difference;
+}
+
+/*
+ * sqrt(v) rounded to nearest, v unsigned 64-bit as halves (below 2^64 - 2^32),
+ * in 32-bit C and 32 x 32 -> 64 products only (on the ATmega a 64-bit C
+ * operation is a libgcc loop). The rounded root R is the one integer with
+ * R^2 - R < v <= R^2 + R ((R -+ 1/2)^2 = R^2 -+ R + 1/4 and v is an integer),
+ * so any estimate is made exact by stepping R with R^2 kept incrementally;
+ * the estimate is within a few units, so the steps are few:
+ *   v 4^n = 2^32 m + l with m in [2^30, 2^32)   (normalised by pairs of bits)
+ *   s = floor(sqrt(m)), r = m - s^2 <= 2 s        (16-bit root of the top half)
+ *   sqrt(v 4^n) ~ 2^16 s + (2^32 r + l) / (2^17 s) (one Heron step, error < 4)
+ *   R0 = that / 2^n.
+ */
+static uint32_t sqrt_rounded_wide(fc_fx_wide v)
+{
+    if (v.high == 0u && v.low == 0u) {
+        return 0u;
+    }
+    /* normalise: whole bytes first, then pairs of bits */
+    uint32_t m = v.high;
+    uint32_t l = v.low;
+    int n = 0;
+    if (m == 0u) {
+        m = l;
+        l = 0u;
+        n = 16;
+    }
+    while (m < ((uint32_t)1u << 24)) {
+        m = (m << 8) | (l >> 24);
+        l <<= 8;
+        n += 4;
+    }
+    while (m < ((uint32_t)1u << 30)) {
+        m = (m << 1) | (l >> 31);
+        l <<= 1;
+        m = (m << 1) | (l >> 31);
+        l <<= 1;
+        n += 1;
+    }
+    const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
+    const uint32_t r = m - s * s;     /* <= 2 s < 2^17 */
+    /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
+    const uint32_t heron = ((r << 15) + (l >> 17)) / s;
+    const uint32_t top = s << 16;
+    uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
+    root >>= n;
+    /* exact by steps: R^2 - R < v <= R^2 + R */
+    fc_fx_wide square = fc_fx_umul_wide(root, root);
+    while (wide_above(v, wide_plus(square, root))) {
+        square = wide_plus(wide_plus(square, root), root + 1u); /* (R + 1)^2 = R^2 + 2R + 1 */
+        root++;
+    }
+    while (root > 0u && !wide_above(v, wide_minus(square, root))) {
+        square = wide_plus(wide_minus(wide_minus(square, root), root), 1u); /* (R - 1)^2 */
+        root--;
+    }
+    return root;
 }
 
 fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
@@ -62,25 +143,28 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
         return 0;
     }
     /* sqrt(X / 2^f) * 2^f = sqrt(X * 2^f): X < 2^31 and f <= 31 keep X * 2^f < 2^62 */
-    const uint64_t scaled = (uint64_t)x << frac;
-    uint32_t root = isqrt_u64(scaled);
-    /* round to nearest: (r + 1/2)^2 = r^2 + r + 1/4 */
-    if (scaled - (uint64_t)root * root > root) {
-        root++;
+    fc_fx_wide scaled;
+    if (frac <= 0) {
+        scaled.low = (uint32_t)x;
+        scaled.high = 0u;
+    } else {
+        scaled.low = (uint32_t)x << frac;
+        scaled.high = (uint32_t)x >> (32 - frac);
     }
-    return (fc_real)root;
+    return (fc_real)sqrt_rounded_wide(scaled);
 }
 
 fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
 {
-    /* each square is below 2^62, so three of them fit a uint64 */
-    const uint64_t sum = (uint64_t)((int64_t)a * a) + (uint64_t)((int64_t)b * b) +
-                         (uint64_t)((int64_t)c * c);
-    uint32_t root = isqrt_u64(sum);
-    if (sum - (uint64_t)root * root > root) {
-        root++;
+    /* each square is at most 2^62, so three of them fit 64 bits unsigned */
+    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
+    const fc_fx_wide sum = fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
+    const uint32_t root = sqrt_rounded_wide(sum);
+    if (root > (uint32_t)INT32_MAX) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
     }
-    return fc_fx_saturate(ar, (int64_t)root);
+    return (fc_real)root;
 }
 
 /* Bit length of a positive value: X lies in [2^(len-1), 2^len). */

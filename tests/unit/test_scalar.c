@@ -802,6 +802,90 @@ static void test_sqrt(void **state)
     assert_int_equal(ar.saturated, 0);
 }
 
+/* fixed: fc_sqrt and fc_hypot3 (32-bit halves, Heron estimate made exact by
+ * steps) give bit for bit what the digit-by-digit square root of the 64-bit
+ * value rounded to nearest gives (the definition, below in uint64_t), for
+ * every frac and every bit length of the operand; float: nothing to check. */
+#if FC_NUMERIC_FIXED
+static uint32_t reference_sqrt_rounded(uint64_t v)
+{
+    uint64_t root = 0u;
+    uint64_t bit = (uint64_t)1u << 62;
+    uint64_t rest = v;
+    while (bit > rest) {
+        bit >>= 2;
+    }
+    while (bit != 0u) {
+        if (rest >= root + bit) {
+            rest -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    if (v - root * root > root) {
+        root++;
+    }
+    return (uint32_t)root;
+}
+#endif
+
+static void test_sqrt_hypot3_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(4242u);
+    fc_arith ar = {0};
+    unsigned cases = 0u;
+    for (int frac = 0; frac <= 31; frac++) {
+        for (int bits = 0; bits <= 31; bits++) {
+            for (int i = 0; i < 64; i++) {
+                fc_real x = (fc_real)(ts_rand_u32(&rng) >> (32 - (bits > 0 ? bits : 1)));
+                if (i == 0) {
+                    x = bits == 31 ? INT32_MAX : (fc_real)(((uint32_t)1u << bits) - 1u);
+                } else if (i == 1) {
+                    x = (fc_real)((uint32_t)1u << (bits < 31 ? bits : 30));
+                }
+                if (x <= 0) {
+                    continue;
+                }
+                const uint32_t want = reference_sqrt_rounded((uint64_t)x << frac);
+                assert_int_equal((uint32_t)fc_sqrt(&ar, x, frac), want);
+                cases++;
+            }
+        }
+    }
+    for (int i = 0; i < 200000; i++) {
+        const int shift_a = (int)(ts_rand_u32(&rng) % 32u), shift_b = (int)(ts_rand_u32(&rng) % 32u);
+        const int shift_c = (int)(ts_rand_u32(&rng) % 32u);
+        fc_real a = (fc_real)ts_rand_u32(&rng) >> shift_a;
+        fc_real b = (fc_real)ts_rand_u32(&rng) >> shift_b;
+        fc_real c = (fc_real)ts_rand_u32(&rng) >> shift_c;
+        if (i < 27) {
+            const fc_real corner[3] = {INT32_MIN, INT32_MAX, 0};
+            a = corner[i % 3];
+            b = corner[(i / 3) % 3];
+            c = corner[i / 9];
+        }
+        const uint64_t sum = (uint64_t)((int64_t)a * a) + (uint64_t)((int64_t)b * b) + (uint64_t)((int64_t)c * c);
+        const uint32_t root = reference_sqrt_rounded(sum);
+        fc_arith h = {0};
+        const fc_real got = fc_hypot3(&h, a, b, c);
+        if (root > (uint32_t)INT32_MAX) {
+            assert_int_equal(got, FC_REAL_MAX);
+            assert_int_equal(h.saturated, 1);
+        } else {
+            assert_int_equal((uint32_t)got, root);
+            assert_int_equal(h.saturated, 0);
+        }
+        cases++;
+    }
+    assert_int_equal(ar.saturated, 0);
+    print_message("sqrt/hypot3 exact: %u cases\n", cases);
+#endif
+}
+
 static void test_hypot3(void **state)
 {
     (void)state;
@@ -1243,6 +1327,7 @@ int main(void)
         cmocka_unit_test(test_acc),
         cmocka_unit_test(test_sqrt),
         cmocka_unit_test(test_hypot3),
+        cmocka_unit_test(test_sqrt_hypot3_exact),
         cmocka_unit_test(test_rsqrt),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),

@@ -94,6 +94,10 @@ typedef struct fc_arith {
 /* ======================================================================= */
 typedef int32_t fc_real;
 
+#if defined(__AVR__)
+#include "fc/scalar_avr.h"
+#endif
+
 /* The primitives below must be inlined where they are used: only then is the
  * shift a constant, and on the ATmega a 32-bit shift by a variable is a loop
  * (at -Os avr-gcc would otherwise call them). */
@@ -151,44 +155,156 @@ FC_FX_INLINE int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
 }
 
 /*
- * value / 2^shift rounded to nearest and saturated, the way every product
- * leaves its 64-bit intermediate. For 0 < shift < 32 (all the FC_SHIFTs of
- * the library) it works on the two 32-bit halves: on the ATmega a 64-bit shift
- * is a libgcc loop of `shift` iterations, while these are byte selects and two
- * 32-bit shifts by a constant once inlined. Same result as fc_fx_rescale.
+ * The 64-bit intermediate as its two 32-bit halves (value = 2^32 high + low,
+ * high read as signed). The portable C builds it from an int64_t; on the
+ * ATmega (fc/scalar_avr.h) products are formed in halves by assembly, because
+ * avr-gcc 5.4 does every int64_t multiply, shift, add and compare in libgcc.
+ * Both give the same bits: the functions below are the portable definition.
  */
-FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
+typedef struct fc_fx_wide {
+    uint32_t low;
+    uint32_t high;
+} fc_fx_wide;
+
+FC_FX_INLINE fc_fx_wide fc_fx_split(int64_t value)
 {
-    if (shift <= 0 || shift >= 32) {
-        return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
-    }
-    /* the two halves by a union, not by a shift: a 64-bit shift is a loop on
-     * the ATmega (all targets of this library are little-endian) */
+    /* by a union, not by a shift: a 64-bit shift is a loop on the ATmega (all
+     * targets of this library are little-endian) */
     const union {
         int64_t whole;
-        struct {
-            uint32_t low;
-            int32_t high;
-        } half;
+        fc_fx_wide half;
     } split = {value};
-    const uint32_t low = split.half.low;
-    int32_t high = split.half.high;
+    return split.half;
+}
+
+FC_FX_INLINE int64_t fc_fx_join(fc_fx_wide value)
+{
+    const union {
+        fc_fx_wide half;
+        int64_t whole;
+    } join = {value};
+    return join.whole;
+}
+
+/* a * b exactly, as halves. */
+FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
+{
+#if defined(__AVR__)
+    /* unsigned product of the bit patterns, then the high half corrected for
+     * the signs (fc/scalar_avr.h) */
+    fc_fx_wide product;
+    fc_avr_mul_u32((uint32_t)a, (uint32_t)b, &product.low, &product.high);
+    if (a < 0) {
+        product.high -= (uint32_t)b;
+    }
+    if (b < 0) {
+        product.high -= (uint32_t)a;
+    }
+    return product;
+#else
+    return fc_fx_split((int64_t)a * b);
+#endif
+}
+
+/* a * b exactly, unsigned, as halves (the square roots of scalar.c). */
+FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
+{
+    fc_fx_wide product;
+#if defined(__AVR__)
+    fc_avr_mul_u32(a, b, &product.low, &product.high);
+#else
+    const uint64_t whole = (uint64_t)a * b;
+    product.low = (uint32_t)whole;
+    product.high = (uint32_t)(whole >> 32);
+#endif
+    return product;
+}
+
+/* fc_fx_add64 on halves: a + b, clamped at +-INT64_MAX. */
+FC_FX_INLINE fc_fx_wide fc_fx_add_wide(fc_fx_wide a, fc_fx_wide b)
+{
+    fc_fx_wide sum;
+    sum.low = a.low + b.low;
+    sum.high = a.high + b.high + (sum.low < a.low ? 1u : 0u);
+    /* signed overflow: both operands of one sign, the sum of the other */
+    if ((int32_t)(~(a.high ^ b.high) & (a.high ^ sum.high)) < 0) {
+        const bool positive = (int32_t)a.high >= 0;
+        sum.low = positive ? UINT32_MAX : 1u;
+        sum.high = positive ? (uint32_t)INT32_MAX : (uint32_t)INT32_MIN;
+    }
+    return sum;
+}
+
+/* a + b modulo 2^64 (the accumulator of fc_acc_mac). */
+FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
+{
+    fc_fx_wide sum;
+    sum.low = a.low + b.low;
+    sum.high = a.high + b.high + (sum.low < a.low ? 1u : 0u);
+    return sum;
+}
+
+/* Bits [shift, shift + 31] of high:low, 0 < shift < 32 (a compile-time constant). */
+FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
+{
+#if defined(__AVR__)
+    /* whole bytes by byte moves, then the rest (0..7 bits) by ASR/ROR: a C
+     * shift by a constant that is not a multiple of 8 is a loop at -Os */
+    const int bytes = shift / 8;
+    if (bytes == 1) {
+        low = (low >> 8) | (high << 24);
+        high >>= 8;
+    } else if (bytes == 2) {
+        low = (low >> 16) | (high << 16);
+        high >>= 16;
+    } else if (bytes == 3) {
+        low = (low >> 24) | (high << 8);
+        high >>= 24;
+    }
+    FC_AVR_ASR64(low, high, shift % 8);
+    return low;
+#else
+    return (high << (32 - shift)) | (low >> shift);
+#endif
+}
+
+/*
+ * value / 2^shift rounded to nearest and saturated, the way every product
+ * leaves its 64-bit intermediate, for 0 < shift < 32 (all the FC_SHIFTs of
+ * the library): on the two 32-bit halves, the carry of the rounding by hand,
+ * the range checked on the high half alone. Same result as
+ * fc_fx_saturate(fc_fx_rescale(value, shift)).
+ */
+FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    const uint32_t low = value.low;
+    int32_t high = (int32_t)value.high;
     const uint32_t low_rounded = low + ((uint32_t)1 << (shift - 1));
     if (low_rounded < low && high != INT32_MAX) {
         high += 1; /* the carry of the rounding */
     }
-    /* the quotient fits 32 bits iff the bits of high above shift - 1 are all sign */
-    const int32_t above = high >> (shift - 1);
-    if (above != 0 && above != -1) {
+    /* the quotient fits 32 bits iff the bits of high above shift - 1 are all
+     * sign, i.e. -2^(shift-1) <= high < 2^(shift-1) */
+    const int32_t bound = (int32_t)1 << (shift - 1);
+    if (high >= bound || high < -bound) {
         ar->saturated = 1u;
         return high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
     }
-    const int32_t result = (int32_t)(((uint32_t)high << (32 - shift)) | (low_rounded >> shift));
+    const int32_t result = (int32_t)fc_fx_extract(low_rounded, (uint32_t)high, shift);
     if (result == INT32_MIN) {
         ar->saturated = 1u; /* symmetric range: -2^31 is not a value */
         return FC_REAL_MIN;
     }
     return result;
+}
+
+/* value / 2^shift rounded to nearest and saturated, any shift. */
+FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
+{
+    if (shift <= 0 || shift >= 32) {
+        return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
+    }
+    return fc_fx_narrow_wide(ar, fc_fx_split(value), shift);
 }
 
 /* An int32 result, with the one value outside the symmetric range (-2^31) saturated. */
@@ -236,6 +352,9 @@ FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
 /* a * b >> shift, rounded, saturated. */
 FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
+    }
     return fc_fx_narrow(ar, (int64_t)a * b, shift);
 }
 
@@ -258,18 +377,32 @@ FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int6
 FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
+    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
 
 FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, int shift)
 {
+    if (shift > 0 && shift < 32) {
+        /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + p2 */
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
+    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
 
 FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
 {
+    if (shift > 0 && shift < 32) {
+        /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + (p2 + p3) */
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
+        return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, p23), shift);
+    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }
 
@@ -286,7 +419,13 @@ FC_FX_INLINE fc_acc fc_acc_zero(void)
 
 FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
+#if defined(__AVR__)
+    fc_fx_wide product = fc_fx_mul_wide(a, b);
+    FC_AVR_ASR64(product.low, product.high, FC_ACC_GUARD_BITS);
+    return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), product));
+#else
     return acc + (((int64_t)a * b) >> FC_ACC_GUARD_BITS);
+#endif
 }
 
 FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
@@ -300,7 +439,22 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 /* Change of format: a value in format FROM re-expressed in format TO. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, frac_from - frac_to));
+    const int shift = frac_from - frac_to;
+    if (shift > 0 && shift < 32) {
+        /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^shift) + bit shift-1
+         * of a: rounded to nearest in 32 bits, and never beyond the range */
+        return (a >> shift) + ((a >> (shift - 1)) & 1);
+    }
+    if (shift < 0 && shift > -32) {
+        /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */
+        const int32_t limit = INT32_MAX >> (-shift);
+        if (a > limit || a < -limit) {
+            ar->saturated = 1u;
+            return a > 0 ? FC_REAL_MAX : FC_REAL_MIN;
+        }
+        return (fc_real)((uint32_t)a << (-shift));
+    }
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, shift));
 }
 
 FC_FX_INLINE bool fc_is_finite(fc_real a)

@@ -1,0 +1,135 @@
+/*
+ * fc/scalar_avr.h - the ATmega's products for the fixed backend (included by
+ * fc/scalar.h only when __AVR__ is defined; nothing else includes it).
+ *
+ * avr-gcc 5.4 computes (int64_t)a * b by __mulsidi3 and shifts, adds and
+ * compares int64_t through libgcc loops. Here the 64-bit intermediate of a
+ * product never is a C int64_t: it is the pair of 32-bit halves of
+ * fc_fx_wide, and the two steps that need more than 32-bit C are written out
+ * in AVR assembly:
+ *
+ *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
+ *                    schoolbook method (MUL, 2 cycles each), the four
+ *                    diagonal ones moved into place, the twelve others added
+ *                    with their carries (about 100 cycles, no call)
+ *   FC_AVR_ASR64     arithmetic shift right of the 8 bytes by 0..7 bits
+ *                    (ASR/ROR, 8 cycles a bit), the part of a shift that is
+ *                    not a whole number of bytes
+ *
+ * The signed product follows from the unsigned one of the same bit patterns
+ * (two's complement, modulo 2^64):
+ *   a b = A B - 2^32 (a < 0 ? B : 0) - 2^32 (b < 0 ? A : 0)
+ * with A, B the operands read as unsigned, so only the high half is corrected.
+ * platform/atmega/sim/avr_scalar_test.c checks these against the portable C
+ * of fc/scalar.h in simavr.
+ */
+#ifndef FC_SCALAR_AVR_H
+#define FC_SCALAR_AVR_H
+
+#if !defined(__AVR__)
+#error "fc/scalar_avr.h is for avr-gcc only (fc/scalar.h includes it)"
+#endif
+
+#include <stdint.h>
+
+/* *low + 2^32 *high = a b, unsigned. r0:r1 take each MUL's product; r1 is
+ * avr-gcc's zero register and is cleared again at the end. */
+static inline __attribute__((always_inline)) void fc_avr_mul_u32(uint32_t a, uint32_t b, uint32_t *low,
+                                                                  uint32_t *high)
+{
+    uint32_t lo, hi;
+    uint8_t zero;
+    __asm__("clr %2\n\t"
+            /* the diagonal a_i b_i: bytes 2i and 2i + 1, no overlap */
+            "mul %A3, %A4\n\t"
+            "mov %A0, r0\n\t"
+            "mov %B0, r1\n\t"
+            "mul %B3, %B4\n\t"
+            "mov %C0, r0\n\t"
+            "mov %D0, r1\n\t"
+            "mul %C3, %C4\n\t"
+            "mov %A1, r0\n\t"
+            "mov %B1, r1\n\t"
+            "mul %D3, %D4\n\t"
+            "mov %C1, r0\n\t"
+            "mov %D1, r1\n\t"
+            /* byte 1: a0 b1, a1 b0 */
+            "mul %A3, %B4\n\t"
+            "add %B0, r0\n\t" "adc %C0, r1\n\t" "adc %D0, %2\n\t" "adc %A1, %2\n\t"
+            "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %B3, %A4\n\t"
+            "add %B0, r0\n\t" "adc %C0, r1\n\t" "adc %D0, %2\n\t" "adc %A1, %2\n\t"
+            "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            /* byte 2: a0 b2, a2 b0 */
+            "mul %A3, %C4\n\t"
+            "add %C0, r0\n\t" "adc %D0, r1\n\t" "adc %A1, %2\n\t"
+            "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %C3, %A4\n\t"
+            "add %C0, r0\n\t" "adc %D0, r1\n\t" "adc %A1, %2\n\t"
+            "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            /* byte 3: a0 b3, a3 b0, a1 b2, a2 b1 */
+            "mul %A3, %D4\n\t"
+            "add %D0, r0\n\t" "adc %A1, r1\n\t" "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %D3, %A4\n\t"
+            "add %D0, r0\n\t" "adc %A1, r1\n\t" "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %B3, %C4\n\t"
+            "add %D0, r0\n\t" "adc %A1, r1\n\t" "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %C3, %B4\n\t"
+            "add %D0, r0\n\t" "adc %A1, r1\n\t" "adc %B1, %2\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            /* byte 4: a1 b3, a3 b1 */
+            "mul %B3, %D4\n\t"
+            "add %A1, r0\n\t" "adc %B1, r1\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            "mul %D3, %B4\n\t"
+            "add %A1, r0\n\t" "adc %B1, r1\n\t" "adc %C1, %2\n\t" "adc %D1, %2\n\t"
+            /* byte 5: a2 b3, a3 b2 */
+            "mul %C3, %D4\n\t"
+            "add %B1, r0\n\t" "adc %C1, r1\n\t" "adc %D1, %2\n\t"
+            "mul %D3, %C4\n\t"
+            "add %B1, r0\n\t" "adc %C1, r1\n\t" "adc %D1, %2\n\t"
+            "clr __zero_reg__"
+            : "=&r"(lo), "=&r"(hi), "=&r"(zero)
+            : "r"(a), "r"(b));
+    *low = lo;
+    *high = hi;
+}
+
+/* one bit of the arithmetic shift right of %1:%0 (high:low) */
+#define FC_AVR_ASR1                                                                            \
+    "asr %D1\n\tror %C1\n\tror %B1\n\tror %A1\n\tror %D0\n\tror %C0\n\tror %B0\n\tror %A0\n\t"
+
+/* high:low >> BITS, arithmetic, BITS in 0..7. A compile-time BITS is
+ * unrolled (8 cycles a bit); a run-time one (a shift passed down to a
+ * function that is not inlined) is a counted loop. A macro: the "n"
+ * constraint needs the constant itself, not a parameter. */
+#define FC_AVR_ASR64(low, high, BITS)                                                           \
+    do {                                                                                      \
+        if (__builtin_constant_p(BITS)) {                                                     \
+            /* written out, not .rept: gcc sizes its branches by the asm's lines */            \
+            switch ((BITS) & 7) {                                                             \
+            case 1: __asm__(FC_AVR_ASR1 : "+r"(low), "+r"(high)); break;                      \
+            case 2: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 : "+r"(low), "+r"(high)); break;          \
+            case 3: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 : "+r"(low), "+r"(high)); break; \
+            case 4: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1                   \
+                            : "+r"(low), "+r"(high)); break;                                  \
+            case 5: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1       \
+                            : "+r"(low), "+r"(high)); break;                                  \
+            case 6: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1       \
+                            FC_AVR_ASR1 : "+r"(low), "+r"(high)); break;                      \
+            case 7: __asm__(FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1 FC_AVR_ASR1       \
+                            FC_AVR_ASR1 FC_AVR_ASR1 : "+r"(low), "+r"(high)); break;          \
+            default: break;                                                                   \
+            }                                                                                 \
+        } else {                                                                              \
+            uint8_t fc_avr_count = (uint8_t)((BITS) & 7);                                     \
+            if (fc_avr_count != 0u) {                                                         \
+                __asm__(".Lfc_asr64_%=:\n\t"                                                  \
+                        "asr %D1\n\tror %C1\n\tror %B1\n\tror %A1\n\t"                        \
+                        "ror %D0\n\tror %C0\n\tror %B0\n\tror %A0\n\t"                        \
+                        "dec %2\n\t"                                                          \
+                        "brne .Lfc_asr64_%="                                                  \
+                        : "+r"(low), "+r"(high), "+r"(fc_avr_count));                         \
+            }                                                                                 \
+        }                                                                                     \
+    } while (0)
+
+#endif /* FC_SCALAR_AVR_H */

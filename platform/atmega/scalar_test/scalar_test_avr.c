@@ -1,0 +1,247 @@
+/*
+ * scalar_test_avr.c - the ATmega image of atmega.scalar_equivalence: the fixed
+ * backend's products as the ATmega computes them (fc/scalar_avr.h: assembly
+ * multiply, results taken from the 32-bit halves) against the portable
+ * definition written with C int64_t (fc_fx_rescale, fc_fx_add64,
+ * fc_fx_saturate of fc/scalar.h, which avr-gcc computes through libgcc), on
+ * the same target, over edge operands and pseudo-random ones, for every right
+ * shift 1..31 as a compile-time constant (what the library uses) and through
+ * a run-time shift (a shift passed to a function that is not inlined).
+ * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
+ * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert.
+ *
+ * No I/O: the counts are in scalar_test_cases / scalar_test_failures and the
+ * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
+ * sleep with interrupts off (ends the simavr run). Read by scalar_test_host.c.
+ */
+#include <avr/interrupt.h>
+#include <avr/sleep.h>
+#include <stdint.h>
+
+#include "fc/scalar.h"
+
+#if !FC_NUMERIC_FIXED
+#error "scalar_test_avr.c tests the fixed backend"
+#endif
+
+volatile uint32_t scalar_test_cases;
+volatile uint32_t scalar_test_failures;
+volatile uint8_t scalar_test_done;
+/* the first failure: operation code, shift, got, expected */
+volatile int32_t scalar_test_first[4];
+
+static uint32_t rng_state = 0x2545F491u;
+
+static uint32_t rng_next(void)
+{
+    /* xorshift32 (Marsaglia 2003) */
+    uint32_t x = rng_state;
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    rng_state = x;
+    return x;
+}
+
+#define EDGE_COUNT 14
+static const int32_t edges[EDGE_COUNT] = {
+    INT32_MIN, INT32_MIN + 1, INT32_MAX, INT32_MAX - 1, 0, 1, -1, 2, -2,
+    (int32_t)0x40000000, -(int32_t)0x40000000, (int32_t)0x3FFFFFFF, 46341, -46341,
+};
+
+/* an operand: an edge value, a full-range random one, or a random one of a
+ * random bit length (small values, the common case in the library) */
+static int32_t operand(void)
+{
+    const uint32_t pick = rng_next();
+    switch (pick & 3u) {
+    case 0:
+        return edges[(pick >> 8) % EDGE_COUNT];
+    case 1:
+        return (int32_t)rng_next();
+    default: {
+        const uint8_t bits = (uint8_t)((pick >> 8) & 31u);
+        return (int32_t)rng_next() >> bits;
+    }
+    }
+}
+
+static void check(uint8_t op, uint8_t shift, int32_t got, uint8_t got_sat, int32_t want, uint8_t want_sat)
+{
+    scalar_test_cases++;
+    if (got != want || got_sat != want_sat) {
+        if (scalar_test_failures == 0u) {
+            scalar_test_first[0] = op;
+            scalar_test_first[1] = shift;
+            scalar_test_first[2] = got;
+            scalar_test_first[3] = want;
+        }
+        scalar_test_failures++;
+    }
+}
+
+/* ---- the portable definition, in C int64_t ---------------------------- */
+
+static __attribute__((noinline)) int32_t ref_narrow(fc_arith *ar, int64_t value, int shift)
+{
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
+}
+
+static __attribute__((noinline)) int32_t ref_dot(fc_arith *ar, const int32_t *a, const int32_t *b, int n, int shift)
+{
+    int64_t p[4] = {0, 0, 0, 0};
+    for (int i = 0; i < n; i++) {
+        p[i] = (int64_t)a[i] * b[i];
+    }
+    return ref_narrow(ar, fc_fx_add64(fc_fx_add64(p[0], p[1]), fc_fx_add64(p[2], p[3])), shift);
+}
+
+static __attribute__((noinline)) int32_t ref_acc(fc_arith *ar, const int32_t *a, const int32_t *b, int shift)
+{
+    int64_t acc = 0;
+    for (int i = 0; i < 8; i++) {
+        acc += ((int64_t)a[i] * b[i]) >> FC_ACC_GUARD_BITS;
+    }
+    return ref_narrow(ar, acc, shift - FC_ACC_GUARD_BITS);
+}
+
+/* ---- the library's primitives, shift a compile-time constant ----------- */
+
+#define OP_MUL 1u
+#define OP_DOT2 2u
+#define OP_DOT3 3u
+#define OP_DOT4 4u
+#define OP_ACC 5u
+#define OP_CONVERT_DOWN 6u
+#define OP_CONVERT_UP 7u
+#define OP_MUL_RUNTIME 8u
+#define OP_DOT4_RUNTIME 9u
+
+static void compare_one(uint8_t shift, const int32_t *a, const int32_t *b, int32_t mul, uint8_t mul_sat,
+                        int32_t dot2, uint8_t dot2_sat, int32_t dot3, uint8_t dot3_sat, int32_t dot4,
+                        uint8_t dot4_sat, int32_t acc, uint8_t acc_sat, int32_t down, uint8_t down_sat, int32_t up,
+                        uint8_t up_sat)
+{
+    fc_arith r = {0u};
+    int32_t want = ref_narrow(&r, (int64_t)a[0] * b[0], shift);
+    check(OP_MUL, shift, mul, mul_sat, want, r.saturated);
+    r.saturated = 0u;
+    want = ref_dot(&r, a, b, 2, shift);
+    check(OP_DOT2, shift, dot2, dot2_sat, want, r.saturated);
+    r.saturated = 0u;
+    want = ref_dot(&r, a, b, 3, shift);
+    check(OP_DOT3, shift, dot3, dot3_sat, want, r.saturated);
+    r.saturated = 0u;
+    want = ref_dot(&r, a, b, 4, shift);
+    check(OP_DOT4, shift, dot4, dot4_sat, want, r.saturated);
+    if (shift > FC_ACC_GUARD_BITS) {
+        r.saturated = 0u;
+        want = ref_acc(&r, a, b, shift);
+        check(OP_ACC, shift, acc, acc_sat, want, r.saturated);
+    }
+    r.saturated = 0u;
+    want = ref_narrow(&r, (int64_t)a[0], shift);
+    check(OP_CONVERT_DOWN, shift, down, down_sat, want, r.saturated);
+    r.saturated = 0u;
+    want = ref_narrow(&r, (int64_t)a[0], -(int)shift);
+    check(OP_CONVERT_UP, shift, up, up_sat, want, r.saturated);
+}
+
+/* One function per shift S: the primitives inlined with S a constant. */
+#define DEFINE_CASE(S)                                                                                 \
+    static __attribute__((noinline)) void case_##S(const int32_t *a, const int32_t *b)                 \
+    {                                                                                                  \
+        fc_arith m = {0u}, d2 = {0u}, d3 = {0u}, d4 = {0u}, ac = {0u}, cd = {0u}, cu = {0u};           \
+        const int32_t mul = fc_mul(&m, a[0], b[0], S);                                                 \
+        const int32_t dot2 = fc_dot2(&d2, a[0], b[0], a[1], b[1], S);                                  \
+        const int32_t dot3 = fc_dot3(&d3, a[0], b[0], a[1], b[1], a[2], b[2], S);                      \
+        const int32_t dot4 = fc_dot4(&d4, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], S);          \
+        int32_t acc = 0;                                                                               \
+        if ((S) > FC_ACC_GUARD_BITS) {                                                                 \
+            fc_acc sum = fc_acc_zero();                                                                \
+            for (int i = 0; i < 8; i++) {                                                              \
+                sum = fc_acc_mac(sum, a[i], b[i]);                                                     \
+            }                                                                                          \
+            acc = fc_acc_result(&ac, sum, (S) > FC_ACC_GUARD_BITS ? (S) : FC_ACC_GUARD_BITS + 1);      \
+        }                                                                                              \
+        const int32_t down = fc_convert(&cd, a[0], S, 0);                                              \
+        const int32_t up = fc_convert(&cu, a[0], 0, S);                                                \
+        compare_one(S, a, b, mul, m.saturated, dot2, d2.saturated, dot3, d3.saturated, dot4,           \
+                    d4.saturated, acc, ac.saturated, down, cd.saturated, up, cu.saturated);            \
+    }
+
+DEFINE_CASE(1) DEFINE_CASE(2) DEFINE_CASE(3) DEFINE_CASE(4) DEFINE_CASE(5) DEFINE_CASE(6) DEFINE_CASE(7)
+DEFINE_CASE(8) DEFINE_CASE(9) DEFINE_CASE(10) DEFINE_CASE(11) DEFINE_CASE(12) DEFINE_CASE(13)
+DEFINE_CASE(14) DEFINE_CASE(15) DEFINE_CASE(16) DEFINE_CASE(17) DEFINE_CASE(18) DEFINE_CASE(19)
+DEFINE_CASE(20) DEFINE_CASE(21) DEFINE_CASE(22) DEFINE_CASE(23) DEFINE_CASE(24) DEFINE_CASE(25)
+DEFINE_CASE(26) DEFINE_CASE(27) DEFINE_CASE(28) DEFINE_CASE(29) DEFINE_CASE(30) DEFINE_CASE(31)
+
+typedef void (*case_fn)(const int32_t *a, const int32_t *b);
+static const case_fn cases[31] = {
+    case_1,  case_2,  case_3,  case_4,  case_5,  case_6,  case_7,  case_8,  case_9,  case_10, case_11,
+    case_12, case_13, case_14, case_15, case_16, case_17, case_18, case_19, case_20, case_21, case_22,
+    case_23, case_24, case_25, case_26, case_27, case_28, case_29, case_30, case_31,
+};
+
+/* The shift only known at run time (as in fc_vec3_scale): the looping path. */
+static __attribute__((noinline)) void case_runtime(const int32_t *a, const int32_t *b, int shift)
+{
+    fc_arith m = {0u}, d4 = {0u}, r = {0u};
+    const int32_t mul = fc_mul(&m, a[0], b[0], shift);
+    const int32_t dot4 = fc_dot4(&d4, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], shift);
+    int32_t want = ref_narrow(&r, (int64_t)a[0] * b[0], shift);
+    check(OP_MUL_RUNTIME, (uint8_t)shift, mul, m.saturated, want, r.saturated);
+    r.saturated = 0u;
+    want = ref_dot(&r, a, b, 4, shift);
+    check(OP_DOT4_RUNTIME, (uint8_t)shift, dot4, d4.saturated, want, r.saturated);
+}
+
+#ifndef SCALAR_TEST_ROUNDS
+#define SCALAR_TEST_ROUNDS 200
+#endif
+
+int main(void)
+{
+    int32_t a[8], b[8];
+    /* every pair of edge values in the first product, the others random */
+    for (uint8_t i = 0; i < EDGE_COUNT; i++) {
+        for (uint8_t j = 0; j < EDGE_COUNT; j++) {
+            for (uint8_t k = 0; k < 8; k++) {
+                a[k] = operand();
+                b[k] = operand();
+            }
+            a[0] = edges[i];
+            b[0] = edges[j];
+            for (uint8_t s = 0; s < 31; s++) {
+                cases[s](a, b);
+            }
+        }
+    }
+    /* all eight products at the format's corners: the clamped 64-bit sums */
+    for (uint8_t i = 0; i < EDGE_COUNT; i++) {
+        for (uint8_t k = 0; k < 8; k++) {
+            a[k] = edges[i];
+            b[k] = edges[(uint8_t)(i + k) % EDGE_COUNT];
+        }
+        for (uint8_t s = 0; s < 31; s++) {
+            cases[s](a, b);
+        }
+    }
+    for (uint16_t round = 0; round < SCALAR_TEST_ROUNDS; round++) {
+        for (uint8_t k = 0; k < 8; k++) {
+            a[k] = operand();
+            b[k] = operand();
+        }
+        for (uint8_t s = 0; s < 31; s++) {
+            cases[s](a, b);
+        }
+        case_runtime(a, b, (int)(rng_next() % 31u) + 1);
+    }
+    scalar_test_done = 1u;
+    cli();
+    set_sleep_mode(SLEEP_MODE_PWR_DOWN);
+    sleep_enable();
+    for (;;) {
+        sleep_cpu();
+    }
+}
