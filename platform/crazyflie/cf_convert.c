@@ -152,6 +152,9 @@ void cf_session_reset(cf_session *s)
     s->hold_y_m = 0.0f;
     s->hold_yaw_rad = 0.0f;
     s->pad_phase_rad = 0.0f;
+    s->range_last_mm = 0.0f;
+    s->range_m = 0.0f;
+    s->range_fresh = false;
 }
 
 bool cf_setpoint_live(const cf_sample *s)
@@ -160,12 +163,20 @@ bool cf_setpoint_live(const cf_sample *s)
            s->sp_mode_z != CF_MODE_DISABLE;
 }
 
-fc_controller_command cf_command(uint8_t track, const cf_sample *s)
+fc_controller_command cf_command(uint8_t mission, uint8_t track, const cf_sample *s)
 {
-    if (track == 0u || track >= (uint8_t)FC_COMMAND_COUNT || !cf_setpoint_live(s)) {
+    if (!cf_setpoint_live(s)) {
         return FC_COMMAND_DISARM;
     }
-    return (fc_controller_command)track;
+    switch (mission) {
+    case CF_MISSION_FOLLOW:
+        return track < (uint8_t)FC_COMMAND_COUNT ? (fc_controller_command)track : FC_COMMAND_DISARM;
+    case CF_MISSION_LAND:
+        return FC_COMMAND_LAND;
+    case CF_MISSION_HOLD:
+    default:
+        return FC_COMMAND_HOLD;
+    }
 }
 
 bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s)
@@ -203,6 +214,22 @@ void cf_pad_advance(cf_session *ss, const cf_tuning *t, float dt_s)
     ss->pad_phase_rad = isfinite(next) ? next : 0.0f;
 }
 
+void cf_range_step(cf_session *ss, float range_mm, const cf_tuning *t)
+{
+    const bool changed = range_mm != ss->range_last_mm;
+    ss->range_last_mm = range_mm;
+    ss->range_fresh = false;
+    if (!(changed && range_mm >= 0.0f && range_mm < CF_RANGE_MAX_MM)) {
+        return; /* the same reading (or none), or one the deck driver calls an outlier */
+    }
+    const float range_m = range_mm * 0.001f + t->range_offset_m;
+    if (!isfinite(range_m)) {
+        return; /* a non-finite offset: no sample */
+    }
+    ss->range_m = range_m > 0.0f ? range_m : 0.0f;
+    ss->range_fresh = true;
+}
+
 void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tuning *t,
                            fc_controller_command command, fc_controller_inputs *in)
 {
@@ -219,6 +246,8 @@ void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tu
     in->position_setpoint_m = fc_vec3_make(F(x, LENGTH), F(y, LENGTH), FC_INT(0, LENGTH));
     const float yaw = s->sp_mode_yaw == CF_MODE_ABS ? cf_wrap_pi(cf_rad_from_deg(s->sp_yaw_deg)) : ss->hold_yaw_rad;
     in->yaw_setpoint_rad = F(yaw, ANGLE);
+    in->range_m = F(ss->range_m, LENGTH);
+    in->range_fresh = ss->range_fresh;
     in->command = command;
 }
 
@@ -243,7 +272,7 @@ void cf_force_torque_from_outputs(const fc_controller_outputs *out, cf_force_tor
 }
 
 void cf_telemetry_from_outputs(const fc_controller_outputs *out, fc_step_status status,
-                               fc_controller_command command, float pad_z_m, cf_telemetry *tm)
+                               fc_controller_command command, float pad_z_m, float range_m, cf_telemetry *tm)
 {
     const fc_controller_telemetry *ct = &out->telemetry;
     const fc_altitude_control_output *a = &ct->altitude;
@@ -266,4 +295,14 @@ void cf_telemetry_from_outputs(const fc_controller_outputs *out, fc_step_status 
     tm->status = status;
     tm->command = (uint8_t)command;
     tm->saturation = ct->allocation_saturation;
+    tm->landing_state = (uint8_t)ct->landing_state;
+    tm->landing_reason = (uint8_t)ct->landing_reason;
+    tm->aborts = ct->aborts;
+    tm->touchdown_window = ct->touchdown_window ? 1u : 0u;
+    tm->pad_confidence = R(ct->pad.confidence, UNIT);
+    tm->pad_est_z = R(ct->pad.now.z_m, LENGTH);
+    tm->pad_est_vz = R(ct->pad.now.vz_mps, VEL);
+    tm->pad_period = R(ct->pad.dominant_period_s, TIME);
+    tm->gear_height = R(ct->gear_height_m, LENGTH);
+    tm->range = range_m;
 }

@@ -52,6 +52,17 @@
 /* loaded_variant before any defaults were loaded */
 #define CF_TUNING_NONE 0xFFu
 
+/* Values of the "mission" parameter (PARAM fcssc.mission). */
+#define CF_MISSION_FOLLOW 0u /* the command is the "track" parameter's (0 motors off, 1 track the pad) */
+#define CF_MISSION_HOLD 1u   /* FC_COMMAND_HOLD: hold above the pad and learn it; aborts a descent */
+#define CF_MISSION_LAND 2u   /* FC_COMMAND_LAND: hold, learn, descend, touch down, motors off */
+
+/* The down-pointing ToF ranger (Flow deck v2 / Z-ranger deck): rangeGet(rangeDown)
+ * is the last reading in whole mm (range.c keeps a uint16). The deck driver gives
+ * the estimator only readings below its RANGE_OUTLIER_LIMIT, 5000 mm ("outliers
+ * typically occur as >8 m"); the app takes the same ones. */
+#define CF_RANGE_MAX_MM 5000.0f
+
 /* ---- units --------------------------------------------------------------- */
 
 float cf_rad_from_deg(float deg);
@@ -84,6 +95,7 @@ typedef struct cf_sample {
     float sp_pos_m[3];     /* setpoint.position */
     float sp_yaw_deg;      /* setpoint.attitude.yaw */
     float sp_thrust;       /* setpoint.thrust (legacy PWM units; 0 = no thrust asked) */
+    float range_mm;        /* rangeGet(rangeDown): the down ranger's last reading, mm (0: none yet) */
     uint8_t sp_mode_x, sp_mode_y, sp_mode_z, sp_mode_yaw; /* setpoint.mode.*: CF_MODE_* */
 } cf_sample;
 
@@ -113,6 +125,8 @@ typedef struct cf_tuning {
     /* horizontal PD */
     float h_kp;            /* 1/s^2 */
     float h_kd;            /* 1/s */
+    /* the range finder: range from the CG = reading + range_offset (takes effect at once) */
+    float range_offset_m;  /* m; calibrate on the ground: gear height (LOG fcssc.gearH) reads 0 */
     uint8_t loaded_variant; /* whose gains are loaded; CF_TUNING_NONE at first */
 } cf_tuning;
 
@@ -151,6 +165,10 @@ typedef struct cf_session {
     float hold_x_m, hold_y_m;           /* position when the command began */
     float hold_yaw_rad;                 /* heading when the command began */
     float pad_phase_rad;                /* of the virtual pad, in [-pi, pi] */
+    /* the range finder (cf_range_step) */
+    float range_last_mm;                /* the reading of the previous step */
+    float range_m;                      /* the newest usable sample, from the CG, m (0: none yet) */
+    bool range_fresh;                   /* range_m is new at this step */
 } cf_session;
 
 void cf_session_reset(cf_session *s);
@@ -160,10 +178,17 @@ void cf_session_reset(cf_session *s);
  * thrust 0) when the vehicle may not fly, and so does a stopped commander. */
 bool cf_setpoint_live(const cf_sample *s);
 
-/* The command for this step: the "track" parameter's value as an
- * fc_controller_command while the setpoint is live; FC_COMMAND_DISARM when it
- * is 0, out of range, or the setpoint is not live. */
-fc_controller_command cf_command(uint8_t track, const cf_sample *s);
+/* The command for this step. Without a live setpoint (the supervisor does not
+ * let the vehicle fly, or no commander runs): FC_COMMAND_DISARM, whatever the
+ * parameters say. Else by the "mission" parameter:
+ *   CF_MISSION_FOLLOW (0)  the "track" parameter's value as an
+ *                          fc_controller_command (0 DISARM, 1 TRACK_PAD, 2 HOLD,
+ *                          3 LAND); DISARM when it is out of range
+ *   CF_MISSION_HOLD (1)    FC_COMMAND_HOLD (from LAND: the library aborts the descent)
+ *   CF_MISSION_LAND (2)    FC_COMMAND_LAND
+ *   anything else          FC_COMMAND_HOLD: an unknown mission never starts a
+ *                          descent and never stops the motors in flight */
+fc_controller_command cf_command(uint8_t mission, uint8_t track, const cf_sample *s);
 
 /* Start of a command (DISARM before, something else now): hold the present
  * position and heading, restart the pad's phase. Returns true then (the app
@@ -175,10 +200,22 @@ fc_vertical_trajectory cf_pad_trajectory(const cf_session *ss, const cf_tuning *
 float cf_pad_height_m(const cf_session *ss, const cf_tuning *t);
 void cf_pad_advance(cf_session *ss, const cf_tuning *t, float dt_s);
 
+/* The range finder at this step (before cf_inputs_from_sample): a reading is a
+ * new sample when it differs from the previous step's (the ranger updates
+ * rangeDown at 40 Hz, the controller steps at 500 Hz, and the firmware keeps no
+ * timestamp with it) and is usable: finite, in [0, CF_RANGE_MAX_MM). Then
+ * ss->range_m = reading / 1000 + range_offset_m (negative: 0) and
+ * ss->range_fresh; otherwise range_m keeps the last sample and range_fresh is
+ * false. A ranger that stops (or a deck that is absent: 0 all along) gives no
+ * fresh sample, which the landing mission sees as a lost range finder after
+ * its range_timeout_s (0.3 s); a real reading repeated to the mm for that long
+ * would look the same (a false abort, never a descent without the sensor). */
+void cf_range_step(cf_session *ss, float range_mm, const cf_tuning *t);
+
 /* The controller's inputs from the firmware's numbers: IMU in SI, the
  * quaternion reordered, position and velocity as they are (both z up), the x/y
  * setpoint and the heading from the commander when it gives them absolutely,
- * else the held ones, and the pad. */
+ * else the held ones, the pad, and the range finder of cf_range_step. */
 void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tuning *t,
                            fc_controller_command command, fc_controller_inputs *in);
 
@@ -209,12 +246,25 @@ typedef struct cf_telemetry {
     float thrust;          /* body thrust command, N */
     float torque[3];       /* body moments, N m */
     uint16_t status;       /* fc_step_status bits of the last step */
-    uint8_t command;       /* fc_controller_command in effect: 0 disarmed, 1 tracking the pad */
+    uint8_t command;       /* fc_controller_command in effect: 0 disarmed, 1 track, 2 hold, 3 land */
     uint8_t init_result;   /* fc_init_result of the last (re)initialisation */
     uint8_t saturation;    /* FC_SAT_* bits of the allocation */
+    /* the landing mission */
+    uint8_t landing_state;  /* fc_landing_state */
+    uint8_t landing_reason; /* fc_landing_reason of the newest transition */
+    uint8_t aborts;         /* aborts since the mission started */
+    uint8_t touchdown_window; /* 1: the plan expects contact from now on */
+    float pad_confidence;  /* of the pad's prediction, [0, 1] */
+    float pad_est_z;       /* the pad's height as learnt from the range finder, m, world */
+    float pad_est_vz;      /* its vertical speed, m/s */
+    float pad_period;      /* the period of its dominant heave, s */
+    float gear_height;     /* gear above the pad from the range finder (last sample), m */
+    float range;           /* the range input: the newest sample from the CG, m */
 } cf_telemetry;
 
+/* The LOG fields from the step's outputs; pad_z_m is the virtual pad's height,
+ * range_m the range input (cf_session.range_m). */
 void cf_telemetry_from_outputs(const fc_controller_outputs *out, fc_step_status status,
-                               fc_controller_command command, float pad_z_m, cf_telemetry *tm);
+                               fc_controller_command command, float pad_z_m, float range_m, cf_telemetry *tm);
 
 #endif /* CF_CONVERT_H */

@@ -35,6 +35,7 @@
 #include "controller.h"
 #include "log.h"
 #include "param.h"
+#include "range.h"
 #include "stabilizer_types.h"
 #include "task.h"
 
@@ -61,6 +62,7 @@ static bool usable;            /* the last (re)initialisation succeeded */
 /* PARAM fcssc */
 static cf_tuning tuning = CF_TUNING_INITIALIZER;
 static uint8_t track;  /* 0: motors off; 1: track the pad (fc_controller_command) */
+static uint8_t mission; /* CF_MISSION_*: 0 follow track, 1 hold, 2 land */
 static uint8_t reinit; /* write 1: re-initialise with the present parameters */
 
 /* Requests to (re)initialise, served by appMain. Each counter has one writer. */
@@ -161,13 +163,15 @@ static void step(const setpoint_t *setpoint, const sensorData_t *sensors, const 
     s.sp_mode_y = (uint8_t)setpoint->mode.y;
     s.sp_mode_z = (uint8_t)setpoint->mode.z;
     s.sp_mode_yaw = (uint8_t)setpoint->mode.yaw;
+    s.range_mm = rangeGet(rangeDown);
 
-    const fc_controller_command command = cf_command(track, &s);
+    const fc_controller_command command = cf_command(mission, track, &s);
     if (cf_session_begin(&session, command, &s) || reinit != 0u) {
         reinit = 0u;
         request_init(true, s.pos_m[2], cf_pad_height_m(&session, &tuning));
     }
     fc_step_status status = FC_STEP_NOT_READY;
+    cf_range_step(&session, s.range_mm, &tuning);
     if (!init_pending() && usable) {
         cf_inputs_from_sample(&s, &session, &tuning, command, &inputs);
         status = fc_controller_step(&ctl, &inputs, &outputs);
@@ -175,7 +179,8 @@ static void step(const setpoint_t *setpoint, const sensorData_t *sensors, const 
         outputs = (fc_controller_outputs){0}; /* motors off */
     }
     cf_force_torque_from_outputs(&outputs, &held);
-    cf_telemetry_from_outputs(&outputs, status, command, cf_pad_height_m(&session, &tuning), &telemetry);
+    cf_telemetry_from_outputs(&outputs, status, command, cf_pad_height_m(&session, &tuning), session.range_m,
+                              &telemetry);
     cf_pad_advance(&session, &tuning, CF_STEP_DT_S);
 }
 
@@ -193,12 +198,15 @@ void controllerOutOfTree(control_t *control, const setpoint_t *setpoint, const s
 }
 
 /**
- * The fc controller: start and stop the pad tracking, tune the altitude law.
- * Gains take effect at the next (re)initialisation: when tracking starts,
- * when reinit is written 1, or when the controller is selected again.
+ * The fc controller: start and stop the pad tracking and the landing mission,
+ * tune the altitude law. Gains take effect at the next (re)initialisation:
+ * when a command starts from motors off, when reinit is written 1, or when
+ * the controller is selected again.
  */
 PARAM_GROUP_START(fcssc)
-/** @brief 0: motors off (the controller's DISARM); 1: track the pad (needs a live commander setpoint) */
+/** @brief Landing mission: 0 as track says, 1 hold above the pad and learn it (aborts a descent), 2 land (needs a live commander setpoint) */
+PARAM_ADD(PARAM_UINT8, mission, &mission)
+/** @brief With mission 0: 0 motors off (the controller's DISARM); 1 track the pad (needs a live commander setpoint) */
 PARAM_ADD(PARAM_UINT8, track, &track)
 /** @brief Write 1 to re-initialise with the parameters below (reads back 0 when done) */
 PARAM_ADD(PARAM_UINT8, reinit, &reinit)
@@ -240,6 +248,8 @@ PARAM_ADD(PARAM_FLOAT, padFreq, &tuning.pad_freq)
 PARAM_ADD(PARAM_FLOAT, hKp, &tuning.h_kp)
 /** @brief Horizontal PD: acceleration per m/s of velocity [1/s] */
 PARAM_ADD(PARAM_FLOAT, hKd, &tuning.h_kd)
+/** @brief Range finder: CG to the sensor along body -z, added to its reading [m] (at once; calibrate: gearH reads 0 on the ground) */
+PARAM_ADD(PARAM_FLOAT, rngOff, &tuning.range_offset_m)
 PARAM_GROUP_STOP(fcssc)
 
 /**
@@ -274,10 +284,30 @@ LOG_ADD(LOG_FLOAT, tqY, &telemetry.torque[1])
 LOG_ADD(LOG_FLOAT, tqZ, &telemetry.torque[2])
 /** @brief fc_step_status bits: 1 not ready, 2 bad input, 4 output limited, 8 fixed-point saturated, 16 degraded */
 LOG_ADD(LOG_UINT16, status, &telemetry.status)
-/** @brief Command in effect: 0 disarmed (motors off), 1 tracking the pad */
+/** @brief Command in effect: 0 disarmed (motors off), 1 tracking the pad, 2 hold, 3 land */
 LOG_ADD(LOG_UINT8, cmd, &telemetry.command)
 /** @brief Result of the last (re)initialisation: 0 ok, 1 bad parameter, 2 rank deficient */
 LOG_ADD(LOG_UINT8, init, &telemetry.init_result)
 /** @brief Allocation saturation bits (FC_SAT_*) */
 LOG_ADD(LOG_UINT8, sat, &telemetry.saturation)
+/** @brief Landing state (fc_landing_state): 0 idle, 1 hold, 2 observe, 3 descend, 4 touchdown, 5 disarm (ramp), 6 landed, 7 abort, 8 failsafe */
+LOG_ADD(LOG_UINT8, lState, &telemetry.landing_state)
+/** @brief Reason of the newest landing transition (fc_landing_reason) */
+LOG_ADD(LOG_UINT8, lReason, &telemetry.landing_reason)
+/** @brief Aborts since the landing mission started */
+LOG_ADD(LOG_UINT8, aborts, &telemetry.aborts)
+/** @brief 1: the landing plan expects contact from now on */
+LOG_ADD(LOG_UINT8, tdWin, &telemetry.touchdown_window)
+/** @brief Confidence in the pad's prediction [0..1] */
+LOG_ADD(LOG_FLOAT, padConf, &telemetry.pad_confidence)
+/** @brief The pad's height learnt from the range finder [m] */
+LOG_ADD(LOG_FLOAT, padEstZ, &telemetry.pad_est_z)
+/** @brief The pad's vertical speed learnt from the range finder [m/s] */
+LOG_ADD(LOG_FLOAT, padEstVz, &telemetry.pad_est_vz)
+/** @brief Period of the pad's dominant heave [s] */
+LOG_ADD(LOG_FLOAT, padPer, &telemetry.pad_period)
+/** @brief Gear above the pad from the range finder [m] */
+LOG_ADD(LOG_FLOAT, gearH, &telemetry.gear_height)
+/** @brief Range input: the newest usable ranger sample, CG to the pad [m] */
+LOG_ADD(LOG_FLOAT, range, &telemetry.range)
 LOG_GROUP_STOP(fcssc)

@@ -264,20 +264,20 @@ static void test_command_gating(void **state)
 {
     (void)state;
     cf_sample s = hover_sample();
-    assert_int_equal(cf_command(0u, &s), FC_COMMAND_DISARM);
-    assert_int_equal(cf_command(1u, &s), FC_COMMAND_TRACK_PAD);
-    assert_int_equal(cf_command((uint8_t)FC_COMMAND_COUNT, &s), FC_COMMAND_DISARM);
-    assert_int_equal(cf_command(200u, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(0u, 0u, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(0u, 1u, &s), FC_COMMAND_TRACK_PAD);
+    assert_int_equal(cf_command(0u, (uint8_t)FC_COMMAND_COUNT, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(0u, 200u, &s), FC_COMMAND_DISARM);
     /* the supervisor's (and a stopped commander's) null setpoint: motors off */
     cf_sample null_sp;
     memset(&null_sp, 0, sizeof null_sp);
     null_sp.quat_xyzw[3] = 1.0f;
     assert_false(cf_setpoint_live(&null_sp));
-    assert_int_equal(cf_command(1u, &null_sp), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(0u, 1u, &null_sp), FC_COMMAND_DISARM);
     /* a manual (attitude) setpoint with thrust asked for is live */
     null_sp.sp_thrust = 20000.0f;
     assert_true(cf_setpoint_live(&null_sp));
-    assert_int_equal(cf_command(1u, &null_sp), FC_COMMAND_TRACK_PAD);
+    assert_int_equal(cf_command(0u, 1u, &null_sp), FC_COMMAND_TRACK_PAD);
     /* a velocity-mode z alone is live too */
     null_sp.sp_thrust = 0.0f;
     null_sp.sp_mode_z = 2u;
@@ -339,6 +339,137 @@ static void test_virtual_pad(void **state)
     near_abs(D(p.vz_mps, VEL), 0.0, 0.0);
 }
 
+/* ---- the landing mission: parameter -> command --------------------------------------------- */
+
+static void test_mission_command(void **state)
+{
+    (void)state;
+    cf_sample s = hover_sample();
+    /* mission 0: the track parameter, as before */
+    assert_int_equal(cf_command(CF_MISSION_FOLLOW, 0u, &s), FC_COMMAND_DISARM);
+    assert_int_equal(cf_command(CF_MISSION_FOLLOW, 1u, &s), FC_COMMAND_TRACK_PAD);
+    assert_int_equal(cf_command(CF_MISSION_FOLLOW, 2u, &s), FC_COMMAND_HOLD);
+    assert_int_equal(cf_command(CF_MISSION_FOLLOW, 3u, &s), FC_COMMAND_LAND);
+    /* land asked for, setpoint live: LAND, whatever track says */
+    assert_int_equal(cf_command(CF_MISSION_LAND, 0u, &s), FC_COMMAND_LAND);
+    assert_int_equal(cf_command(CF_MISSION_LAND, 1u, &s), FC_COMMAND_LAND);
+    /* hold (the abort of a descent): HOLD, whatever track says */
+    assert_int_equal(cf_command(CF_MISSION_HOLD, 0u, &s), FC_COMMAND_HOLD);
+    assert_int_equal(cf_command(CF_MISSION_HOLD, 1u, &s), FC_COMMAND_HOLD);
+    /* an unknown mission: HOLD (no descent, no motors off in flight) */
+    assert_int_equal(cf_command(3u, 0u, &s), FC_COMMAND_HOLD);
+    assert_int_equal(cf_command(255u, 1u, &s), FC_COMMAND_HOLD);
+    /* stopped commander or supervisor: DISARM for every mission */
+    cf_sample null_sp;
+    memset(&null_sp, 0, sizeof null_sp);
+    null_sp.quat_xyzw[3] = 1.0f;
+    for (unsigned m = 0u; m < 256u; m++) {
+        assert_int_equal(cf_command((uint8_t)m, 1u, &null_sp), FC_COMMAND_DISARM);
+    }
+    /* a command begins (re-initialisation) only from DISARM: LAND -> HOLD keeps the mission */
+    cf_session ss;
+    cf_session_reset(&ss);
+    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &null_sp), &s));
+    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s));
+}
+
+/* ---- the range finder ----------------------------------------------------------------------- */
+
+static void test_range_freshness(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    near_abs(t.range_offset_m, 0.0, 0.0); /* default: the reading as it is */
+    cf_session ss;
+    cf_session_reset(&ss);
+    /* no deck (or no reading yet): 0 all along, never a sample */
+    for (int i = 0; i < 10; i++) {
+        cf_range_step(&ss, 0.0f, &t);
+        assert_false(ss.range_fresh);
+    }
+    near_abs(ss.range_m, 0.0, 0.0);
+    /* a new reading: mm -> m, fresh for one step, then held without being fresh */
+    cf_range_step(&ss, 320.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 0.32, 1e-7);
+    for (int i = 0; i < 11; i++) {
+        cf_range_step(&ss, 320.0f, &t);
+        assert_false(ss.range_fresh);
+        near_abs(ss.range_m, 0.32, 1e-7);
+    }
+    cf_range_step(&ss, 321.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 0.321, 1e-7);
+    /* the deck driver's outliers (>= 5000 mm) are no sample; the last one is kept */
+    cf_range_step(&ss, 8190.0f, &t);
+    assert_false(ss.range_fresh);
+    near_abs(ss.range_m, 0.321, 1e-7);
+    cf_range_step(&ss, 5000.0f, &t);
+    assert_false(ss.range_fresh);
+    cf_range_step(&ss, 4999.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 4.999, 1e-6);
+    /* ... and a reading after an outlier is new even if it equals the one before it */
+    cf_range_step(&ss, 321.0f, &t);
+    cf_range_step(&ss, 8190.0f, &t);
+    cf_range_step(&ss, 321.0f, &t);
+    assert_true(ss.range_fresh);
+    /* on the pad the ranger may read 0: a change to it is a sample */
+    cf_range_step(&ss, 0.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 0.0, 0.0);
+    /* not numbers: no sample */
+    cf_range_step(&ss, NAN, &t);
+    assert_false(ss.range_fresh);
+    cf_range_step(&ss, -5.0f, &t);
+    assert_false(ss.range_fresh);
+    near_abs(ss.range_m, 0.0, 0.0);
+    /* the offset (CG to sensor) is added; a negative range is 0 */
+    t.range_offset_m = 0.015f;
+    cf_range_step(&ss, 5.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 0.020, 1e-7);
+    t.range_offset_m = -0.010f;
+    cf_range_step(&ss, 4.0f, &t);
+    assert_true(ss.range_fresh);
+    near_abs(ss.range_m, 0.0, 0.0);
+    t.range_offset_m = NAN;
+    cf_range_step(&ss, 6.0f, &t);
+    assert_false(ss.range_fresh);
+    /* Init starts over: the next reading is new */
+    t.range_offset_m = 0.0f;
+    cf_range_step(&ss, 300.0f, &t);
+    cf_session_reset(&ss);
+    assert_false(ss.range_fresh);
+    cf_range_step(&ss, 300.0f, &t);
+    assert_true(ss.range_fresh);
+}
+
+static void test_range_into_inputs(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.range_mm = 412.0f;
+    fc_controller_inputs in;
+    cf_range_step(&ss, s.range_mm, &t);
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_LAND, &in);
+    assert_true(in.range_fresh);
+    near_fmt(D(in.range_m, LENGTH), 0.412, FC_LENGTH_FRAC, 2);
+    assert_int_equal(in.command, FC_COMMAND_LAND);
+    cf_range_step(&ss, s.range_mm, &t);
+    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_LAND, &in);
+    assert_false(in.range_fresh);
+    near_fmt(D(in.range_m, LENGTH), 0.412, FC_LENGTH_FRAC, 2);
+}
+
 /* ---- outputs ---------------------------------------------------------------------------- */
 
 static void test_force_torque(void **state)
@@ -393,7 +524,7 @@ static void test_telemetry(void **state)
     out.telemetry.allocation_saturation = FC_SAT_YAW_POS;
     cf_telemetry tm;
     memset(&tm, 0, sizeof tm);
-    cf_telemetry_from_outputs(&out, FC_STEP_OUTPUT_LIMITED, FC_COMMAND_TRACK_PAD, 0.3f, &tm);
+    cf_telemetry_from_outputs(&out, FC_STEP_OUTPUT_LIMITED, FC_COMMAND_TRACK_PAD, 0.3f, 0.25f, &tm);
     near_fmt(tm.sigma, -0.5, FC_VEL_FRAC, 1);
     near_fmt(tm.sigma_tilde, 0.125, FC_VEL_FRAC, 1);
     near_fmt(tm.rho, 0.3375, FC_FORCE_FRAC, 1);
@@ -408,6 +539,38 @@ static void test_telemetry(void **state)
     assert_int_equal(tm.status, FC_STEP_OUTPUT_LIMITED);
     assert_int_equal(tm.command, 1);
     assert_int_equal(tm.saturation, FC_SAT_YAW_POS);
+}
+
+static void test_telemetry_landing(void **state)
+{
+    (void)state;
+    fc_controller_outputs out;
+    memset(&out, 0, sizeof out);
+    fc_controller_telemetry *ct = &out.telemetry;
+    ct->landing_state = FC_LANDING_DESCEND;
+    ct->landing_reason = FC_REASON_PAD_LEARNT;
+    ct->aborts = 2u;
+    ct->touchdown_window = true;
+    ct->pad.confidence = fc_from_float(0.75f, FC_UNIT_FRAC);
+    ct->pad.now.z_m = fc_from_float(0.04f, FC_LENGTH_FRAC);
+    ct->pad.now.vz_mps = fc_from_float(-0.06f, FC_VEL_FRAC);
+    ct->pad.dominant_period_s = fc_from_float(4.5f, FC_TIME_FRAC);
+    ct->gear_height_m = fc_from_float(0.12f, FC_LENGTH_FRAC);
+    cf_telemetry tm;
+    memset(&tm, 0, sizeof tm);
+    cf_telemetry_from_outputs(&out, FC_STEP_OK, FC_COMMAND_LAND, 0.0f, 0.14f, &tm);
+    assert_int_equal(tm.command, 3);
+    assert_int_equal(tm.landing_state, 3);
+    assert_int_equal(tm.landing_reason, FC_REASON_PAD_LEARNT);
+    assert_int_equal(tm.aborts, 2);
+    assert_int_equal(tm.touchdown_window, 1);
+    near_fmt(tm.pad_confidence, 0.75, FC_UNIT_FRAC, 1);
+    near_fmt(tm.pad_est_z, 0.04, FC_LENGTH_FRAC, 1);
+    near_fmt(tm.pad_est_vz, -0.06, FC_VEL_FRAC, 1);
+    near_fmt(tm.pad_period, 4.5, FC_TIME_FRAC, 1);
+    near_fmt(tm.gear_height, 0.12, FC_LENGTH_FRAC, 1);
+    near_abs(tm.range, 0.14, 1e-7);
+    assert_true(tm.thrust == 0.0f); /* motors off */
 }
 
 /* ---- tuning ------------------------------------------------------------------------------------ */
@@ -527,7 +690,7 @@ static void test_chain_hover(void **state)
     cf_session ss;
     cf_session_reset(&ss);
     cf_sample s = hover_sample(); /* level, at rest, at the hold point over a pad at 0 */
-    const fc_controller_command cmd = cf_command(1u, &s);
+    const fc_controller_command cmd = cf_command(0u, 1u, &s);
     assert_true(cf_session_begin(&ss, cmd, &s));
     fc_controller_params p;
     assert_true(cf_params_from_tuning(&t, cf_approach_offset_m(&t, s.pos_m[2], cf_pad_height_m(&ss, &t)), &p));
@@ -541,7 +704,7 @@ static void test_chain_hover(void **state)
         const fc_step_status st = fc_controller_step(&ctl, &in, &out);
         assert_true((st & (FC_STEP_NOT_READY | FC_STEP_BAD_INPUT)) == 0u);
         cf_force_torque_from_outputs(&out, &ft);
-        cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), &tm);
+        cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), ss.range_m, &tm);
         cf_pad_advance(&ss, &t, CF_STEP_DT_S);
     }
     /* flying: a thrust between the rotors' idle and full (4 x 0.12 N), small moments */
@@ -555,12 +718,86 @@ static void test_chain_hover(void **state)
     assert_int_equal(tm.command, FC_COMMAND_TRACK_PAD);
     /* the commander stops: motors off */
     s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_DISABLE;
-    const fc_controller_command off = cf_command(1u, &s);
+    const fc_controller_command off = cf_command(0u, 1u, &s);
     assert_false(cf_session_begin(&ss, off, &s));
     cf_inputs_from_sample(&s, &ss, &t, off, &in);
     (void)fc_controller_step(&ctl, &in, &out);
     cf_force_torque_from_outputs(&out, &ft);
     assert_true(ft.thrust_n == 0.0f);
+}
+
+/* The landing mission through the app's chain and the library: fcssc.mission = 2
+ * with a live setpoint starts LAND (hold, observe, descend on the range finder's
+ * samples of a still pad); writing 1 during the descent makes it HOLD, which the
+ * library turns into an abort; the commander stopping disarms. The vehicle's
+ * state is held (open loop): what is checked is the app's part. */
+static void test_chain_land_then_hold_aborts(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.pos_m[2] = 0.32f; /* the hold point: pad 0 + gear 0.02 + hold 0.3 */
+    uint8_t mission = CF_MISSION_LAND;
+    fc_controller_command cmd = cf_command(mission, 0u, &s);
+    assert_int_equal(cmd, FC_COMMAND_LAND);
+    assert_true(cf_session_begin(&ss, cmd, &s));
+    fc_controller_params p;
+    assert_true(cf_params_from_tuning(&t, cf_approach_offset_m(&t, s.pos_m[2], cf_pad_height_m(&ss, &t)), &p));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in;
+    fc_controller_outputs out;
+    cf_telemetry tm;
+    memset(&tm, 0, sizeof tm);
+    bool held = false, observed = false, descending = false, aborted = false;
+    int descend_step = -1;
+    for (int i = 0; i < 500 * 30 && !aborted; i++) {
+        /* the ranger: a new reading every 25 ms (every 12.5 steps), +-1 mm of noise */
+        s.range_mm = ((i * 2) / 25) % 2 == 0 ? 320.0f : 321.0f;
+        if (descending && descend_step < 0) {
+            descend_step = i;
+        }
+        if (descend_step >= 0 && i == descend_step + 100) {
+            mission = CF_MISSION_HOLD; /* the operator aborts, 0.2 s into the descent */
+        }
+        cmd = cf_command(mission, 0u, &s);
+        assert_false(cf_session_begin(&ss, cmd, &s)); /* LAND -> HOLD: no re-initialisation */
+        cf_range_step(&ss, s.range_mm, &t);
+        cf_inputs_from_sample(&s, &ss, &t, cmd, &in);
+        const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+        assert_true((st & (FC_STEP_NOT_READY | FC_STEP_BAD_INPUT)) == 0u);
+        cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), ss.range_m, &tm);
+        assert_true(out.motors_on);
+        held = held || tm.landing_state == FC_LANDING_HOLD;
+        observed = observed || tm.landing_state == FC_LANDING_OBSERVE;
+        descending = descending || tm.landing_state == FC_LANDING_DESCEND;
+        aborted = tm.landing_state == FC_LANDING_ABORT;
+    }
+    assert_true(held && observed && descending);
+    assert_true(aborted);
+    assert_int_equal(tm.command, FC_COMMAND_HOLD);
+    assert_int_equal(tm.landing_reason, FC_REASON_ABORT_COMMANDED);
+    assert_int_equal(tm.aborts, 1);
+    /* what the log shows of the pad and the range finder */
+    near_abs(tm.range, 0.321, 1e-3);
+    near_abs(tm.gear_height, 0.30, 2e-3);
+    near_abs(tm.pad_est_z, 0.0, 3e-3);
+    near_abs(tm.pad_est_vz, 0.0, 1e-2);
+    assert_true(tm.pad_confidence >= 0.6f);
+    /* the commander stops: DISARM, motors off, the mission back to idle */
+    s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_DISABLE;
+    cmd = cf_command(mission, 0u, &s);
+    assert_int_equal(cmd, FC_COMMAND_DISARM);
+    assert_false(cf_session_begin(&ss, cmd, &s));
+    cf_range_step(&ss, s.range_mm, &t);
+    cf_inputs_from_sample(&s, &ss, &t, cmd, &in);
+    const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+    cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), ss.range_m, &tm);
+    assert_false(out.motors_on);
+    assert_int_equal(tm.landing_state, FC_LANDING_IDLE);
 }
 
 int main(void)
@@ -582,6 +819,11 @@ int main(void)
         cmocka_unit_test(test_tuning_overrides_and_variants),
         cmocka_unit_test(test_approach_offset),
         cmocka_unit_test(test_chain_hover),
+        cmocka_unit_test(test_mission_command),
+        cmocka_unit_test(test_range_freshness),
+        cmocka_unit_test(test_range_into_inputs),
+        cmocka_unit_test(test_telemetry_landing),
+        cmocka_unit_test(test_chain_land_then_hold_aborts),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "cf.convert (fixed)" : "cf.convert (float)", tests, NULL,
                                        NULL);
