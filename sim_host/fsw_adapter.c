@@ -215,6 +215,7 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     out->landing_changed = tm->landing_changed ? 1 : 0;
     out->touchdown_window = tm->touchdown_window ? 1 : 0;
     out->aborts = tm->aborts;
+    out->descent_blocked_by = (int)tm->descent_blocked_by;
     out->pad_est_z_m = FROM_FC(tm->pad.now.z_m, LENGTH);
     out->pad_est_vz_mps = FROM_FC(tm->pad.now.vz_mps, VEL);
     out->pad_confidence = FROM_FC(tm->pad.confidence, UNIT);

@@ -85,7 +85,7 @@ typedef struct fsw_outputs {
     unsigned allocation_saturation;
     unsigned estimator_status, altitude_status, attitude_status, allocation_status;
     /* the landing mission */
-    int landing_state, landing_reason, landing_changed, touchdown_window, aborts;
+    int landing_state, landing_reason, landing_changed, touchdown_window, aborts, descent_blocked_by;
     double pad_est_z_m, pad_est_vz_mps, pad_confidence, pad_accel_bound_mps2, pad_period_s, gear_height_m;
 } fsw_outputs;
 

@@ -202,9 +202,12 @@ static bool run_record_fill(run_record *rec, const scenario *sc, int variant, co
     snprintf(label, sizeof label, "%s %s", sim_variant_names[variant], be->name);
     prog->label = label;
     const double t0 = now_s();
-    if (!mc) {
+    if (!mc || runs == 1) {
         scenario one = *sc;
         one.seed = seed;
+        if (mc) {
+            scenario_perturb(&one, seed); /* one Monte-Carlo seed, with its trace */
+        }
         opt.want_trace = want_trace;
         const bool ok = sim_run(&one, &opt, &rec->result, want_trace ? &rec->trace : NULL, err, err_len);
         prog->done++;
@@ -416,13 +419,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "fc-sil: too many runs at once\n");
         return 2;
     }
-    if (mc && a.csv != NULL) {
+    if (mc && a.runs > 1 && a.csv != NULL) {
         fprintf(stderr, "fc-sil: --csv writes a single run's trace; Monte-Carlo (--runs) keeps none\n");
         return 2;
     }
     static run_record records[MAX_RECORDS];
     progress prog = {isatty(2) != 0 && !a.quiet, 0, (int)(count * (mc ? a.runs : 1)), "", 0.0};
-    const bool want_trace = !mc && (a.csv != NULL || a.plot != NULL);
+    const bool want_trace = (!mc || a.runs == 1) && (a.csv != NULL || a.plot != NULL);
     int filled = 0;
     int status = 0;
     for (int b = 0; b < nb && status == 0; b++) {

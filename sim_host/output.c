@@ -92,6 +92,7 @@ static void add_landing(cJSON *o, const sim_result *res)
     cJSON_AddStringToObject(l, "final_state", sim_landing_state_names[res->final_landing_state]);
     cJSON_AddNumberToObject(l, "aborts", res->aborts);
     add_number(l, "touchdown_planned_s", res->touchdown_planned_s);
+    cJSON_AddStringToObject(l, "descent_blocked_by", sim_landing_reason_names[res->descent_blocked_by]);
     cJSON *events = cJSON_AddArrayToObject(l, "events");
     for (int i = 0; i < res->event_count; i++) {
         cJSON *e = cJSON_CreateObject();

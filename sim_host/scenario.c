@@ -1167,12 +1167,10 @@ static void perturb_pad_family(scenario *sc, rng *r)
         if (pad->model == PAD_SINE) {
             pad->omega_radps = 2.0 * PI / period;
         } else if (pad->model == PAD_WAVES) {
-            double slowest = INFINITY;
-            for (int k = 0; k < pad->wave_count; k++) {
-                slowest = fmin(slowest, pad->wave_omega_radps[k]);
-            }
-            for (int k = 0; k < pad->wave_count && isfinite(slowest); k++) {
-                pad->wave_omega_radps[k] *= (2.0 * PI / period) / slowest;
+            /* every wave its own period in the range */
+            pad->wave_omega_radps[0] = 2.0 * PI / period;
+            for (int k = 1; k < pad->wave_count; k++) {
+                pad->wave_omega_radps[k] = 2.0 * PI / rng_range(r, mc->pad_period_min_s, mc->pad_period_max_s);
             }
         }
     }

@@ -38,7 +38,7 @@ typedef struct montecarlo_params {
     double ground_effect_rho_rel; /* rho of (3.2) x (1 + U(-a, a)) */
     /* landing families: absolute ranges (NaN: not used) */
     double pad_amplitude_min_m, pad_amplitude_max_m; /* peak to peak of the whole heave, U(min, max) */
-    double pad_period_min_s, pad_period_max_s;       /* the (longest) period, U(min, max); others scale with it */
+    double pad_period_min_s, pad_period_max_s;       /* a sine's period, or each wave's, U(min, max) */
     double gust_std_max_mps;                         /* gust std U(0, max) (NaN: as the file) */
 } montecarlo_params;
 

@@ -275,6 +275,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         }
         res->final_landing_state = out.landing_state;
         res->aborts = out.aborts;
+        res->descent_blocked_by = out.descent_blocked_by;
         last_tilt_cos = out.tilt_cos;
         if (!all_finite(&out)) {
             a.nan_outputs++;

@@ -93,6 +93,7 @@ typedef struct sim_result {
     int event_count;
     sim_event events[SIM_MAX_EVENTS];
     int final_landing_state, aborts;
+    int descent_blocked_by;    /* at the end (OBSERVE: why no descent) */
     double touchdown_planned_s; /* the firmware's touchdown window opened (NaN: never) */
     long controller_steps, plant_steps;
     uint64_t seed;

@@ -49,7 +49,7 @@ fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p)
         return FC_INIT_BAD_PARAM;
     }
     lm->window_offset_m = fc_add(ar, p->touchdown_dip_m, p->touchdown_window_m);
-    lm->stuck_error_m = fc_mul(ar, p->touchdown_dip_m, FC_C(0.25f, UNIT), FC_SHIFT(LENGTH, UNIT, LENGTH));
+    lm->stuck_error_m = fc_mul(ar, p->touchdown_dip_m, FC_C(0.5f, UNIT), FC_SHIFT(LENGTH, UNIT, LENGTH));
     lm->inv_ramp_per_s = fc_div(ar, FC_INT(1, TIME), p->ramp_s, FC_DIV_SHIFT(TIME, TIME, GAIN));
     lm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     if (ar->saturated != 0u) {
@@ -241,8 +241,10 @@ fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_la
         out->motors_on = true;
         if (lm->state == FC_LANDING_OBSERVE) {
             const bool may_retry = lm->aborts <= lm->p.abort_retries_max;
-            if (in->request == FC_LANDING_REQUEST_LAND && may_retry &&
-                descent_blocked(lm, in) == FC_REASON_NONE) {
+            out->blocked_by = !may_retry ? FC_REASON_RETRIES_EXHAUSTED
+                              : in->request != FC_LANDING_REQUEST_LAND ? FC_REASON_COMMANDED
+                                                                        : descent_blocked(lm, in);
+            if (out->blocked_by == FC_REASON_NONE) {
                 /* (3.6) from here around the pad's motion */
                 const fc_real surface_offset = fc_sub(ar, in->z_m,
                                                       fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));

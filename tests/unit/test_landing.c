@@ -143,7 +143,7 @@ typedef void (*fault_fn)(world *w);
 static void fault_hold(world *w) { w->in.request = FC_LANDING_REQUEST_HOLD; }
 static void fault_horizontal(world *w) { w->in.horizontal_error_m = len(1.0); }
 static void fault_tilt(world *w) { w->in.tilt_cos = FC_C(0.8f, RATIO); }
-static void fault_confidence(world *w) { w->pad.confidence = FC_C(0.1f, UNIT); }
+static void fault_confidence(world *w) { w->pad.confidence = FC_C(0.05f, UNIT); }
 static void fault_pad_accel(world *w) { w->pad.accel_bound_mps2 = FC_INT(5, ACCEL); }
 static void fault_range(world *w) { w->range_dead = true; }
 

@@ -106,6 +106,7 @@ typedef struct fc_controller_telemetry {
     fc_landing_reason landing_reason;   /* of the newest transition */
     bool landing_changed;               /* a transition at this step */
     bool touchdown_window;              /* the landing plan expects contact from now on */
+    fc_landing_reason descent_blocked_by; /* OBSERVE: what keeps the descent from starting */
     uint8_t aborts;
 } fc_controller_telemetry;
 

@@ -123,6 +123,7 @@ typedef struct fc_landing_output {
     fc_real ramp_thrust_n;          /* FORCE: the thrust in DISARM (fly_reference false) */
     bool touchdown_window;          /* the plan expects contact from now on */
     uint8_t aborts;                 /* since the mission started */
+    fc_landing_reason blocked_by;   /* OBSERVE: what keeps the descent from starting (NONE: nothing) */
 } fc_landing_output;
 
 typedef struct fc_landing {
