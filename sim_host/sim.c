@@ -285,7 +285,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         /* metrics at t_k */
         plant_diag d;
         plant_diagnose(&pl, &d);
-        const double z_r = sim_reference(&info, pad.z_m, t - mission->track_start_s);
+        /* the reference flown: (3.6) on the true pad when tracking it, the firmware's own in a landing */
+        const double z_r = land ? out.z_r_m : sim_reference(&info, pad.z_m, t - mission->track_start_s);
         const double e = pl.s.p.z - z_r;
         if (t >= transient && !(sc->metrics.error_until_contact && a.contact_ever)) {
             a.sum_sq += e * e;
