@@ -241,7 +241,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     tm->reference.az_mps2 = FC_INT(0, ACCEL);
     tm->tilt_cos = FC_INT(1, RATIO);
     tm->allocation_saturation = 0u;
-    tm->estimator_status = tm->altitude_status = tm->attitude_status = tm->allocation_status = FC_STEP_OK;
+    tm->estimator_status = FC_STEP_OK;
+    tm->altitude_status = FC_STEP_OK;
+    tm->attitude_status = FC_STEP_OK;
+    tm->allocation_status = FC_STEP_OK;
     tm->altitude = (fc_altitude_control_output){0};
     if (!ctl->ready) {
         return FC_STEP_NOT_READY;

@@ -7,6 +7,11 @@
  */
 #include "fc/scalar.h"
 
+#if !FC_NUMERIC_FIXED
+/* libm's single-precision functions, for the float backend below */
+#include <math.h>
+#endif
+
 #if FC_NUMERIC_FIXED
 
 /* ----------------------------------------------------------------------- */
@@ -14,7 +19,7 @@
 /* ----------------------------------------------------------------------- */
 
 /* A Q30 constant, folded at compile time. */
-#define Q30(X) ((int32_t)((X) * 1073741824.0f + 0.5f))
+#define Q30(X) FC_C(X, UNIT)
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
@@ -322,9 +327,9 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
 /* ----------------------------------------------------------------------- */
 /* float backend                                                           */
 /* ----------------------------------------------------------------------- */
-/* libm's single-precision functions; avr-libc maps them onto its double
- * functions (double is 32 bits there), hence the casts back to fc_real */
-#include <math.h>
+/* libm's single-precision functions (math.h, included at the top); avr-libc
+ * maps them onto its double functions (double is 32 bits there), hence the
+ * casts back to fc_real */
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
