@@ -90,7 +90,7 @@ typedef struct acc {
     double max_tilt;
     long nan_outputs;
     double min_clearance;
-    bool contact_now, contact_ever, airborne_since_contact;
+    bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
     long bounces;
 } acc;
