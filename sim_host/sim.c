@@ -173,7 +173,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     double last_theta = (double)NAN, last_theta_star = (double)NAN;
 
     for (long k = 0; k < steps; k++) {
-        const double t = k * dt;
+        const double t = (double)k * dt;
         /* sensors due at t (the plant is at t) */
         sensors_sample(&sens, &pl, t);
         sensor_readout sr;
