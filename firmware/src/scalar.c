@@ -225,15 +225,15 @@ static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
 {
-    if (x == 0 && y == 0) {
-        return 0;
-    }
     const int64_t ay = y < 0 ? -(int64_t)y : (int64_t)y;
     const int64_t ax = x < 0 ? -(int64_t)x : (int64_t)x;
     const bool steep = ay > ax;
     /* ratio in [0, 1] as Q30 */
     const int64_t num = steep ? ax : ay;
     const int64_t den = steep ? ay : ax;
+    if (den == 0) {
+        return 0; /* x == y == 0 (den is the larger magnitude) */
+    }
     const int32_t ratio = (int32_t)(((num << 30) + den / 2) / den);
     /* atan(a) = pi/4 + atan((a - 1)/(a + 1)) brings a > tan(pi/8) into range */
     const int32_t tan_pi_8 = Q30(0.41421356f);
