@@ -267,6 +267,7 @@ static int benchmark(const scenario *sc, const int *variants, int nv, const fsw_
             opt.variant = variants[v];
             double best_wall = (double)INFINITY, best_cpu = (double)INFINITY;
             sim_result res;
+            memset(&res, 0, sizeof res); /* read after the loop even if it ran zero times */
             for (long r = 0; r < repeats; r++) {
                 char err[256];
                 if (!sim_run(sc, &opt, &res, NULL, err, sizeof err)) {

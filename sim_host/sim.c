@@ -102,7 +102,7 @@ typedef struct acc {
     double max_tilt;
     long nan_outputs;
     double min_clearance;
-    bool contact_now, contact_ever, airborne_since_contact;
+    bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
     long bounces;
 } acc;
@@ -195,7 +195,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     res->touchdown_planned_s = (double)NAN;
 
     for (long k = 0; k < steps; k++) {
-        const double t = k * dt;
+        const double t = (double)k * dt;
         /* sensors due at t (the plant is at t) */
         sensors_sample(&sens, &pl, t);
         sensor_readout sr;

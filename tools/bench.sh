@@ -97,6 +97,11 @@ for p in "${presets[@]}"; do
     read -r text data bss < <(arm-none-eabi-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
   esac
+  # worst-case stack of fc_controller_step in this image (call graph + -fstack-usage)
+  case $p in atmega*) arch=avr; od=avr-objdump ;; *) arch=arm; od=arm-none-eabi-objdump ;; esac
+  python3 "$root/tools/stack-depth.py" --arch "$arch" --objdump "$od" --elf bench.elf \
+    --su "$root/build/$p/firmware" --su "$out/$p" --target "$p" >stack-depth.txt ||
+    { cat stack-depth.txt >&2; echo "bench: $p stack depth failed" >&2; exit 1; }
   read -r fbytes fname < <(largest_frame "$p")
   echo "$p size $((text + data)) $((data + bss)) $fbytes $fname" >>"$results"
   cd "$root"
@@ -133,3 +138,11 @@ awk -v mods="${modules[*]}" '
     printf "in simavr; M4F painted-stack high-water mark. Images and raw output: build/bench/<preset>/;\n"
     printf "bench-dwt.elf there times each step with DWT->CYCCNT on a real STM32F405 (Crazyflie).\n"
   }' "$results"
+
+# ---- worst-case stack depth of fc_controller_step (tools/stack-depth.py) ----
+echo
+echo "Worst-case stack of fc_controller_step per image: call graph from the disassembly, frames from"
+echo "-fstack-usage (\"est\": a toolchain routine's frame read from its disassembly); AVR with return addresses."
+for p in "${presets[@]}"; do
+  sed -n '1,2p' "$out/$p/stack-depth.txt"
+done

@@ -13,6 +13,8 @@ packages=(
   simavr libsimavr-dev libelf-dev       # ATmega2560 loop test in simavr (platform/atmega/sim)
   clang libclang-rt-14-dev              # libFuzzer harnesses (tests/fuzz, presets fuzz, fuzz-fixed)
   qemu-system-arm                       # Cortex-M4F benchmark in QEMU (tools/bench.sh)
+  cppcheck python3 clang-tidy-14        # tools/static-analysis.sh (cppcheck + MISRA addon, clang-tidy); python3
+                                        # also for tools/stack-depth.py (cross.stack_depth, bench.sh)
 )
 
 missing=()

@@ -3,7 +3,8 @@
 # tests every preset (host float/fixed, host under ASan+UBSan float/fixed,
 # the cross builds for the Crazyflie and the ATmega in both backends, whose
 # tests check the archives, and the libFuzzer harnesses with a bounded budget
-# in both backends: fuzz, fuzz-fixed). Prints one total line at the end.
+# in both backends: fuzz, fuzz-fixed), then the static analysis
+# (tools/static-analysis.sh). Prints one total line at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,6 +32,16 @@ for preset in "${presets[@]}"; do
   fi
   rm -f "$log"
 done
+
+# static analysis (tools/static-analysis.sh: cppcheck, MISRA C:2012, gcc
+# -fanalyzer, clang-tidy), counted as one test
+echo "=== static analysis"
+if tools/static-analysis.sh; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  failed_presets+=(static-analysis)
+fi
 
 if [ ${#failed_presets[@]} -ne 0 ]; then
   echo "failing presets: ${failed_presets[*]}"

@@ -529,6 +529,8 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
     } else if (e < FC_INT(0, RATIO)) {
         s->zero_violates = true;
         s->high.num = FC_INT(0, RATIO);
+    } else {
+        /* c == 0 and e >= 0: every s fits */
     }
 }
 
@@ -592,6 +594,8 @@ static uint8_t normalise_demand(fc_allocation *a, fc_real thrust_n, fc_vec3 mome
         } else if (w[k] < fc_neg(ar, limit)) {
             w[k] = fc_neg(ar, limit);
             saturation |= sat_bit(k, false);
+        } else {
+            /* within the limit */
         }
     }
     fc_real keep = FC_INT(1, UNIT); /* roll/pitch: one factor, the direction kept */
@@ -619,7 +623,7 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
 {
     fc_arith *ar = &a->ar;
     const int n = a->rotor_count;
-    fc_real x[ROWS];
+    fc_real x[ROWS] = {0}; /* all written by normalise_demand; zeroed for -fanalyzer (loop widening) */
     uint8_t saturation = normalise_demand(a, thrust_n, moment_nm, x);
 
     /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
@@ -683,6 +687,8 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
             saturation |= FC_SAT_THRUST_HIGH;
         } else if (t > x[0]) {
             saturation |= FC_SAT_THRUST_LOW;
+        } else {
+            /* the collective as demanded */
         }
         if (roll_pitch_scale < FC_INT(1, UNIT)) {
             saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
@@ -740,7 +746,7 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         a->last_good = *d;
     }
 
-    fc_real v[FC_MAX_ROTORS];
+    fc_real v[FC_MAX_ROTORS] = {0}; /* rotor_count entries written by allocate_linear; zeroed for -fanalyzer */
     uint8_t saturation;
     if (a->nonlinear != 0u) {
         /* r != s: iterate on the linear solution with the torque correction,

@@ -383,21 +383,20 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
             c->omega5_n = fc_add(ar, fc_mul(ar, c->obs_pole, c->omega5_n, FC_SHIFT(UNIT, FORCE, FORCE)),
                                  fc_mul(ar, c->obs_gain, omega4, FC_SHIFT(RATIO, FORCE, FORCE)));
             return rho;
-        } else {
-            /* eta norm observers (4.3.2): rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde| */
-            const fc_real bound = eta_input_bound_mps2(c, in, t, u_nom_n);
-            const fc_real rho_bar = fc_add(
-                ar, fc_mul(ar, c->eta_fast_gain_kg_per_s, c->omega_eta_fast_mps, FC_SHIFT(GAIN, VEL, FORCE)),
-                fc_mul(ar, p->eta_slow_gain_kg_per_s, c->omega_eta_slow_mps, FC_SHIFT(GAIN, VEL, FORCE)));
-            c->omega_eta_fast_mps =
-                fc_add(ar, fc_mul(ar, c->eta_fast_pole, c->omega_eta_fast_mps, FC_SHIFT(UNIT, VEL, VEL)),
-                       fc_mul(ar, c->eta_fast_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
-            c->omega_eta_slow_mps =
-                fc_add(ar, fc_mul(ar, c->eta_slow_pole, c->omega_eta_slow_mps, FC_SHIFT(UNIT, VEL, VEL)),
-                       fc_mul(ar, c->eta_slow_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
-            *observer_bound = rho_bar;
-            return fc_add(ar, rho_bar, fc_add(ar, p->delta_n, k0_term));
         }
+        /* eta norm observers (4.3.2): rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde| */
+        const fc_real bound = eta_input_bound_mps2(c, in, t, u_nom_n);
+        const fc_real rho_bar = fc_add(
+            ar, fc_mul(ar, c->eta_fast_gain_kg_per_s, c->omega_eta_fast_mps, FC_SHIFT(GAIN, VEL, FORCE)),
+            fc_mul(ar, p->eta_slow_gain_kg_per_s, c->omega_eta_slow_mps, FC_SHIFT(GAIN, VEL, FORCE)));
+        c->omega_eta_fast_mps =
+            fc_add(ar, fc_mul(ar, c->eta_fast_pole, c->omega_eta_fast_mps, FC_SHIFT(UNIT, VEL, VEL)),
+                   fc_mul(ar, c->eta_fast_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
+        c->omega_eta_slow_mps =
+            fc_add(ar, fc_mul(ar, c->eta_slow_pole, c->omega_eta_slow_mps, FC_SHIFT(UNIT, VEL, VEL)),
+                   fc_mul(ar, c->eta_slow_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
+        *observer_bound = rho_bar;
+        return fc_add(ar, rho_bar, fc_add(ar, p->delta_n, k0_term));
     case FC_SSC_MODULATION_EXTRA: {
         /* (4.54): rho = (1 + kp_max/kappa_m) |u0_av| + w4 + delta */
         const fc_real omega4 = omega4_n(c, in, t, u_nom_n);

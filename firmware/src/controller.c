@@ -345,7 +345,10 @@ static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
     tm->reference.az_mps2 = FC_INT(0, ACCEL);
     tm->tilt_cos = FC_INT(1, RATIO);
     tm->allocation_saturation = 0u;
-    tm->estimator_status = tm->altitude_status = tm->attitude_status = tm->allocation_status = FC_STEP_OK;
+    tm->estimator_status = FC_STEP_OK;
+    tm->altitude_status = FC_STEP_OK;
+    tm->attitude_status = FC_STEP_OK;
+    tm->allocation_status = FC_STEP_OK;
     tm->altitude = (fc_altitude_control_output){0};
     tm->pad = (fc_pad_motion_estimate){0};
     tm->gear_height_m = ctl->gear_height_m;

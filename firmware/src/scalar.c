@@ -7,6 +7,11 @@
  */
 #include "fc/scalar.h"
 
+#if !FC_NUMERIC_FIXED
+/* libm's single-precision functions, for the float backend below */
+#include <math.h>
+#endif
+
 #if FC_NUMERIC_FIXED
 
 /* ----------------------------------------------------------------------- */
@@ -14,7 +19,7 @@
 /* ----------------------------------------------------------------------- */
 
 /* A Q30 constant, folded at compile time. */
-#define Q30(X) ((int32_t)((X) * 1073741824.0f + 0.5f))
+#define Q30(X) FC_C(X, UNIT)
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
@@ -304,15 +309,15 @@ static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
 {
-    if (x == 0 && y == 0) {
-        return 0;
-    }
     const int64_t ay = y < 0 ? -(int64_t)y : (int64_t)y;
     const int64_t ax = x < 0 ? -(int64_t)x : (int64_t)x;
     const bool steep = ay > ax;
     /* ratio in [0, 1] as Q30 */
     const int64_t num = steep ? ax : ay;
     const int64_t den = steep ? ay : ax;
+    if (den == 0) {
+        return 0; /* x == y == 0 (den is the larger magnitude) */
+    }
     const int32_t ratio = (int32_t)(((num << 30) + den / 2) / den);
     /* atan(a) = pi/4 + atan((a - 1)/(a + 1)) brings a > tan(pi/8) into range */
     const int32_t tan_pi_8 = Q30(0.41421356f);
@@ -406,9 +411,9 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
 /* ----------------------------------------------------------------------- */
 /* float backend                                                           */
 /* ----------------------------------------------------------------------- */
-/* libm's single-precision functions; avr-libc maps them onto its double
- * functions (double is 32 bits there), hence the casts back to fc_real */
-#include <math.h>
+/* libm's single-precision functions (math.h, included at the top); avr-libc
+ * maps them onto its double functions (double is 32 bits there), hence the
+ * casts back to fc_real */
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {

@@ -131,7 +131,8 @@ FC_FX_INLINE fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
 FC_FX_INLINE int64_t fc_fx_add64(int64_t a, int64_t b)
 {
     int64_t sum;
-    if (__builtin_add_overflow(a, b, &sum)) {
+    const bool overflowed = __builtin_add_overflow(a, b, &sum);
+    if (overflowed) {
         return a > 0 ? INT64_MAX : -INT64_MAX;
     }
     return sum;
