@@ -38,9 +38,8 @@ static fc_vec3 moment_budget_nm(const fc_allocation_params *a)
     return fc_vec3_scale(&ar, sum, FC_C(0.5f, UNIT), FC_SHIFT(MOMENT, UNIT, MOMENT));
 }
 
-/* The landing mission's defaults for a vehicle with gear height gear_m over
- * a pad whose periods lie in [period_min, period_max]; see fc/landing.h. */
-static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
+/* The landing mission's defaults common to every airframe (fc/landing.h, fc/pad_motion.h). */
+static void landing_common_defaults(fc_controller_params *p)
 {
     fc_landing_params *l = &p->landing;
     fc_pad_motion_params *m = &p->pad_motion;
@@ -63,65 +62,84 @@ static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
     p->failsafe.bad_input_hold_s = FC_C(0.5f, TIME);
     p->failsafe.speed_gain_per_s = FC_INT(2, GAIN);
     p->failsafe.max_s = FC_INT(60, TIME);
+}
+
+/* The Crazyflie over a pad heaving 0-10 cm with periods of 2-10 s, a 50 Hz
+ * ToF ranger: one dominant sinusoid, its frequency adapted, a 10 s window. */
+static void landing_crazyflie_defaults(fc_controller_params *p)
+{
+    fc_landing_params *l = &p->landing;
+    fc_pad_motion_params *m = &p->pad_motion;
+    m->mode_period_s[0] = FC_C(2.5f, TIME);
+    m->mode_period_s[1] = FC_C(4.5f, TIME);
+    m->mode_period_s[2] = FC_INT(8, TIME);
+    m->period_min_s = FC_C(1.8f, TIME);
+    m->period_max_s = FC_INT(12, TIME);
+    m->frequency_gain = FC_C(0.1f, UNIT);
+    m->forgetting = FC_C(0.998f, UNIT);
+    m->outlier_m = FC_C(0.15f, LENGTH);
+    m->observe_min_s = FC_INT(5, TIME);
+    m->tolerance_m = FC_C(0.02f, LENGTH);
+    l->gear_height_m = FC_C(0.02f, LENGTH);
+    l->hold_height_m = FC_C(0.3f, LENGTH);
+    l->hold_tau_s = FC_INT(1, TIME);
+    l->hold_settle_m = FC_C(0.05f, LENGTH);
+    l->descent_tau_s = FC_C(1.5f, TIME);
+    l->touchdown_dip_m = FC_C(0.04f, LENGTH);
+    l->touchdown_window_m = FC_C(0.015f, LENGTH);
+    /* the ToF's noise is 2-4 mm: five samples in a row under 5 mm */
+    l->contact_height_m = FC_C(0.005f, LENGTH);
+    l->contact_confirm_s = FC_C(0.1f, TIME);
+    l->ramp_s = FC_C(0.3f, TIME);
+    l->horizontal_start_m = FC_C(0.08f, LENGTH);
+    l->horizontal_abort_m = FC_C(0.2f, LENGTH);
+    l->pad_accel_max_mps2 = FC_INT(2, ACCEL);
+    p->failsafe.descent_mps = FC_C(0.3f, VEL);
+}
+
+/* A larger vehicle over a ship's deck heaving up to 1 m with periods of 8-18 s,
+ * a 100 Hz laser ranger: broadband, a fixed grid fitted over a 1 s window. */
+static void landing_deck_defaults(fc_controller_params *p, fc_real gear_height_m)
+{
+    fc_landing_params *l = &p->landing;
+    fc_pad_motion_params *m = &p->pad_motion;
+    m->mode_period_s[0] = FC_C(8.5f, TIME);
+    m->mode_period_s[1] = FC_INT(12, TIME);
+    m->mode_period_s[2] = FC_INT(16, TIME);
+    m->period_min_s = FC_C(6.5f, TIME);
+    m->period_max_s = FC_INT(20, TIME);
+    m->frequency_gain = FC_INT(0, UNIT);
+    m->forgetting = FC_C(0.99f, UNIT);
+    m->outlier_m = FC_C(0.5f, LENGTH);
+    m->observe_min_s = FC_INT(10, TIME);
+    m->tolerance_m = FC_C(0.2f, LENGTH); /* a 1 s prediction of a 1 m broadband heave */
+    l->gear_height_m = gear_height_m;
+    l->hold_height_m = FC_C(1.5f, LENGTH);
+    l->hold_tau_s = FC_INT(2, TIME);
+    l->hold_settle_m = FC_C(0.15f, LENGTH);
+    l->descent_tau_s = FC_INT(2, TIME);
+    l->touchdown_dip_m = FC_C(0.05f, LENGTH);
+    /* descending at up to 0.75 m/s, the 20-40 ms between the GNSS and the
+     * ranger's delays shift the pad's samples by centimetres: the check of
+     * the predictions gets worse while the estimate now stays good */
+    l->confidence_abort = FC_C(0.1f, UNIT);
+    l->touchdown_window_m = FC_C(0.03f, LENGTH);
+    /* the laser's noise is 5-10 mm: five samples in a row under 12 mm */
+    l->contact_height_m = FC_C(0.012f, LENGTH);
+    l->ramp_s = FC_C(0.5f, TIME);
+    l->horizontal_start_m = FC_C(0.2f, LENGTH);
+    l->horizontal_abort_m = FC_C(0.5f, LENGTH);
+    l->pad_accel_max_mps2 = FC_INT(3, ACCEL);
+    p->failsafe.descent_mps = FC_C(0.5f, VEL);
+}
+
+static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
+{
+    landing_common_defaults(p);
     if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
-        /* a pad heaving 0-10 cm with periods of 2-10 s, a 50 Hz ToF ranger:
-         * one dominant sinusoid, its frequency adapted, a 10 s window */
-        m->mode_period_s[0] = FC_C(2.5f, TIME);
-        m->mode_period_s[1] = FC_C(4.5f, TIME);
-        m->mode_period_s[2] = FC_INT(8, TIME);
-        m->period_min_s = FC_C(1.8f, TIME);
-        m->period_max_s = FC_INT(12, TIME);
-        m->frequency_gain = FC_C(0.1f, UNIT);
-        m->forgetting = FC_C(0.998f, UNIT);
-        m->outlier_m = FC_C(0.15f, LENGTH);
-        m->observe_min_s = FC_INT(5, TIME);
-        m->tolerance_m = FC_C(0.02f, LENGTH);
-        l->gear_height_m = FC_C(0.02f, LENGTH);
-        l->hold_height_m = FC_C(0.3f, LENGTH);
-        l->hold_tau_s = FC_INT(1, TIME);
-        l->hold_settle_m = FC_C(0.05f, LENGTH);
-        l->descent_tau_s = FC_C(1.5f, TIME);
-        l->touchdown_dip_m = FC_C(0.04f, LENGTH);
-        l->touchdown_window_m = FC_C(0.015f, LENGTH);
-        /* the ToF's noise is 2-4 mm: five samples in a row under 5 mm */
-        l->contact_height_m = FC_C(0.005f, LENGTH);
-        l->contact_confirm_s = FC_C(0.1f, TIME);
-        l->ramp_s = FC_C(0.3f, TIME);
-        l->horizontal_start_m = FC_C(0.08f, LENGTH);
-        l->horizontal_abort_m = FC_C(0.2f, LENGTH);
-        l->pad_accel_max_mps2 = FC_INT(2, ACCEL);
-        p->failsafe.descent_mps = FC_C(0.3f, VEL);
+        landing_crazyflie_defaults(p);
     } else {
-        /* a ship's deck heaving up to 1 m with periods of 8-18 s, a 100 Hz
-         * laser ranger: broadband, a fixed grid fitted over a 1 s window */
-        m->mode_period_s[0] = FC_C(8.5f, TIME);
-        m->mode_period_s[1] = FC_INT(12, TIME);
-        m->mode_period_s[2] = FC_INT(16, TIME);
-        m->period_min_s = FC_C(6.5f, TIME);
-        m->period_max_s = FC_INT(20, TIME);
-        m->frequency_gain = FC_INT(0, UNIT);
-        m->forgetting = FC_C(0.99f, UNIT);
-        m->outlier_m = FC_C(0.5f, LENGTH);
-        m->observe_min_s = FC_INT(10, TIME);
-        m->tolerance_m = FC_C(0.2f, LENGTH); /* a 1 s prediction of a 1 m broadband heave */
-        l->gear_height_m = airframe == FC_AIRFRAME_F450 ? FC_C(0.1f, LENGTH) : FC_C(0.18f, LENGTH);
-        l->hold_height_m = FC_C(1.5f, LENGTH);
-        l->hold_tau_s = FC_INT(2, TIME);
-        l->hold_settle_m = FC_C(0.15f, LENGTH);
-        l->descent_tau_s = FC_INT(2, TIME);
-        l->touchdown_dip_m = FC_C(0.05f, LENGTH);
-        /* descending at up to 0.75 m/s, the 20-40 ms between the GNSS and the
-         * ranger's delays shift the pad's samples by centimetres: the check of
-         * the predictions gets worse while the estimate now stays good */
-        l->confidence_abort = FC_C(0.1f, UNIT);
-        l->touchdown_window_m = FC_C(0.03f, LENGTH);
-        /* the laser's noise is 5-10 mm: five samples in a row under 12 mm */
-        l->contact_height_m = FC_C(0.012f, LENGTH);
-        l->ramp_s = FC_C(0.5f, TIME);
-        l->horizontal_start_m = FC_C(0.2f, LENGTH);
-        l->horizontal_abort_m = FC_C(0.5f, LENGTH);
-        l->pad_accel_max_mps2 = FC_INT(3, ACCEL);
-        p->failsafe.descent_mps = FC_C(0.5f, VEL);
+        landing_deck_defaults(p, airframe == FC_AIRFRAME_F450 ? FC_C(0.1f, LENGTH) : FC_C(0.18f, LENGTH));
     }
 }
 
@@ -369,7 +387,10 @@ static fc_step_status observe_pad(fc_controller *ctl, const fc_controller_inputs
     const bool range_ok = fc_within(in->range_m, FC_INT(100, LENGTH)) && in->range_m >= FC_INT(0, LENGTH);
     *range_fresh = in->range_fresh && range_ok;
     fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
-    fc_step_status status = (in->range_fresh && !range_ok) ? FC_STEP_BAD_INPUT : FC_STEP_OK;
+    fc_step_status status = FC_STEP_OK;
+    if (in->range_fresh && !range_ok) {
+        status = FC_STEP_BAD_INPUT;
+    }
     if (*range_fresh) {
         const fc_real vertical_range = fc_mul(ar, in->range_m, tilt_cos, FC_SHIFT(LENGTH, RATIO, LENGTH));
         ctl->gear_height_m = fc_sub(ar, vertical_range, ctl->p.landing.gear_height_m);

@@ -205,6 +205,109 @@ static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_ve
     return in->range_fresh && in->gear_height_m <= lm->p.contact_height_m && behind_m >= lm->stuck_error_m;
 }
 
+/* HOLD, OBSERVE and ABORT: the hold point's reference; OBSERVE starts the
+ * descent when nothing blocks it, HOLD and ABORT end when settled there. */
+static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
+{
+    fc_arith *ar = &lm->ar;
+    const fc_step_status status = hold_reference(lm, in, &out->reference);
+    out->fly_reference = true;
+    out->motors_on = true;
+    if (lm->state == FC_LANDING_OBSERVE) {
+        const bool may_retry = lm->aborts <= lm->p.abort_retries_max;
+        if (!may_retry) {
+            out->blocked_by = FC_REASON_RETRIES_EXHAUSTED;
+        } else if (in->request != FC_LANDING_REQUEST_LAND) {
+            out->blocked_by = FC_REASON_COMMANDED;
+        } else {
+            out->blocked_by = descent_blocked(lm, in);
+        }
+        if (out->blocked_by == FC_REASON_NONE) {
+            /* (3.6) from here around the pad's motion */
+            const fc_real surface_offset =
+                fc_sub(ar, in->z_m, fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
+            fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
+            enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
+        } else if (!range_alive(lm) && lm->state_time_s > lm->p.range_timeout_s) {
+            /* nothing to learn from: back to HOLD, which waits for the range finder */
+            enter(lm, FC_LANDING_HOLD, FC_REASON_ABORT_RANGE_LOST);
+        } else {
+            /* observing on */
+        }
+    } else if (settled_at_hold(lm, in, &out->reference)) {
+        if (lm->state == FC_LANDING_ABORT) {
+            const bool exhausted = lm->aborts > lm->p.abort_retries_max;
+            enter(lm, FC_LANDING_HOLD, exhausted ? FC_REASON_RETRIES_EXHAUSTED : FC_REASON_ABORT_CLIMB_DONE);
+        } else if (range_alive(lm)) {
+            enter(lm, FC_LANDING_OBSERVE, FC_REASON_HOLD_SETTLED);
+        } else {
+            /* settled, but the range finder is quiet: hold on */
+        }
+    } else {
+        /* on the way to the hold point */
+    }
+    return status;
+}
+
+/* DESCEND and TOUCHDOWN: (3.6) around the pad's motion; aborts, contact, its confirmation. */
+static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
+{
+    const fc_step_status status = descent_reference(lm, in, &out->reference, &out->touchdown_window);
+    out->fly_reference = true;
+    out->motors_on = true;
+    const fc_landing_reason abort = descent_abort_reason(lm, in);
+    if (lm->state == FC_LANDING_DESCEND) {
+        if (abort != FC_REASON_NONE) {
+            start_abort(lm, in, abort);
+        } else if (contact_seen(lm, in, &out->reference)) {
+            enter(lm, FC_LANDING_TOUCHDOWN, FC_REASON_CONTACT);
+        } else {
+            /* descending on */
+        }
+    } else if (abort == FC_REASON_ABORT_COMMANDED) {
+        start_abort(lm, in, abort);
+    } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
+        enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
+    } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
+        lm->touchdown_thrust_n =
+            fc_is_finite(in->thrust_n) ? fc_max(in->thrust_n, FC_INT(0, FORCE)) : FC_INT(0, FORCE);
+        enter(lm, FC_LANDING_DISARM, FC_REASON_CONTACT_CONFIRMED);
+    } else {
+        /* confirming */
+    }
+    return status;
+}
+
+/* DISARM: T = T_contact (1 - t / ramp), then LANDED with the motors off. */
+static void disarm_step(fc_landing *lm, fc_landing_output *out)
+{
+    fc_arith *ar = &lm->ar;
+    const fc_real elapsed =
+        fc_min(fc_mul(ar, lm->state_time_s, lm->inv_ramp_per_s, FC_SHIFT(TIME, GAIN, UNIT)), FC_INT(1, UNIT));
+    out->ramp_thrust_n =
+        fc_mul(ar, lm->touchdown_thrust_n, fc_sub(ar, FC_INT(1, UNIT), elapsed), FC_SHIFT(FORCE, UNIT, FORCE));
+    out->motors_on = elapsed < FC_INT(1, UNIT);
+    if (!out->motors_on) {
+        enter(lm, FC_LANDING_LANDED, FC_REASON_RAMP_DONE);
+    }
+}
+
+/* The request: none ends the mission (IDLE); any other starts it from IDLE. */
+static void follow_request(fc_landing *lm, const fc_landing_input *in)
+{
+    if (in->request == FC_LANDING_REQUEST_NONE) {
+        if (lm->state != FC_LANDING_IDLE) {
+            fc_landing_reset(lm);
+        }
+    } else if (lm->state == FC_LANDING_IDLE) {
+        lm->aborts = 0u;
+        start_hold(lm, in);
+        enter(lm, FC_LANDING_HOLD, FC_REASON_COMMANDED);
+    } else {
+        /* the mission goes on */
+    }
+}
+
 fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
 {
     *out = (fc_landing_output){0};
@@ -221,83 +324,21 @@ fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_la
     lm->state_time_s = fc_min(fc_add(ar, lm->state_time_s, lm->step_s), FC_INT(600, TIME));
     lm->since_range_s =
         in->range_fresh ? FC_INT(0, TIME) : fc_min(fc_add(ar, lm->since_range_s, lm->step_s), FC_INT(60, TIME));
-
-    if (in->request == FC_LANDING_REQUEST_NONE) {
-        if (lm->state != FC_LANDING_IDLE) {
-            fc_landing_reset(lm);
-        }
-    } else if (lm->state == FC_LANDING_IDLE) {
-        lm->aborts = 0u;
-        start_hold(lm, in);
-        enter(lm, FC_LANDING_HOLD, FC_REASON_COMMANDED);
-    }
+    follow_request(lm, in);
 
     switch (lm->state) {
     case FC_LANDING_HOLD:
     case FC_LANDING_OBSERVE:
     case FC_LANDING_ABORT:
-        status |= hold_reference(lm, in, &out->reference);
-        out->fly_reference = true;
-        out->motors_on = true;
-        if (lm->state == FC_LANDING_OBSERVE) {
-            const bool may_retry = lm->aborts <= lm->p.abort_retries_max;
-            out->blocked_by = !may_retry ? FC_REASON_RETRIES_EXHAUSTED
-                              : in->request != FC_LANDING_REQUEST_LAND ? FC_REASON_COMMANDED
-                                                                        : descent_blocked(lm, in);
-            if (out->blocked_by == FC_REASON_NONE) {
-                /* (3.6) from here around the pad's motion */
-                const fc_real surface_offset = fc_sub(ar, in->z_m,
-                                                      fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
-                fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
-                enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
-            } else if (!range_alive(lm) && lm->state_time_s > lm->p.range_timeout_s) {
-                /* nothing to learn from: back to HOLD, which waits for the range finder */
-                enter(lm, FC_LANDING_HOLD, FC_REASON_ABORT_RANGE_LOST);
-            }
-        } else if (settled_at_hold(lm, in, &out->reference)) {
-            const bool exhausted = lm->aborts > lm->p.abort_retries_max;
-            if (lm->state == FC_LANDING_ABORT) {
-                enter(lm, FC_LANDING_HOLD, exhausted ? FC_REASON_RETRIES_EXHAUSTED : FC_REASON_ABORT_CLIMB_DONE);
-            } else if (range_alive(lm)) {
-                enter(lm, FC_LANDING_OBSERVE, FC_REASON_HOLD_SETTLED);
-            }
-        }
+        status |= hold_states_step(lm, in, out);
         break;
     case FC_LANDING_DESCEND:
-    case FC_LANDING_TOUCHDOWN: {
-        status |= descent_reference(lm, in, &out->reference, &out->touchdown_window);
-        out->fly_reference = true;
-        out->motors_on = true;
-        const fc_landing_reason abort = descent_abort_reason(lm, in);
-        if (lm->state == FC_LANDING_DESCEND) {
-            if (abort != FC_REASON_NONE) {
-                start_abort(lm, in, abort);
-            } else if (contact_seen(lm, in, &out->reference)) {
-                enter(lm, FC_LANDING_TOUCHDOWN, FC_REASON_CONTACT);
-            }
-        } else if (abort == FC_REASON_ABORT_COMMANDED) {
-            start_abort(lm, in, abort);
-        } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
-            enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
-        } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
-            lm->touchdown_thrust_n = fc_is_finite(in->thrust_n) ? fc_max(in->thrust_n, FC_INT(0, FORCE))
-                                                                 : FC_INT(0, FORCE);
-            enter(lm, FC_LANDING_DISARM, FC_REASON_CONTACT_CONFIRMED);
-        }
+    case FC_LANDING_TOUCHDOWN:
+        status |= descent_states_step(lm, in, out);
         break;
-    }
-    case FC_LANDING_DISARM: {
-        /* T = T_contact (1 - t / ramp) */
-        const fc_real elapsed = fc_min(fc_mul(ar, lm->state_time_s, lm->inv_ramp_per_s, FC_SHIFT(TIME, GAIN, UNIT)),
-                                       FC_INT(1, UNIT));
-        out->ramp_thrust_n = fc_mul(ar, lm->touchdown_thrust_n, fc_sub(ar, FC_INT(1, UNIT), elapsed),
-                                    FC_SHIFT(FORCE, UNIT, FORCE));
-        out->motors_on = elapsed < FC_INT(1, UNIT);
-        if (!out->motors_on) {
-            enter(lm, FC_LANDING_LANDED, FC_REASON_RAMP_DONE);
-        }
+    case FC_LANDING_DISARM:
+        disarm_step(lm, out);
         break;
-    }
     case FC_LANDING_FAILSAFE:
         out->motors_on = true; /* what flies is the controller's failsafe */
         break;

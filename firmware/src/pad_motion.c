@@ -2,6 +2,8 @@
  * grid of sinusoids, and predicted ahead (fc/pad_motion.h). */
 #include "fc/pad_motion.h"
 
+#include <stddef.h>
+
 static bool in_range(fc_real x, fc_real lo, fc_real hi)
 {
     return fc_is_finite(x) && x >= lo && x <= hi;
@@ -40,11 +42,15 @@ static bool pad_motion_params_valid(const fc_pad_motion_params *p)
 static fc_real wrapped_angle(fc_arith *ar, fc_real angle_gain)
 {
     const fc_real pi = FC_C(3.14159265f, GAIN), two_pi = FC_C(6.28318531f, GAIN);
-    while (angle_gain > pi) {
-        angle_gain = fc_sub(ar, angle_gain, two_pi);
-    }
-    while (angle_gain < -pi) {
-        angle_gain = fc_add(ar, angle_gain, two_pi);
+    /* at most 60 s x 12.6 rad/s / 2 pi = 121 turns (the parameter bounds) */
+    for (unsigned turns = 0u; turns < 128u; turns++) {
+        if (angle_gain > pi) {
+            angle_gain = fc_sub(ar, angle_gain, two_pi);
+        } else if (angle_gain < -pi) {
+            angle_gain = fc_add(ar, angle_gain, two_pi);
+        } else {
+            break;
+        }
     }
     return fc_convert(ar, angle_gain, FC_GAIN_FRAC, FC_ANGLE_FRAC);
 }
@@ -78,7 +84,9 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
 {
     const unsigned n = pm->n;
     for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
-        pm->theta[i] = pm->theta_old[i] = pm->theta_new[i] = FC_INT(0, LENGTH);
+        pm->theta[i] = FC_INT(0, LENGTH);
+        pm->theta_old[i] = FC_INT(0, LENGTH);
+        pm->theta_new[i] = FC_INT(0, LENGTH);
         for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
             pm->s[i][j] = (i == j && i < n) ? pm->p.covariance_init : FC_INT(0, MAT);
         }
@@ -160,7 +168,7 @@ static fc_real model_value(fc_arith *ar, unsigned n, const fc_real *theta, const
 static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k)
 {
     fc_arith *ar = &pm->ar;
-    fc_real phi[FC_PAD_MAX_PARAMS];
+    fc_real phi[FC_PAD_MAX_PARAMS] = {0};
     regressor(pm, sin_k, cos_k, phi);
     fc_vertical_trajectory t;
     t.z_m = model_value(ar, pm->n, pm->theta, phi);
@@ -231,7 +239,7 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = pm->n;
-    fc_real s_phi[FC_PAD_MAX_PARAMS]; /* MAT: S phi (= (phi' S)' as S is symmetric) */
+    fc_real s_phi[FC_PAD_MAX_PARAMS] = {0}; /* MAT: S phi (= (phi' S)' as S is symmetric) */
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
         fc_acc acc = fc_acc_zero();
@@ -248,7 +256,7 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
         fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
                fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
     const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
-    fc_real gain[FC_PAD_MAX_PARAMS]; /* MAT */
+    fc_real gain[FC_PAD_MAX_PARAMS] = {0}; /* MAT */
     for (unsigned i = 0u; i < n; i++) {
         gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
         pm->theta[i] = fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
@@ -281,7 +289,8 @@ static void adapt_frequencies(fc_pad_motion *pm, const fc_real *amplitude_before
         return;
     }
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        const fc_real a_prev = amplitude_before[2u * k], b_prev = amplitude_before[2u * k + 1u];
+        const size_t a_index = (size_t)2u * k;
+        const fc_real a_prev = amplitude_before[a_index], b_prev = amplitude_before[a_index + 1u];
         const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
         const fc_real size_sq = fc_dot2(ar, a, a, b, b, FC_SHIFT(LENGTH, LENGTH, RATIO));
         if (size_sq < pm->amplitude_min_sq) {
@@ -306,7 +315,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
         restart_from(pm, height_m);
         return FC_STEP_OK;
     }
-    fc_real phi[FC_PAD_MAX_PARAMS];
+    fc_real phi[FC_PAD_MAX_PARAMS] = {0};
     regressor(pm, pm->phase_sin, pm->phase_cos, phi);
     const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta, phi));
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
@@ -325,7 +334,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
                                     FC_SHIFT(UNIT, LENGTH, LENGTH));
         pm->error_mean_m = fc_add(ar, pm->error_mean_m, step);
     }
-    fc_real amplitude_before[2u * FC_PAD_MAX_MODES];
+    fc_real amplitude_before[2u * FC_PAD_MAX_MODES] = {0};
     for (unsigned i = 0u; i + 1u < pm->n; i++) {
         amplitude_before[i] = pm->theta[1u + i];
     }
