@@ -4,8 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-void pad_eval(const pad_params *p, double t, pad_state *out)
+void pad_eval(const pad_params *p, double t_s, pad_state *out)
 {
+    /* the fault's clock: t' = t0 + k (t - t0), so z'(t) = k dz/dt', z'' = k^2 d2z/dt'2 */
+    const bool warped = p->warp_factor > 0.0 && t_s > p->warp_start_s;
+    const double warp = warped ? p->warp_factor : 1.0;
+    const double t = warped ? p->warp_start_s + warp * (t_s - p->warp_start_s) : t_s;
     out->z_m = p->base_m;
     out->vz_mps = 0.0;
     out->az_mps2 = 0.0;
@@ -33,10 +37,12 @@ void pad_eval(const pad_params *p, double t, pad_state *out)
     default:
         break;
     }
-    if (p->growth_scale > 0.0 && t > p->growth_start_s) {
+    out->vz_mps *= warp;
+    out->az_mps2 *= warp * warp;
+    if (p->growth_scale > 0.0 && t_s > p->growth_start_s) {
         /* the heave grows linearly to growth_scale over growth_duration_s (a fault; the
          * growth's own rate is left out of z' and z'') */
-        const double ramp = fmin(1.0, (t - p->growth_start_s) / fmax(p->growth_duration_s, 1e-9));
+        const double ramp = fmin(1.0, (t_s - p->growth_start_s) / fmax(p->growth_duration_s, 1e-9));
         const double factor = 1.0 + (p->growth_scale - 1.0) * ramp;
         out->z_m = p->base_m + factor * (out->z_m - p->base_m);
         out->vz_mps *= factor;

@@ -49,6 +49,9 @@ typedef struct pad_params {
     double wave_phase_rad[PAD_MAX_WAVES];
     /* a fault: from growth_start_s (INFINITY: never) the heave grows to growth_scale times (0: off) */
     double growth_start_s, growth_duration_s, growth_scale;
+    /* a fault: from warp_start_s the pad's clock runs warp_factor times faster (its
+     * frequencies scale, the motion stays continuous; 0: off) */
+    double warp_start_s, warp_factor;
 } pad_params;
 
 typedef struct pad_state {

@@ -147,8 +147,8 @@ static const char *const pad_names[] = {"still", "sine", "waves", NULL};
 static const char *const motors_names[] = {"off", "hover", NULL};
 static const char *const altitude_names[] = {"position", "absolute", "range", NULL};
 static const char *const command_names[] = {"track", "land", NULL};
-static const char *const fault_names[] = {"none", "hold-command", "range-dropout", "gust", "torque", "pad-amplitude",
-                                          NULL};
+static const char *const fault_names[] = {"none",   "hold-command",  "range-dropout", "gust",
+                                          "torque", "pad-amplitude", "pad-period",    NULL};
 static const char *variant_names_z[FSW_VARIANT_COUNT + 1];
 
 #define OPEN_LO 1  /* the lower bound is excluded */
@@ -918,6 +918,8 @@ static bool build(parse_ctx *c, scenario *sc)
     pad->growth_start_s = (double)INFINITY;
     pad->growth_duration_s = 1.0;
     pad->growth_scale = 1.0;
+    pad->warp_start_s = (double)INFINITY;
+    pad->warp_factor = 1.0;
     pad->base_m = r->pad_base;
     pad->amplitude_m = r->pad_amplitude;
     pad->omega_radps = 2.0 * PI / r->pad_period;

@@ -52,7 +52,8 @@ typedef enum fault_kind {
     FAULT_RANGE_DROPOUT,  /* the range finder goes quiet for duration_s */
     FAULT_GUST,           /* wind of `vector` m/s (world) for duration_s */
     FAULT_TORQUE,         /* a body moment of `vector` N m for duration_s */
-    FAULT_PAD_AMPLITUDE   /* the pad's heave grows by the factor `scale` from then on */
+    FAULT_PAD_AMPLITUDE,  /* the pad's heave grows by the factor `scale` from then on */
+    FAULT_PAD_PERIOD      /* the pad's frequencies jump by the factor `scale` (motion continuous) */
 } fault_kind;
 
 typedef struct fault_params {

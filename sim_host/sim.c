@@ -264,6 +264,10 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         }
         if (land && out.landing_state == FSW_LANDING_DESCEND && isinf(fault_at) && sc->fault.kind != FAULT_NONE) {
             fault_at = t + sc->fault.delay_s;
+            if (sc->fault.kind == FAULT_PAD_PERIOD) {
+                pl.p.pad.warp_start_s = fault_at;
+                pl.p.pad.warp_factor = sc->fault.scale;
+            }
             if (sc->fault.kind == FAULT_PAD_AMPLITUDE) {
                 pl.p.pad.growth_start_s = fault_at;
                 pl.p.pad.growth_duration_s = sc->fault.duration_s;

@@ -74,6 +74,7 @@ void fc_landing_reset(fc_landing *lm)
     lm->since_range_s = FC_INT(10, TIME);
     lm->touchdown_thrust_n = FC_INT(0, FORCE);
     lm->hold_level_m = FC_INT(0, LENGTH);
+    lm->gear_height_m = FC_INT(100, LENGTH);
     lm->aborts = 0u;
 }
 
@@ -164,6 +165,7 @@ static bool settled_at_hold(fc_landing *lm, const fc_landing_input *in, const fc
 
 static void start_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_reason reason)
 {
+    lm->gear_height_m = FC_INT(100, LENGTH);
     if (lm->aborts < 255u) {
         lm->aborts++;
     }
@@ -205,6 +207,20 @@ static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_ve
     return in->range_fresh && in->gear_height_m <= lm->p.contact_height_m && behind_m >= lm->stuck_error_m;
 }
 
+/* Contact lost, with hysteresis against the range finder's noise: the gear
+ * clearly off the surface (3 contact heights), or the vehicle back on its
+ * reference (flying again, not held by the pad). */
+static fc_real contact_band_m(fc_landing *lm)
+{
+    return fc_mul(&lm->ar, lm->p.contact_height_m, FC_INT(3, RATIO), FC_SHIFT(LENGTH, RATIO, LENGTH));
+}
+
+static bool contact_lost(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
+{
+    const fc_real behind_m = fc_sub(&lm->ar, in->z_m, reference->z_m);
+    return in->range_fresh && (in->gear_height_m > contact_band_m(lm) || behind_m <= FC_INT(0, LENGTH));
+}
+
 /* HOLD, OBSERVE and ABORT: the hold point's reference; OBSERVE starts the
  * descent when nothing blocks it, HOLD and ABORT end when settled there. */
 static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
@@ -227,6 +243,7 @@ static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *i
             const fc_real surface_offset =
                 fc_sub(ar, in->z_m, fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
             fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
+            lm->gear_height_m = FC_INT(100, LENGTH);
             enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
         } else if (!range_alive(lm) && lm->state_time_s > lm->p.range_timeout_s) {
             /* nothing to learn from: back to HOLD, which waits for the range finder */
@@ -255,7 +272,14 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
     const fc_step_status status = descent_reference(lm, in, &out->reference, &out->touchdown_window);
     out->fly_reference = true;
     out->motors_on = true;
-    const fc_landing_reason abort = descent_abort_reason(lm, in);
+    fc_landing_reason abort = descent_abort_reason(lm, in);
+    if (in->range_fresh) {
+        lm->gear_height_m = in->gear_height_m;
+    }
+    if (abort != FC_REASON_ABORT_COMMANDED && lm->gear_height_m <= contact_band_m(lm)) {
+        /* the gear at the surface: climbing away from it would be the riskier move */
+        abort = FC_REASON_NONE;
+    }
     if (lm->state == FC_LANDING_DESCEND) {
         if (abort != FC_REASON_NONE) {
             start_abort(lm, in, abort);
@@ -266,7 +290,7 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
         }
     } else if (abort == FC_REASON_ABORT_COMMANDED) {
         start_abort(lm, in, abort);
-    } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
+    } else if (contact_lost(lm, in, &out->reference)) {
         enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
     } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
         lm->touchdown_thrust_n =

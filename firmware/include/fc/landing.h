@@ -20,12 +20,15 @@
  * TOUCHDOWN: the gear height from the range finder (range k_h - gear) is below
  *   contact_height_m and the vehicle stays above its reference by dip / 4 (the
  *   pad holds it while the reference goes on down); confirmed after
- *   contact_confirm_s of both, else back to DESCEND.
+ *   contact_confirm_s unless lost meanwhile: the gear 3 contact heights off
+ *   the surface, or the vehicle back on its reference (then DESCEND again).
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
- * ABORT (from OBSERVE only for a lost range; from DESCEND and TOUCHDOWN for
- *   any): horizontal error, tilt, prediction confidence, pad acceleration, a
- *   range finder gone quiet, or the operator (request HOLD). The reference
+ * ABORT (from DESCEND; from TOUCHDOWN only by the operator): horizontal
+ *   error, tilt, prediction confidence, pad acceleration, a range finder gone
+ *   quiet, or the operator (request HOLD). Once the range finder has put the
+ *   gear within 3 contact heights of the surface only the operator aborts:
+ *   climbing away from the surface would be the riskier move. The reference
  *   climbs back to the hold point; after abort_retries_max aborts the mission
  *   stays in HOLD.
  * Every transition carries a reason (fc_landing_reason) for the platform's log.
@@ -138,7 +141,8 @@ typedef struct fc_landing {
     fc_real touchdown_thrust_n;     /* FORCE */
     fc_real window_offset_m;        /* LENGTH: dip + window: the offset where the window opens */
     fc_real hold_level_m;           /* LENGTH: the pad level the hold point stands on */
-    fc_real stuck_error_m;          /* LENGTH: dip / 4: z - z_r beyond it, the vehicle is held by the pad */
+    fc_real stuck_error_m;          /* LENGTH: dip / 2: z - z_r beyond it, the vehicle is held by the pad */
+    fc_real gear_height_m;          /* LENGTH: the newest range sample in this descent (100 m: none yet) */
     fc_real inv_ramp_per_s;         /* GAIN: 1 / ramp_s */
     fc_real step_s;                 /* TIME: dt */
     uint8_t aborts;
