@@ -86,7 +86,8 @@ static void landing_crazyflie_defaults(fc_controller_params *p)
     l->hold_settle_m = FC_C(0.05f, LENGTH);
     l->descent_tau_s = FC_C(1.5f, TIME);
     l->touchdown_dip_m = FC_C(0.04f, LENGTH);
-    l->touchdown_window_m = FC_C(0.015f, LENGTH);
+    /* the plan's uncertainty: the pad estimate's (~1 cm) and the tracking error's */
+    l->touchdown_window_m = FC_C(0.03f, LENGTH);
     /* the ToF's noise is 2-4 mm: five samples in a row under 5 mm */
     l->contact_height_m = FC_C(0.005f, LENGTH);
     l->contact_confirm_s = FC_C(0.1f, TIME);

@@ -276,9 +276,17 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
     if (in->range_fresh) {
         lm->gear_height_m = in->gear_height_m;
     }
-    if (abort != FC_REASON_ABORT_COMMANDED && lm->gear_height_m <= contact_band_m(lm)) {
-        /* the gear at the surface: climbing away from it would be the riskier move */
-        abort = FC_REASON_NONE;
+    if (lm->gear_height_m <= contact_band_m(lm)) {
+        /* the gear at the surface: climbing away from it would be the riskier
+         * move, and the reference may not lift the vehicle off (a touch while
+         * the reference is still above would otherwise become a hop) */
+        if (abort != FC_REASON_ABORT_COMMANDED) {
+            abort = FC_REASON_NONE;
+        }
+        if (out->reference.z_m > in->z_m) {
+            out->reference.z_m = in->z_m;
+            out->reference.vz_mps = fc_min(out->reference.vz_mps, in->pad->now.vz_mps);
+        }
     }
     if (lm->state == FC_LANDING_DESCEND) {
         if (abort != FC_REASON_NONE) {
@@ -292,6 +300,9 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
         start_abort(lm, in, abort);
     } else if (contact_lost(lm, in, &out->reference)) {
         enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
+    } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
+        /* not clearly off, not clearly on: the confirmation starts again */
+        lm->state_time_s = FC_INT(0, TIME);
     } else if (lm->state_time_s >= lm->p.contact_confirm_s) {
         lm->touchdown_thrust_n =
             fc_is_finite(in->thrust_n) ? fc_max(in->thrust_n, FC_INT(0, FORCE)) : FC_INT(0, FORCE);

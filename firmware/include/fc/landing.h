@@ -20,8 +20,9 @@
  * TOUCHDOWN: the gear height from the range finder (range k_h - gear) is below
  *   contact_height_m and the vehicle stays above its reference by dip / 4 (the
  *   pad holds it while the reference goes on down); confirmed after
- *   contact_confirm_s unless lost meanwhile: the gear 3 contact heights off
- *   the surface, or the vehicle back on its reference (then DESCEND again).
+ *   contact_confirm_s of samples that all say so (a sample that does not
+ *   restarts the time); lost, back to DESCEND, when the gear is 3 contact
+ *   heights off the surface or the vehicle back on its reference.
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
  * ABORT (from DESCEND; from TOUCHDOWN only by the operator): horizontal
