@@ -255,7 +255,7 @@ static void sincos_fixed(fc_arith *ar, fc_real angle, fc_real *sin_out, fc_real 
     }
     int32_t s, c;
     sincos_octant_q30(ar, a * 4 /* ANGLE Q28 -> Q30, |a| <= pi/4 */, &s, &c);
-    switch ((quarter + 4) % 4) {
+    switch ((unsigned)(quarter + 4) & 3u) { /* quarter in [-2, 2]: a remainder without a division */
     case 0:
         *sin_out = s;
         *cos_out = c;
@@ -294,12 +294,45 @@ fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
 static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
 {
     const int32_t t2 = fc_mul(ar, t_q30, t_q30, 30);
+    /* acc <- 1/(2k+1) - t^2 acc for k = 10 .. 0, written out so that each
+     * Q30(1)/(2k+1) is a constant (in a loop it was a run-time division) */
+#define ATAN_TERM(K) acc = Q30(1.0f) / (2 * (K) + 1) - fc_mul(ar, t2, acc, 30)
     int32_t acc = Q30(1.0f / 23.0f);
-    for (int k = 10; k >= 0; k--) {
-        /* acc <- 1/(2k+1) - t^2 acc */
-        acc = Q30(1.0f) / (2 * k + 1) - fc_mul(ar, t2, acc, 30);
-    }
+    ATAN_TERM(10);
+    ATAN_TERM(9);
+    ATAN_TERM(8);
+    ATAN_TERM(7);
+    ATAN_TERM(6);
+    ATAN_TERM(5);
+    ATAN_TERM(4);
+    ATAN_TERM(3);
+    ATAN_TERM(2);
+    ATAN_TERM(1);
+    ATAN_TERM(0);
+#undef ATAN_TERM
     return fc_mul(ar, t_q30, acc, 30 + 30 - FC_ANGLE_FRAC);
+}
+
+/* floor((num 2^30 + floor(den / 2)) / den) for num <= den, den > 0: the
+ * quotient bits by restoring division in 32 bits (the remainder stays below
+ * den <= 2^31, so twice it fits a uint32), then the rounding from the
+ * remainder: floor((q den + rest + floor(den/2)) / den) = q + (rest >= den - floor(den/2)). */
+static uint32_t ratio_q30_rounded(uint32_t num, uint32_t den)
+{
+    uint32_t quotient = 0u;
+    uint32_t rest = num;
+    if (rest >= den) { /* num == den */
+        return (uint32_t)1u << 30;
+    }
+    for (int i = 0; i < 30; i++) {
+        rest <<= 1;
+        quotient <<= 1;
+        if (rest >= den) {
+            rest -= den;
+            quotient |= 1u;
+        }
+    }
+    return quotient + (rest >= den - den / 2u ? 1u : 0u);
 }
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
@@ -307,13 +340,14 @@ fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
     if (x == 0 && y == 0) {
         return 0;
     }
-    const int64_t ay = y < 0 ? -(int64_t)y : (int64_t)y;
-    const int64_t ax = x < 0 ? -(int64_t)x : (int64_t)x;
+    /* magnitudes as uint32: |INT32_MIN| = 2^31 fits */
+    const uint32_t ay = y < 0 ? 0u - (uint32_t)y : (uint32_t)y;
+    const uint32_t ax = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
     const bool steep = ay > ax;
-    /* ratio in [0, 1] as Q30 */
-    const int64_t num = steep ? ax : ay;
-    const int64_t den = steep ? ay : ax;
-    const int32_t ratio = (int32_t)(((num << 30) + den / 2) / den);
+    /* ratio in [0, 1] as Q30: round(num 2^30 / den) */
+    const uint32_t num = steep ? ax : ay;
+    const uint32_t den = steep ? ay : ax;
+    const int32_t ratio = (int32_t)ratio_q30_rounded(num, den);
     /* atan(a) = pi/4 + atan((a - 1)/(a + 1)) brings a > tan(pi/8) into range */
     const int32_t tan_pi_8 = Q30(0.41421356f);
     int32_t angle;
