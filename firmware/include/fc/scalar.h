@@ -248,8 +248,23 @@ FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
 FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
 {
 #if defined(__AVR__)
-    /* whole bytes by byte moves, then the rest (0..7 bits) by ASR/ROR: a C
-     * shift by a constant that is not a multiple of 8 is a loop at -Os */
+    if (__builtin_constant_p(shift)) {
+        /* a C shift by a constant that is not a multiple of 8 is a loop at
+         * -Os: whole bytes by moves, then the 0..7 bits left of 40 bits,
+         * the shorter way (fc/scalar_avr.h) */
+        const int bytes = shift / 8, bits = shift % 8;
+        if (bits <= 4) {
+            uint32_t word = fc_avr_word(low, high, bytes);
+            uint8_t top = fc_avr_byte(low, high, bytes + 4);
+            FC_AVR_SHR40(word, top, bits);
+            return word;
+        }
+        uint32_t word = fc_avr_word(low, high, bytes + 1);
+        uint8_t bottom = fc_avr_byte(low, high, bytes);
+        FC_AVR_SHL40(word, bottom, 8 - bits);
+        return word;
+    }
+    /* a run-time shift: whole bytes, then the 0..7 bits by an ASR/ROR loop */
     const int bytes = shift / 8;
     if (bytes == 1) {
         low = (low >> 8) | (high << 24);
