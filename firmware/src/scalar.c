@@ -444,6 +444,7 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
  * functions (double is 32 bits there), hence the casts back to fc_real */
 #include <math.h>
 
+#if !FC_FLOAT_INLINE_MATH /* the others inline them (fc/scalar.h) */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
     (void)shift;
@@ -477,6 +478,8 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     }
     return 1.0f / (fc_real)sqrtf(x);
 }
+
+#endif
 
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {
