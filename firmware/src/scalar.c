@@ -199,16 +199,30 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
     /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
-     * five Newton steps take that below the Q29 resolution */
-    int32_t y = (int32_t)(((int64_t)Q30(1.05f)) - (((int64_t)m_q30 * Q30(1.15f)) >> 31));
+     * five Newton steps take that below the Q29 resolution. The products
+     * are 32 x 32 -> 64 in halves (fc_fx_umul_wide), each shift a floor:
+     *   y2 = y^2 / 2^28    Q30, below 2^34 (held as top 2^32 + low)
+     *   my2 = m y2 / 2^30  Q30, m y^2 <= 1.21 after the guess, <= 1 after a step
+     *   y <- y (3 - my2) / 2^31
+     * (the values of the int64_t form this replaces, bit for bit:
+     * test_scalar.test_rsqrt_exact) */
+    const fc_fx_wide guess = fc_fx_umul_wide((uint32_t)m_q30, (uint32_t)Q30(1.15f));
+    int32_t y = Q30(1.05f) - (int32_t)fc_fx_extract(guess.low, guess.high, 31);
     for (int i = 0; i < 5; i++) {
-        const int64_t y2_q30 = ((int64_t)y * y) >> (2 * RSQRT_Y_FRAC - 30);
-        const int64_t my2_q30 = ((int64_t)m_q30 * y2_q30) >> 30;
-        const int64_t corr_q30 = ((int64_t)3 << 30) - my2_q30; /* 3 - m y^2 */
-        y = (int32_t)(((int64_t)y * corr_q30) >> 31);         /* y (3 - m y^2) / 2 */
+        const fc_fx_wide yy = fc_fx_umul_wide((uint32_t)y, (uint32_t)y);
+        const uint32_t y2_low = fc_fx_extract(yy.low, yy.high, 2 * RSQRT_Y_FRAC - 30);
+        const uint32_t y2_top = yy.high >> (2 * RSQRT_Y_FRAC - 30); /* bits 32.. of y2 */
+        fc_fx_wide my2 = fc_fx_umul_wide((uint32_t)m_q30, y2_low);
+        my2.high += (uint32_t)m_q30 * y2_top;
+        const uint32_t my2_q30 = fc_fx_extract(my2.low, my2.high, 30);
+        const uint32_t three_q30 = (uint32_t)3u << 30;
+        /* 3 - m y^2 > 0 (m y^2 <= 1.21); kept at 0 if it were not */
+        const uint32_t corr_q30 = (my2.high >> 30) == 0u && my2_q30 <= three_q30 ? three_q30 - my2_q30 : 0u;
+        const fc_fx_wide next = fc_fx_umul_wide((uint32_t)y, corr_q30);
+        y = (int32_t)fc_fx_extract(next.low, next.high, 31); /* y (3 - m y^2) / 2 */
     }
     /* 1/sqrt(x) = y 2^-j, from Q29 to frac_out */
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)y, RSQRT_Y_FRAC + j - frac_out));
+    return fc_convert(ar, y, RSQRT_Y_FRAC + j, frac_out);
 }
 
 
