@@ -16,11 +16,52 @@
 /* A Q30 constant, folded at compile time. */
 #define Q30(X) ((int32_t)((X) * 1073741824.0f + 0.5f))
 
+/*
+ * floor((N + floor(D/2)) / D) for N = n 2^shift (0 <= shift < 32) and D > 0,
+ * both magnitudes, or UINT32_MAX when the quotient reaches 2^32: restoring
+ * division of the halves of N, one quotient bit per round, in 32-bit C (the
+ * remainder stays below D <= 2^31, so twice it fits). The rounding from the
+ * remainder r: floor((q D + r + floor(D/2)) / D) = q + (r >= D - floor(D/2)).
+ */
+static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
+{
+    uint32_t high = shift == 0 ? 0u : n >> (32 - shift);
+    uint32_t low = n << shift;
+    if (high >= d) {
+        return UINT32_MAX; /* N / D >= 2^32 */
+    }
+    uint32_t quotient = 0u;
+    for (int i = 0; i < 32; i++) {
+        high = (high << 1) | (low >> 31); /* below 2 D <= 2^32 */
+        low <<= 1;
+        quotient <<= 1;
+        if (high >= d) {
+            high -= d;
+            quotient |= 1u;
+        }
+    }
+    const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
+    return rounded < quotient ? UINT32_MAX : rounded;
+}
+
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
     if (den == 0) {
         ar->saturated = 1u;
         return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+    if (shift >= 0 && shift < 32) {
+        /* the library's divisions: in 32-bit halves, the same value as the
+         * int64_t form below (test_scalar.test_div_exact) */
+        const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
+        const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
+        const uint32_t q = div_rounded_u32(n, shift, d);
+        const bool negative = (num < 0) != (den < 0);
+        if (q > (uint32_t)INT32_MAX) {
+            ar->saturated = 1u;
+            return negative ? FC_REAL_MIN : FC_REAL_MAX;
+        }
+        return negative ? -(fc_real)q : (fc_real)q;
     }
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
@@ -54,6 +95,30 @@ static uint32_t isqrt_u32(uint32_t m)
         bit >>= 2;
     }
     return root;
+}
+
+/* floor(n / s) for s in [2^15, 2^16) and n / s < 2^17: the first quotient
+ * bit from n's top half, then 16 restoring rounds (a 32-bit division is a
+ * 32-round libgcc loop on the ATmega). */
+static uint32_t heron_quotient(uint32_t n, uint32_t s)
+{
+    uint32_t rest = n >> 16;
+    uint32_t low = n << 16;
+    uint32_t quotient = 0u;
+    if (rest >= s) {
+        rest -= s;
+        quotient = 1u;
+    }
+    for (int i = 0; i < 16; i++) {
+        rest = (rest << 1) | (low >> 31); /* below 2 s < 2^17 */
+        low <<= 1;
+        quotient <<= 1;
+        if (rest >= s) {
+            rest -= s;
+            quotient |= 1u;
+        }
+    }
+    return quotient;
 }
 
 /* a > b for unsigned 64-bit values held as halves */
@@ -119,7 +184,7 @@ static uint32_t sqrt_rounded_wide(fc_fx_wide v)
     const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
     const uint32_t r = m - s * s;     /* <= 2 s < 2^17 */
     /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
-    const uint32_t heron = ((r << 15) + (l >> 17)) / s;
+    const uint32_t heron = heron_quotient((r << 15) + (l >> 17), s);
     const uint32_t top = s << 16;
     uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
     root >>= n;

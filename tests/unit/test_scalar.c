@@ -949,6 +949,56 @@ static void test_rsqrt_exact(void **state)
 #endif
 }
 
+/* fixed: fc_div for the shifts 0..31 (restoring division in 32-bit halves)
+ * gives bit for bit the values and flags of its int64_t form (below, as it
+ * was); float: nothing to check. */
+#if FC_NUMERIC_FIXED
+static int32_t reference_div(fc_arith *ar, int32_t num, int32_t den, int shift)
+{
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+    const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
+    const int64_t den64 = den;
+    if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
+        return fc_fx_saturate(ar, (scaled_num > 0) == (den > 0) ? INT64_MAX : -INT64_MAX);
+    }
+    const int64_t half_den = (den64 > 0 ? den64 : -den64) / 2;
+    const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
+    return fc_fx_saturate(ar, rounded / den64);
+}
+#endif
+
+static void test_div_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(6060u);
+    const int32_t edges[] = {INT32_MIN, INT32_MIN + 1, INT32_MAX, INT32_MAX - 1, 0, 1, -1, 2, -2, 3, -3,
+                             (int32_t)0x40000000, -(int32_t)0x40000000, 46341, -46341};
+    const int n_edges = (int)(sizeof edges / sizeof edges[0]);
+    unsigned cases = 0u;
+    for (int shift = 0; shift < 32; shift++) {
+        for (int i = 0; i < 20000; i++) {
+            int32_t num = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u);
+            int32_t den = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u);
+            if (i < n_edges * n_edges) {
+                num = edges[i % n_edges];
+                den = edges[i / n_edges];
+            }
+            fc_arith got_ar = {0}, want_ar = {0};
+            const fc_real got = fc_div(&got_ar, num, den, shift);
+            const fc_real want = reference_div(&want_ar, num, den, shift);
+            assert_int_equal(got, want);
+            assert_int_equal(got_ar.saturated, want_ar.saturated);
+            cases++;
+        }
+    }
+    print_message("div exact: %u cases\n", cases);
+#endif
+}
+
 static void test_hypot3(void **state)
 {
     (void)state;
@@ -1393,6 +1443,7 @@ int main(void)
         cmocka_unit_test(test_sqrt_hypot3_exact),
         cmocka_unit_test(test_rsqrt),
         cmocka_unit_test(test_rsqrt_exact),
+        cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),
         cmocka_unit_test(test_sin_cos_wrap),
