@@ -382,9 +382,8 @@ static fc_acc component_sum(const fc_allocation *a, const fc_real *value, int k,
 {
     fc_acc sum = fc_acc_zero();
     for (int i = 0; i < a->rotor_count; i++) {
-        /* by pointer: one component read, not the vector copied */
-        const fc_vec3 *v = of_lever ? &a->rotor[i].lever_m : &a->rotor[i].axis_unit;
-        const fc_real c = k == 0 ? v->x : (k == 1 ? v->y : v->z);
+        const fc_allocation_rotor *r = &a->rotor[i];
+        const fc_real c = component(of_lever ? r->lever_m : r->axis_unit, k);
         if (c != FC_INT(0, UNIT)) {
             sum = fc_acc_mac(sum, value[i], c);
         }
