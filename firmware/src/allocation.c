@@ -375,32 +375,16 @@ void fc_allocation_reset(fc_allocation *a)
 
 /* ---- the forward model (2.2)-(2.3) -------------------------------------- */
 
-/* sum_i value_i c_ik with c_i = d_i (of_lever false) or l_i x d_i, in one
- * accumulator, i ascending. Zero components (planar rotors: most of them)
- * are skipped: each product costs a 32 x 32 -> 64 multiply on the ATmega. */
-static fc_acc component_sum(const fc_allocation *a, const fc_real *value, int k, bool of_lever)
-{
-    fc_acc sum = fc_acc_zero();
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real c = component(of_lever ? r->lever_m : r->axis_unit, k);
-        if (c != FC_INT(0, UNIT)) {
-            sum = fc_acc_mac(sum, value[i], c);
-        }
-    }
-    return sum;
-}
-
-/* The wrench of the speeds (2.2)-(2.3); the body-x/y force only when
- * full_force (the step needs F_z alone). Rotor thrusts and torques first,
- * then each sum on its own: one 64-bit accumulator live at a time (the
- * nine of a single pass spilled to the stack on the ATmega). */
+/* The wrench of the speeds; the body-x/y force only when full_force (the step
+ * needs F_z alone). Zero components of d_i and l_i x d_i (planar rotors: most
+ * of them) are skipped: each product costs a 64-bit multiply on the ATmega. */
 static void forward_model(fc_allocation *a, const fc_real *speed, bool full_force,
                           fc_vec3 *force_n, fc_vec3 *moment_nm, fc_real *rotor_thrust_n)
 {
     fc_arith *ar = &a->ar;
-    fc_real thrust[FC_MAX_ROTORS];
-    fc_real torque[FC_MAX_ROTORS];
+    fc_acc force[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    fc_acc lever_moment[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
+    fc_acc torque_moment[3] = {fc_acc_zero(), fc_acc_zero(), fc_acc_zero()};
     for (int i = 0; i < a->rotor_count; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         const fc_real u = fc_clamp(speed[i], FC_INT(0, UNIT), FC_INT(1, UNIT));
@@ -409,20 +393,31 @@ static void forward_model(fc_allocation *a, const fc_real *speed, bool full_forc
                                 ? u_r
                                 : power(ar, u, r->torque_exponent,
                                         (r->flags & ROTOR_SQUARE_TORQUE) != 0u);
-        thrust[i] = fc_mul(ar, r->thrust_max_n, u_r, FC_SHIFT(FORCE, UNIT, FORCE));
-        torque[i] = fc_mul(ar, r->torque_max_nm, u_s, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        const fc_real thrust = fc_mul(ar, r->thrust_max_n, u_r, FC_SHIFT(FORCE, UNIT, FORCE));
+        const fc_real torque = fc_mul(ar, r->torque_max_nm, u_s, FC_SHIFT(MOMENT, UNIT, MOMENT));
         if (rotor_thrust_n != NULL) {
-            rotor_thrust_n[i] = thrust[i];
+            rotor_thrust_n[i] = thrust;
+        }
+        for (int k = 0; k < 3; k++) {
+            const fc_real axis = component(r->axis_unit, k);
+            const fc_real lever = component(r->lever_m, k);
+            if (axis != FC_INT(0, UNIT)) {
+                if (full_force || k == 2) {
+                    force[k] = fc_acc_mac(force[k], thrust, axis);
+                }
+                torque_moment[k] = fc_acc_mac(torque_moment[k], torque, axis);
+            }
+            if (lever != FC_INT(0, LEVER)) {
+                lever_moment[k] = fc_acc_mac(lever_moment[k], thrust, lever);
+            }
         }
     }
     fc_real f[3];
     fc_real m[3];
     for (int k = 0; k < 3; k++) {
-        f[k] = full_force || k == 2
-                   ? fc_acc_result(ar, component_sum(a, thrust, k, false), FC_SHIFT(FORCE, UNIT, FORCE))
-                   : FC_INT(0, FORCE);
-        m[k] = fc_add(ar, fc_acc_result(ar, component_sum(a, thrust, k, true), FC_SHIFT(FORCE, LEVER, MOMENT)),
-                      fc_acc_result(ar, component_sum(a, torque, k, false), FC_SHIFT(MOMENT, UNIT, MOMENT)));
+        f[k] = fc_acc_result(ar, force[k], FC_SHIFT(FORCE, UNIT, FORCE));
+        m[k] = fc_add(ar, fc_acc_result(ar, lever_moment[k], FC_SHIFT(FORCE, LEVER, MOMENT)),
+                      fc_acc_result(ar, torque_moment[k], FC_SHIFT(MOMENT, UNIT, MOMENT)));
     }
     *force_n = fc_vec3_make(f[0], f[1], f[2]);
     *moment_nm = fc_vec3_make(m[0], m[1], m[2]);
