@@ -16,6 +16,7 @@
 /* A Q30 constant, folded at compile time. */
 #define Q30(X) ((int32_t)((X) * 1073741824.0f + 0.5f))
 
+#if defined(__AVR__)
 /*
  * floor((N + floor(D/2)) / D) for N = n 2^shift (0 <= shift < 32) and D > 0,
  * both magnitudes, or UINT32_MAX when the quotient reaches 2^32: restoring
@@ -43,6 +44,7 @@ static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
     const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
     return rounded < quotient ? UINT32_MAX : rounded;
 }
+#endif
 
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
@@ -50,9 +52,12 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
         ar->saturated = 1u;
         return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
     }
+#if defined(__AVR__)
     if (shift >= 0 && shift < 32) {
-        /* the library's divisions: in 32-bit halves, the same value as the
-         * int64_t form below (test_scalar.test_div_exact) */
+        /* the library's divisions on the ATmega, where an int64_t division
+         * is a 64-round libgcc loop: in 32-bit halves, the same value as the
+         * int64_t form below (atmega.scalar_equivalence; the same algorithm
+         * on the host: test_scalar.test_div_exact) */
         const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
         const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
         const uint32_t q = div_rounded_u32(n, shift, d);
@@ -63,6 +68,7 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
         }
         return negative ? -(fc_real)q : (fc_real)q;
     }
+#endif
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
     if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
@@ -102,6 +108,9 @@ static uint32_t isqrt_u32(uint32_t m)
  * 32-round libgcc loop on the ATmega). */
 static uint32_t heron_quotient(uint32_t n, uint32_t s)
 {
+#if !defined(__AVR__)
+    return n / s; /* a hardware divide elsewhere */
+#else
     uint32_t rest = n >> 16;
     uint32_t low = n << 16;
     uint32_t quotient = 0u;
@@ -119,6 +128,7 @@ static uint32_t heron_quotient(uint32_t n, uint32_t s)
         }
     }
     return quotient;
+#endif
 }
 
 /* a > b for unsigned 64-bit values held as halves */
