@@ -30,7 +30,8 @@ fc_real fc_quat_norm_sq(fc_arith *ar, fc_quat q)
     return fc_dot4(ar, q.w, q.w, q.x, q.x, q.y, q.y, q.z, q.z, UNIT_X_UNIT);
 }
 
-static fc_quat quat_scale(fc_arith *ar, fc_quat q, fc_real k, int shift)
+/* inlined: the shift is then a constant (a run-time shift is a loop on the ATmega) */
+static inline __attribute__((always_inline)) fc_quat quat_scale(fc_arith *ar, fc_quat q, fc_real k, int shift)
 {
     return fc_quat_make(fc_mul(ar, q.w, k, shift), fc_mul(ar, q.x, k, shift),
                         fc_mul(ar, q.y, k, shift), fc_mul(ar, q.z, k, shift));

@@ -21,12 +21,59 @@
 /* A Q30 constant, folded at compile time. */
 #define Q30(X) FC_C(X, UNIT)
 
+#if defined(__AVR__)
+/*
+ * floor((N + floor(D/2)) / D) for N = n 2^shift (0 <= shift < 32) and D > 0,
+ * both magnitudes, or UINT32_MAX when the quotient reaches 2^32: restoring
+ * division of the halves of N, one quotient bit per round, in 32-bit C (the
+ * remainder stays below D <= 2^31, so twice it fits). The rounding from the
+ * remainder r: floor((q D + r + floor(D/2)) / D) = q + (r >= D - floor(D/2)).
+ */
+static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
+{
+    uint32_t high = shift == 0 ? 0u : n >> (32 - shift);
+    uint32_t low = n << shift;
+    if (high >= d) {
+        return UINT32_MAX; /* N / D >= 2^32 */
+    }
+    uint32_t quotient = 0u;
+    for (int i = 0; i < 32; i++) {
+        high = (high << 1) | (low >> 31); /* below 2 D <= 2^32 */
+        low <<= 1;
+        quotient <<= 1;
+        if (high >= d) {
+            high -= d;
+            quotient |= 1u;
+        }
+    }
+    const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
+    return rounded < quotient ? UINT32_MAX : rounded;
+}
+#endif
+
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
     if (den == 0) {
         ar->saturated = 1u;
         return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
     }
+#if defined(__AVR__)
+    if (shift >= 0 && shift < 32) {
+        /* the library's divisions on the ATmega, where an int64_t division
+         * is a 64-round libgcc loop: in 32-bit halves, the same value as the
+         * int64_t form below (atmega.scalar_equivalence; the same algorithm
+         * on the host: test_scalar.test_div_exact) */
+        const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
+        const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
+        const uint32_t q = div_rounded_u32(n, shift, d);
+        const bool negative = (num < 0) != (den < 0);
+        if (q > (uint32_t)INT32_MAX) {
+            ar->saturated = 1u;
+            return negative ? FC_REAL_MIN : FC_REAL_MAX;
+        }
+        return negative ? -(fc_real)q : (fc_real)q;
+    }
+#endif
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
     if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
@@ -59,6 +106,34 @@ static uint32_t isqrt_u32(uint32_t m)
         bit >>= 2;
     }
     return root;
+}
+
+/* floor(n / s) for s in [2^15, 2^16) and n / s < 2^17: the first quotient
+ * bit from n's top half, then 16 restoring rounds (a 32-bit division is a
+ * 32-round libgcc loop on the ATmega). */
+static uint32_t heron_quotient(uint32_t n, uint32_t s)
+{
+#if !defined(__AVR__)
+    return n / s; /* a hardware divide elsewhere */
+#else
+    uint32_t rest = n >> 16;
+    uint32_t low = n << 16;
+    uint32_t quotient = 0u;
+    if (rest >= s) {
+        rest -= s;
+        quotient = 1u;
+    }
+    for (int i = 0; i < 16; i++) {
+        rest = (rest << 1) | (low >> 31); /* below 2 s < 2^17 */
+        low <<= 1;
+        quotient <<= 1;
+        if (rest >= s) {
+            rest -= s;
+            quotient |= 1u;
+        }
+    }
+    return quotient;
+#endif
 }
 
 /* a > b for unsigned 64-bit values held as halves */
@@ -124,7 +199,7 @@ static uint32_t sqrt_rounded_wide(fc_fx_wide v)
     const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
     const uint32_t r = m - s * s;     /* <= 2 s < 2^17 */
     /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
-    const uint32_t heron = ((r << 15) + (l >> 17)) / s;
+    const uint32_t heron = heron_quotient((r << 15) + (l >> 17), s);
     const uint32_t top = s << 16;
     uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
     root >>= n;
@@ -204,16 +279,30 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
     /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
-     * five Newton steps take that below the Q29 resolution */
-    int32_t y = (int32_t)(((int64_t)Q30(1.05f)) - (((int64_t)m_q30 * Q30(1.15f)) >> 31));
+     * five Newton steps take that below the Q29 resolution. The products
+     * are 32 x 32 -> 64 in halves (fc_fx_umul_wide), each shift a floor:
+     *   y2 = y^2 / 2^28    Q30, below 2^34 (held as top 2^32 + low)
+     *   my2 = m y2 / 2^30  Q30, m y^2 <= 1.21 after the guess, <= 1 after a step
+     *   y <- y (3 - my2) / 2^31
+     * (the values of the int64_t form this replaces, bit for bit:
+     * test_scalar.test_rsqrt_exact) */
+    const fc_fx_wide guess = fc_fx_umul_wide((uint32_t)m_q30, (uint32_t)Q30(1.15f));
+    int32_t y = Q30(1.05f) - (int32_t)fc_fx_extract(guess.low, guess.high, 31);
     for (int i = 0; i < 5; i++) {
-        const int64_t y2_q30 = ((int64_t)y * y) >> (2 * RSQRT_Y_FRAC - 30);
-        const int64_t my2_q30 = ((int64_t)m_q30 * y2_q30) >> 30;
-        const int64_t corr_q30 = ((int64_t)3 << 30) - my2_q30; /* 3 - m y^2 */
-        y = (int32_t)(((int64_t)y * corr_q30) >> 31);         /* y (3 - m y^2) / 2 */
+        const fc_fx_wide yy = fc_fx_umul_wide((uint32_t)y, (uint32_t)y);
+        const uint32_t y2_low = fc_fx_extract(yy.low, yy.high, 2 * RSQRT_Y_FRAC - 30);
+        const uint32_t y2_top = yy.high >> (2 * RSQRT_Y_FRAC - 30); /* bits 32.. of y2 */
+        fc_fx_wide my2 = fc_fx_umul_wide((uint32_t)m_q30, y2_low);
+        my2.high += (uint32_t)m_q30 * y2_top;
+        const uint32_t my2_q30 = fc_fx_extract(my2.low, my2.high, 30);
+        const uint32_t three_q30 = (uint32_t)3u << 30;
+        /* 3 - m y^2 > 0 (m y^2 <= 1.21); kept at 0 if it were not */
+        const uint32_t corr_q30 = (my2.high >> 30) == 0u && my2_q30 <= three_q30 ? three_q30 - my2_q30 : 0u;
+        const fc_fx_wide next = fc_fx_umul_wide((uint32_t)y, corr_q30);
+        y = (int32_t)fc_fx_extract(next.low, next.high, 31); /* y (3 - m y^2) / 2 */
     }
     /* 1/sqrt(x) = y 2^-j, from Q29 to frac_out */
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)y, RSQRT_Y_FRAC + j - frac_out));
+    return fc_convert(ar, y, RSQRT_Y_FRAC + j, frac_out);
 }
 
 
@@ -260,7 +349,7 @@ static void sincos_fixed(fc_arith *ar, fc_real angle, fc_real *sin_out, fc_real 
     }
     int32_t s, c;
     sincos_octant_q30(ar, a * 4 /* ANGLE Q28 -> Q30, |a| <= pi/4 */, &s, &c);
-    switch ((quarter + 4) % 4) {
+    switch ((unsigned)(quarter + 4) & 3u) { /* quarter in [-2, 2]: a remainder without a division */
     case 0:
         *sin_out = s;
         *cos_out = c;
@@ -299,26 +388,60 @@ fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
 static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
 {
     const int32_t t2 = fc_mul(ar, t_q30, t_q30, 30);
+    /* acc <- 1/(2k+1) - t^2 acc for k = 10 .. 0, written out so that each
+     * Q30(1)/(2k+1) is a constant (in a loop it was a run-time division) */
+#define ATAN_TERM(K) acc = Q30(1.0f) / (2 * (K) + 1) - fc_mul(ar, t2, acc, 30)
     int32_t acc = Q30(1.0f / 23.0f);
-    for (int k = 10; k >= 0; k--) {
-        /* acc <- 1/(2k+1) - t^2 acc */
-        acc = Q30(1.0f) / (2 * k + 1) - fc_mul(ar, t2, acc, 30);
-    }
+    ATAN_TERM(10);
+    ATAN_TERM(9);
+    ATAN_TERM(8);
+    ATAN_TERM(7);
+    ATAN_TERM(6);
+    ATAN_TERM(5);
+    ATAN_TERM(4);
+    ATAN_TERM(3);
+    ATAN_TERM(2);
+    ATAN_TERM(1);
+    ATAN_TERM(0);
+#undef ATAN_TERM
     return fc_mul(ar, t_q30, acc, 30 + 30 - FC_ANGLE_FRAC);
+}
+
+/* floor((num 2^30 + floor(den / 2)) / den) for num <= den, den > 0: the
+ * quotient bits by restoring division in 32 bits (the remainder stays below
+ * den <= 2^31, so twice it fits a uint32), then the rounding from the
+ * remainder: floor((q den + rest + floor(den/2)) / den) = q + (rest >= den - floor(den/2)). */
+static uint32_t ratio_q30_rounded(uint32_t num, uint32_t den)
+{
+    uint32_t quotient = 0u;
+    uint32_t rest = num;
+    if (rest >= den) { /* num == den */
+        return (uint32_t)1u << 30;
+    }
+    for (int i = 0; i < 30; i++) {
+        rest <<= 1;
+        quotient <<= 1;
+        if (rest >= den) {
+            rest -= den;
+            quotient |= 1u;
+        }
+    }
+    return quotient + (rest >= den - den / 2u ? 1u : 0u);
 }
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)
 {
-    const int64_t ay = y < 0 ? -(int64_t)y : (int64_t)y;
-    const int64_t ax = x < 0 ? -(int64_t)x : (int64_t)x;
+    /* magnitudes as uint32: |INT32_MIN| = 2^31 fits */
+    const uint32_t ay = y < 0 ? 0u - (uint32_t)y : (uint32_t)y;
+    const uint32_t ax = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
     const bool steep = ay > ax;
-    /* ratio in [0, 1] as Q30 */
-    const int64_t num = steep ? ax : ay;
-    const int64_t den = steep ? ay : ax;
-    if (den == 0) {
+    /* ratio in [0, 1] as Q30: round(num 2^30 / den) */
+    const uint32_t num = steep ? ax : ay;
+    const uint32_t den = steep ? ay : ax;
+    if (den == 0u) {
         return 0; /* x == y == 0 (den is the larger magnitude) */
     }
-    const int32_t ratio = (int32_t)(((num << 30) + den / 2) / den);
+    const int32_t ratio = (int32_t)ratio_q30_rounded(num, den);
     /* atan(a) = pi/4 + atan((a - 1)/(a + 1)) brings a > tan(pi/8) into range */
     const int32_t tan_pi_8 = Q30(0.41421356f);
     int32_t angle;
@@ -415,6 +538,7 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
  * maps them onto its double functions (double is 32 bits there), hence the
  * casts back to fc_real */
 
+#if !FC_FLOAT_INLINE_MATH /* the others inline them (fc/scalar.h) */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
     (void)shift;
@@ -448,6 +572,8 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     }
     return 1.0f / (fc_real)sqrtf(x);
 }
+
+#endif
 
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {

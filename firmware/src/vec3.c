@@ -16,30 +16,9 @@ fc_vec3 fc_vec3_neg(fc_arith *ar, fc_vec3 v)
     return fc_vec3_make(fc_neg(ar, v.x), fc_neg(ar, v.y), fc_neg(ar, v.z));
 }
 
-fc_vec3 fc_vec3_scale(fc_arith *ar, fc_vec3 v, fc_real k, int shift)
-{
-    return fc_vec3_make(fc_mul(ar, v.x, k, shift), fc_mul(ar, v.y, k, shift),
-                        fc_mul(ar, v.z, k, shift));
-}
 
-fc_vec3 fc_vec3_mul_elementwise(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
-{
-    return fc_vec3_make(fc_mul(ar, a.x, b.x, shift), fc_mul(ar, a.y, b.y, shift),
-                        fc_mul(ar, a.z, b.z, shift));
-}
 
-fc_real fc_vec3_dot(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
-{
-    return fc_dot3(ar, a.x, b.x, a.y, b.y, a.z, b.z, shift);
-}
 
-fc_vec3 fc_vec3_cross(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
-{
-    /* each component is a difference of two products: one rounding each */
-    return fc_vec3_make(fc_dot2(ar, a.y, b.z, fc_neg(ar, a.z), b.y, shift),
-                        fc_dot2(ar, a.z, b.x, fc_neg(ar, a.x), b.z, shift),
-                        fc_dot2(ar, a.x, b.y, fc_neg(ar, a.y), b.x, shift));
-}
 
 fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac)
 {
@@ -81,12 +60,6 @@ fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
     return fc_vec3_scale(ar, v, ratio, FC_UNIT_FRAC);
 }
 
-fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to)
-{
-    return fc_vec3_make(fc_convert(ar, v.x, frac_from, frac_to),
-                        fc_convert(ar, v.y, frac_from, frac_to),
-                        fc_convert(ar, v.z, frac_from, frac_to));
-}
 
 bool fc_vec3_is_finite(fc_vec3 v)
 {

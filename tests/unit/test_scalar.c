@@ -886,6 +886,119 @@ static void test_sqrt_hypot3_exact(void **state)
 #endif
 }
 
+/* fixed: fc_rsqrt (products in 32-bit halves) gives bit for bit the values of
+ * its int64_t form (below, as it was), for every pair of formats in use and
+ * inputs of every bit length. */
+#if FC_NUMERIC_FIXED
+static int32_t reference_rsqrt(fc_arith *ar, int32_t x, int frac_in, int frac_out)
+{
+    if (x <= 0) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    int len = 0;
+    for (uint32_t v = (uint32_t)x; v != 0u; v >>= 1) {
+        len++;
+    }
+    int s = 30 - len;
+    if (((30 - s - frac_in) & 1) != 0) {
+        s -= 1;
+    }
+    const int32_t m_q30 = s >= 0 ? (int32_t)((uint32_t)x << s) : (int32_t)((uint32_t)x >> (-s));
+    const int j = (30 - s - frac_in) / 2;
+    /* Q30(1.05f) and Q30(1.15f) of scalar.c, folded in float as there */
+    const int32_t q30_105 = (int32_t)(1.05f * 1073741824.0f + 0.5f);
+    const int32_t q30_115 = (int32_t)(1.15f * 1073741824.0f + 0.5f);
+    int32_t y = (int32_t)(((int64_t)q30_105) - (((int64_t)m_q30 * q30_115) >> 31));
+    for (int i = 0; i < 5; i++) {
+        const int64_t y2_q30 = ((int64_t)y * y) >> 28;
+        const int64_t my2_q30 = ((int64_t)m_q30 * y2_q30) >> 30;
+        const int64_t corr_q30 = ((int64_t)3 << 30) - my2_q30;
+        y = (int32_t)(((int64_t)y * corr_q30) >> 31);
+    }
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)y, 29 + j - frac_out));
+}
+#endif
+
+static void test_rsqrt_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(5150u);
+    const int fracs[] = {16, 20, 22, 24, 28, 30};
+    unsigned cases = 0u;
+    for (size_t a = 0; a < sizeof fracs / sizeof fracs[0]; a++) {
+        for (size_t b = 0; b < sizeof fracs / sizeof fracs[0]; b++) {
+            for (int i = 0; i < 20000; i++) {
+                fc_real x = (fc_real)(ts_rand_u32(&rng) >> (1 + (ts_rand_u32(&rng) % 31u)));
+                if (i < 31) {
+                    x = (fc_real)((uint32_t)1u << i);
+                } else if (i < 62) {
+                    x = i == 61 ? INT32_MAX : (fc_real)(((uint32_t)1u << (i - 31)) - 1u);
+                }
+                fc_arith got_ar = {0}, want_ar = {0};
+                const fc_real got = fc_rsqrt(&got_ar, x, fracs[a], fracs[b]);
+                const fc_real want = reference_rsqrt(&want_ar, x, fracs[a], fracs[b]);
+                assert_int_equal(got, want);
+                assert_int_equal(got_ar.saturated, want_ar.saturated);
+                cases++;
+            }
+        }
+    }
+    print_message("rsqrt exact: %u cases\n", cases);
+#endif
+}
+
+/* fixed: fc_div for the shifts 0..31 (restoring division in 32-bit halves)
+ * gives bit for bit the values and flags of its int64_t form (below, as it
+ * was); float: nothing to check. */
+#if FC_NUMERIC_FIXED
+static int32_t reference_div(fc_arith *ar, int32_t num, int32_t den, int shift)
+{
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+    const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
+    const int64_t den64 = den;
+    if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
+        return fc_fx_saturate(ar, (scaled_num > 0) == (den > 0) ? INT64_MAX : -INT64_MAX);
+    }
+    const int64_t half_den = (den64 > 0 ? den64 : -den64) / 2;
+    const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
+    return fc_fx_saturate(ar, rounded / den64);
+}
+#endif
+
+static void test_div_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(6060u);
+    const int32_t edges[] = {INT32_MIN, INT32_MIN + 1, INT32_MAX, INT32_MAX - 1, 0, 1, -1, 2, -2, 3, -3,
+                             (int32_t)0x40000000, -(int32_t)0x40000000, 46341, -46341};
+    const int n_edges = (int)(sizeof edges / sizeof edges[0]);
+    unsigned cases = 0u;
+    for (int shift = 0; shift < 32; shift++) {
+        for (int i = 0; i < 20000; i++) {
+            int32_t num = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u);
+            int32_t den = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u);
+            if (i < n_edges * n_edges) {
+                num = edges[i % n_edges];
+                den = edges[i / n_edges];
+            }
+            fc_arith got_ar = {0}, want_ar = {0};
+            const fc_real got = fc_div(&got_ar, num, den, shift);
+            const fc_real want = reference_div(&want_ar, num, den, shift);
+            assert_int_equal(got, want);
+            assert_int_equal(got_ar.saturated, want_ar.saturated);
+            cases++;
+        }
+    }
+    print_message("div exact: %u cases\n", cases);
+#endif
+}
+
 static void test_hypot3(void **state)
 {
     (void)state;
@@ -1329,6 +1442,8 @@ int main(void)
         cmocka_unit_test(test_hypot3),
         cmocka_unit_test(test_sqrt_hypot3_exact),
         cmocka_unit_test(test_rsqrt),
+        cmocka_unit_test(test_rsqrt_exact),
+        cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),
         cmocka_unit_test(test_sin_cos_wrap),

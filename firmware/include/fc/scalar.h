@@ -249,8 +249,23 @@ FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
 FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
 {
 #if defined(__AVR__)
-    /* whole bytes by byte moves, then the rest (0..7 bits) by ASR/ROR: a C
-     * shift by a constant that is not a multiple of 8 is a loop at -Os */
+    if (__builtin_constant_p(shift)) {
+        /* a C shift by a constant that is not a multiple of 8 is a loop at
+         * -Os: whole bytes by moves, then the 0..7 bits left of 40 bits,
+         * the shorter way (fc/scalar_avr.h) */
+        const int bytes = shift / 8, bits = shift % 8;
+        if (bits <= 4) {
+            uint32_t word = fc_avr_word(low, high, bytes);
+            uint8_t top = fc_avr_byte(low, high, bytes + 4);
+            FC_AVR_SHR40(word, top, bits);
+            return word;
+        }
+        uint32_t word = fc_avr_word(low, high, bytes + 1);
+        uint8_t bottom = fc_avr_byte(low, high, bytes);
+        FC_AVR_SHL40(word, bottom, 8 - bits);
+        return word;
+    }
+    /* a run-time shift: whole bytes, then the 0..7 bits by an ASR/ROR loop */
     const int bytes = shift / 8;
     if (bytes == 1) {
         low = (low >> 8) | (high << 24);
@@ -470,6 +485,16 @@ FC_FX_INLINE bool fc_is_finite(fc_real a)
 /* ======================================================================= */
 typedef float fc_real;
 
+/* Division and square roots inlined where they are used (an FPU does each
+ * in one instruction: VDIV.F32, VSQRT.F32 with -fno-math-errno), except on
+ * the ATmega, where they are soft-float calls anyway and avr-libc's sqrt
+ * is the double one (scalar.c). */
+#if defined(__AVR__)
+#define FC_FLOAT_INLINE_MATH 0
+#else
+#define FC_FLOAT_INLINE_MATH 1
+#endif
+
 #define FC_REAL_MAX 3.40282347e+38f
 #define FC_REAL_MIN (-3.40282347e+38f)
 
@@ -551,7 +576,19 @@ static inline fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
 }
 
 /* num / den; den == 0 gives +-FC_REAL_MAX (or 0 for 0/0) instead of inf/NaN. */
+#if FC_FLOAT_INLINE_MATH
+static inline fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
+{
+    (void)shift;
+    if (den == 0.0f) {
+        ar->saturated = 1u;
+        return num > 0.0f ? FC_REAL_MAX : (num < 0.0f ? FC_REAL_MIN : 0.0f);
+    }
+    return num / den;
+}
+#else
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
+#endif
 
 static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
@@ -605,6 +642,32 @@ static inline fc_real fc_sign_unit(fc_real a)
 
 /* ---- functions of the backend (scalar.c) ------------------------------ */
 
+#if !FC_NUMERIC_FIXED && defined(FC_FLOAT_INLINE_MATH) && FC_FLOAT_INLINE_MATH
+/* (float, inlined: the same expressions as scalar.c's out-of-line ones) */
+static inline fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
+{
+    (void)ar;
+    (void)frac;
+    return x > 0.0f ? __builtin_sqrtf(x) : 0.0f;
+}
+
+static inline fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
+{
+    (void)ar;
+    return __builtin_sqrtf(a * a + b * b + c * c);
+}
+
+static inline fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
+{
+    (void)frac_in;
+    (void)frac_out;
+    if (!(x > 0.0f)) {
+        ar->saturated = 1u;
+        return FC_REAL_MAX;
+    }
+    return 1.0f / __builtin_sqrtf(x);
+}
+#else
 /* sqrt of x in format frac, result in the same format; x <= 0 gives 0. */
 fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac);
 
@@ -614,6 +677,7 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
 
 /* 1/sqrt(x): x in format frac_in, result in format frac_out; x <= 0 saturates. */
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
+#endif
 
 /* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);

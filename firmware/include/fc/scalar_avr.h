@@ -132,4 +132,57 @@ static inline __attribute__((always_inline)) void fc_avr_mul_u32(uint32_t a, uin
         }                                                                                     \
     } while (0)
 
+/* The five bytes top:word shifted right by BITS (1..4, a constant), the low
+ * four kept in word: LSR/ROR, 5 cycles a bit. */
+#define FC_AVR_SHR40_1 "lsr %1\n\tror %D0\n\tror %C0\n\tror %B0\n\tror %A0\n\t"
+#define FC_AVR_SHR40(word, top, BITS)                                                          \
+    do {                                                                                      \
+        switch (BITS) {                                                                       \
+        case 1: __asm__(FC_AVR_SHR40_1 : "+r"(word), "+r"(top)); break;                       \
+        case 2: __asm__(FC_AVR_SHR40_1 FC_AVR_SHR40_1 : "+r"(word), "+r"(top)); break;        \
+        case 3: __asm__(FC_AVR_SHR40_1 FC_AVR_SHR40_1 FC_AVR_SHR40_1                          \
+                        : "+r"(word), "+r"(top)); break;                                      \
+        case 4: __asm__(FC_AVR_SHR40_1 FC_AVR_SHR40_1 FC_AVR_SHR40_1 FC_AVR_SHR40_1           \
+                        : "+r"(word), "+r"(top)); break;                                      \
+        default: break;                                                                       \
+        }                                                                                     \
+    } while (0)
+
+/* The five bytes word:bottom shifted left by BITS (1..3, a constant), the high
+ * four kept in word: LSL/ROL, 5 cycles a bit. */
+#define FC_AVR_SHL40_1 "lsl %1\n\trol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
+#define FC_AVR_SHL40(word, bottom, BITS)                                                       \
+    do {                                                                                      \
+        switch (BITS) {                                                                       \
+        case 1: __asm__(FC_AVR_SHL40_1 : "+r"(word), "+r"(bottom)); break;                    \
+        case 2: __asm__(FC_AVR_SHL40_1 FC_AVR_SHL40_1 : "+r"(word), "+r"(bottom)); break;     \
+        case 3: __asm__(FC_AVR_SHL40_1 FC_AVR_SHL40_1 FC_AVR_SHL40_1                          \
+                        : "+r"(word), "+r"(bottom)); break;                                   \
+        default: break;                                                                       \
+        }                                                                                     \
+    } while (0)
+
+/* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
+ * C shifts by whole bytes, which avr-gcc does by moves. */
+static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, uint32_t high, int i)
+{
+    return (uint8_t)(i < 4 ? low >> (8 * (i & 3)) : high >> (8 * (i & 3)));
+}
+
+static inline __attribute__((always_inline)) uint32_t fc_avr_word(uint32_t low, uint32_t high, int i)
+{
+    switch (i) {
+    case 0:
+        return low;
+    case 1:
+        return (low >> 8) | (high << 24);
+    case 2:
+        return (low >> 16) | (high << 16);
+    case 3:
+        return (low >> 24) | (high << 8);
+    default:
+        return high;
+    }
+}
+
 #endif /* FC_SCALAR_AVR_H */

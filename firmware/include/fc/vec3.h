@@ -20,6 +20,11 @@ static inline fc_vec3 fc_vec3_make(fc_real x, fc_real y, fc_real z)
     return v;
 }
 
+/* The functions that take a shift are inlined where they are used: the
+ * shift is then a constant (in fixed on the ATmega a run-time shift is a
+ * loop, and the product's bytes are picked by moves only for a constant). */
+#define FC_VEC3_INLINE static inline __attribute__((always_inline))
+
 static inline fc_vec3 fc_vec3_zero(void)
 {
     return fc_vec3_make(FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT));
@@ -30,16 +35,33 @@ fc_vec3 fc_vec3_sub(fc_arith *ar, fc_vec3 a, fc_vec3 b);
 fc_vec3 fc_vec3_neg(fc_arith *ar, fc_vec3 v);
 
 /* v * k: shift = FC_SHIFT(kind of v, kind of k, kind of the result). */
-fc_vec3 fc_vec3_scale(fc_arith *ar, fc_vec3 v, fc_real k, int shift);
+FC_VEC3_INLINE fc_vec3 fc_vec3_scale(fc_arith *ar, fc_vec3 v, fc_real k, int shift)
+{
+    return fc_vec3_make(fc_mul(ar, v.x, k, shift), fc_mul(ar, v.y, k, shift),
+                        fc_mul(ar, v.z, k, shift));
+}
 
 /* Component-wise product (a diagonal matrix times a vector). */
-fc_vec3 fc_vec3_mul_elementwise(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+FC_VEC3_INLINE fc_vec3 fc_vec3_mul_elementwise(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
+{
+    return fc_vec3_make(fc_mul(ar, a.x, b.x, shift), fc_mul(ar, a.y, b.y, shift),
+                        fc_mul(ar, a.z, b.z, shift));
+}
 
 /* a . b, accumulated in 64 bits in fixed. */
-fc_real fc_vec3_dot(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+FC_VEC3_INLINE fc_real fc_vec3_dot(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
+{
+    return fc_dot3(ar, a.x, b.x, a.y, b.y, a.z, b.z, shift);
+}
 
 /* a x b. */
-fc_vec3 fc_vec3_cross(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift);
+FC_VEC3_INLINE fc_vec3 fc_vec3_cross(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
+{
+    /* each component is a difference of two products: one rounding each */
+    return fc_vec3_make(fc_dot2(ar, a.y, b.z, fc_neg(ar, a.z), b.y, shift),
+                        fc_dot2(ar, a.z, b.x, fc_neg(ar, a.x), b.z, shift),
+                        fc_dot2(ar, a.x, b.y, fc_neg(ar, a.y), b.x, shift));
+}
 
 /* |v| in v's own format (no intermediate overflow: the squares are summed in
  * 64 bits in fixed). */
@@ -53,7 +75,12 @@ fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok);
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac);
 
 /* Format change of all three components. */
-fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to);
+FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to)
+{
+    return fc_vec3_make(fc_convert(ar, v.x, frac_from, frac_to),
+                        fc_convert(ar, v.y, frac_from, frac_to),
+                        fc_convert(ar, v.z, frac_from, frac_to));
+}
 
 /* True when every component is a finite number (always true in fixed). */
 bool fc_vec3_is_finite(fc_vec3 v);

@@ -8,7 +8,11 @@
  * shift 1..31 as a compile-time constant (what the library uses) and through
  * a run-time shift (a shift passed to a function that is not inlined).
  * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
- * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert.
+ * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert;
+ * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
+ * division in 32-bit halves, every shift 0..31) against its int64_t form,
+ * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) against the
+ * digit-by-digit square root of the uint64_t value rounded to nearest.
  *
  * No I/O: the counts are in scalar_test_cases / scalar_test_failures and the
  * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
@@ -103,6 +107,71 @@ static __attribute__((noinline)) int32_t ref_acc(fc_arith *ar, const int32_t *a,
         acc += ((int64_t)a[i] * b[i]) >> FC_ACC_GUARD_BITS;
     }
     return ref_narrow(ar, acc, shift - FC_ACC_GUARD_BITS);
+}
+
+/* fc_div as it was, in int64_t */
+static __attribute__((noinline)) int32_t ref_div(fc_arith *ar, int32_t num, int32_t den, int shift)
+{
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+    const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
+    const int64_t den64 = den;
+    if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
+        return fc_fx_saturate(ar, (scaled_num > 0) == (den > 0) ? INT64_MAX : -INT64_MAX);
+    }
+    const int64_t half_den = (den64 > 0 ? den64 : -den64) / 2;
+    const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
+    return fc_fx_saturate(ar, rounded / den64);
+}
+
+/* round(sqrt(v)) by the digit-by-digit method in uint64_t */
+static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
+{
+    uint64_t root = 0u;
+    uint64_t bit = (uint64_t)1u << 62;
+    uint64_t rest = v;
+    while (bit > rest) {
+        bit >>= 2;
+    }
+    while (bit != 0u) {
+        if (rest >= root + bit) {
+            rest -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    if (v - root * root > root) {
+        root++;
+    }
+    return (uint32_t)root;
+}
+
+#define OP_DIV 10u
+#define OP_SQRT 11u
+#define OP_HYPOT3 12u
+
+static void compare_functions(const int32_t *a, const int32_t *b)
+{
+    const int shift = (int)(rng_next() % 32u);
+    fc_arith got = {0u}, want = {0u};
+    int32_t value = fc_div(&got, a[0], b[0], shift);
+    check(OP_DIV, (uint8_t)shift, value, got.saturated, ref_div(&want, a[0], b[0], shift), want.saturated);
+    const int frac = (int)(rng_next() % 32u);
+    got.saturated = 0u;
+    value = fc_sqrt(&got, a[1], frac);
+    const int32_t want_sqrt = a[1] > 0 ? (int32_t)ref_sqrt((uint64_t)a[1] << frac) : 0;
+    check(OP_SQRT, (uint8_t)frac, value, got.saturated, want_sqrt, 0u);
+    got.saturated = 0u;
+    value = fc_hypot3(&got, a[2], b[2], a[3]);
+    const uint64_t sum = (uint64_t)((int64_t)a[2] * a[2]) + (uint64_t)((int64_t)b[2] * b[2]) +
+                         (uint64_t)((int64_t)a[3] * a[3]);
+    const uint32_t root = ref_sqrt(sum);
+    const bool over = root > (uint32_t)INT32_MAX;
+    check(OP_HYPOT3, 0u, value, got.saturated, over ? FC_REAL_MAX : (int32_t)root, over ? 1u : 0u);
 }
 
 /* ---- the library's primitives, shift a compile-time constant ----------- */
@@ -215,6 +284,7 @@ int main(void)
             for (uint8_t s = 0; s < 31; s++) {
                 cases[s](a, b);
             }
+            compare_functions(a, b);
         }
     }
     /* all eight products at the format's corners: the clamped 64-bit sums */
@@ -236,6 +306,15 @@ int main(void)
             cases[s](a, b);
         }
         case_runtime(a, b, (int)(rng_next() % 31u) + 1);
+        for (uint8_t k = 0; k < 8; k++) {
+            compare_functions(a, b);
+            a[0] = operand();
+            b[0] = operand();
+            a[1] = operand();
+            a[2] = operand();
+            b[2] = operand();
+            a[3] = operand();
+        }
     }
     scalar_test_done = 1u;
     cli();
