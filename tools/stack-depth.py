@@ -107,7 +107,13 @@ def analyse_avr(name, insns):
             t = target_of(args)
             if t is None:
                 continue
-            if t.startswith("?"):
+            if t.startswith("?<__prologue_saves__+") or t.startswith("?__prologue_saves__+"):
+                # -mcall-prologues enters the save routine part way: fewer
+                # registers than its 18, so 18 stays an upper bound
+                saves = True
+            elif t.startswith("?<__epilogue_restores__+") or t.startswith("?__epilogue_restores__+"):
+                pass
+            elif t.startswith("?"):
                 indirect.append(op + " " + args)
             elif t == "__prologue_saves__":
                 saves = True
@@ -204,6 +210,10 @@ def main():
                 fail("call to %s, which has no code in %s" % (name, a.elf))
             CURRENT[:] = bounds[name]
             calls, indirect, est = analyse(name, funcs[name])
+            if name == "__tablejump2__":
+                # libgcc's switch dispatch: it is jumped to (not called) and its
+                # eijmp lands on a case label inside the function that jumped
+                indirect, est = [], 0
             if indirect:
                 fail("%s: indirect call or jump that cannot be bounded: %s" % (name, "; ".join(indirect)))
             if canonical(name) in su:

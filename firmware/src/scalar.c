@@ -14,6 +14,33 @@
 
 #if FC_NUMERIC_FIXED
 
+#if defined(FC_SCALAR_COMPACT)
+#error "scalar.c holds the out-of-line products: it is never a compact unit"
+#endif
+
+/* The out-of-line products of compact translation units (fc/scalar.h). */
+fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    return fc_mul(ar, a, b, shift);
+}
+
+fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    return fc_dot2(ar, a0, b0, a1, b1, shift);
+}
+
+fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           int shift)
+{
+    return fc_dot3(ar, a0, b0, a1, b1, a2, b2, shift);
+}
+
+fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           fc_real a3, fc_real b3, int shift)
+{
+    return fc_dot4(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+}
+
 /* ----------------------------------------------------------------------- */
 /* fixed backend                                                           */
 /* ----------------------------------------------------------------------- */

@@ -365,9 +365,24 @@ FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
     return a < 0 ? fc_neg(ar, a) : a;
 }
 
+/* Compact translation units: with FC_SCALAR_COMPACT defined before this
+ * header, fc_mul and fc_dot2/3/4 call one out-of-line copy each (scalar.c)
+ * with the shift at run time. Bit-identical results, a fraction of the code,
+ * some cycles more per product: the ATmega image builds its outer-loop
+ * modules so (position, pad motion, landing), as its flash is what runs out. */
+fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift);
+fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift);
+fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           int shift);
+fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           fc_real a3, fc_real b3, int shift);
+
 /* a * b >> shift, rounded, saturated. */
 FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
+#if defined(FC_SCALAR_COMPACT)
+    return fc_fx_mul_outline(ar, a, b, shift);
+#endif
     if (shift > 0 && shift < 32) {
         return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
     }
@@ -393,6 +408,9 @@ FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int6
 FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
+#if defined(FC_SCALAR_COMPACT)
+    return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
+#endif
     if (shift > 0 && shift < 32) {
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
@@ -402,6 +420,9 @@ FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, int shift)
 {
+#if defined(FC_SCALAR_COMPACT)
+    return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
+#endif
     if (shift > 0 && shift < 32) {
         /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + p2 */
         const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
@@ -413,6 +434,9 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
 {
+#if defined(FC_SCALAR_COMPACT)
+    return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+#endif
     if (shift > 0 && shift < 32) {
         /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + (p2 + p3) */
         const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
