@@ -36,6 +36,19 @@ typedef struct montecarlo_params {
     double rotor_efficiency_min;  /* one random rotor's efficiency x U(min, 1) */
     double initial_offset_m;      /* initial x, y + U(-a, a) */
     double ground_effect_rho_rel; /* rho of (3.2) x (1 + U(-a, a)) */
+    double rotor_efficiency_max;  /* the weak rotor's factor is U(rotor_efficiency_min, this); 1 by default */
+    /* a payload step: at U(mass_step_time_min_s, mass_step_time_max_s) the mass
+     * prevailing then (after the other perturbations) steps by x (1 + U(-a, a)),
+     * through the plant's mass filter (4.84); a = mass_step_rel, 0: none */
+    double mass_step_rel;
+    double mass_step_time_min_s, mass_step_time_max_s;
+    /* a run has diverged when, after the transient, |z - z_r| exceeds
+     * diverged_error_m, or at any time the horizontal distance from the
+     * setpoint exceeds diverged_position_m or the tilt diverged_tilt_deg, or an
+     * output or the plant's state is not finite (sim_divergence) */
+    double diverged_error_m;
+    double diverged_position_m;
+    double diverged_tilt_deg;
 } montecarlo_params;
 
 typedef struct mission_params {
