@@ -28,12 +28,38 @@ static bool lower_is_worse(int metric)
     return strcmp(sim_metric_names[metric], "min_clearance_m") == 0;
 }
 
+/* The value at percentile p of n sorted values, nearest rank. */
+static double nearest_rank(const double *sorted, int n, double p)
+{
+    int rank = (int)ceil(p * n);
+    rank = rank < 1 ? 1 : (rank > n ? n : rank);
+    return sorted[rank - 1];
+}
+
+static const sim_metrics *run_metrics(const run_record *r, int i)
+{
+    return r->runs > 1 ? &r->per_run[i] : &r->result.metrics;
+}
+
 void output_compute_stats(run_record *r)
 {
+    r->diverged_runs = r->nan_output_runs = 0;
+    r->nan_outputs_total = 0.0;
+    memset(r->diverged_by_reason, 0, sizeof r->diverged_by_reason);
+    for (int i = 0; i < r->runs; i++) {
+        const sim_metrics *m = run_metrics(r, i);
+        const unsigned reasons = sim_divergence(m, &r->sc->montecarlo);
+        r->diverged_runs += reasons != 0u;
+        for (int b = 0; b < SIM_DIVERGED_REASON_COUNT; b++) {
+            r->diverged_by_reason[b] += (reasons & (1u << b)) != 0u;
+        }
+        r->nan_output_runs += m->nan_outputs > 0.0;
+        r->nan_outputs_total += m->nan_outputs;
+    }
     double *values = malloc((size_t)r->runs * sizeof *values);
     for (int k = 0; k < SIM_METRIC_COUNT; k++) {
         metric_stats *s = &r->stats[k];
-        s->min = s->median = s->p95 = s->max = (double)NAN;
+        s->min = s->median = s->p90 = s->p95 = s->p99 = s->max = (double)NAN;
         s->worst_seed = r->seed;
         s->count = 0;
         double worst = (double)NAN;
@@ -57,10 +83,9 @@ void output_compute_stats(run_record *r)
         s->max = values[s->count - 1];
         s->median = s->count % 2 == 1 ? values[s->count / 2]
                                       : 0.5 * (values[s->count / 2 - 1] + values[s->count / 2]);
-        /* nearest rank */
-        int rank = (int)ceil(0.95 * s->count);
-        rank = rank < 1 ? 1 : rank;
-        s->p95 = values[rank - 1];
+        s->p90 = nearest_rank(values, s->count, 0.90);
+        s->p95 = nearest_rank(values, s->count, 0.95);
+        s->p99 = nearest_rank(values, s->count, 0.99);
     }
     free(values);
 }
@@ -103,6 +128,19 @@ static void add_landing(cJSON *o, const sim_result *res)
     }
 }
 
+static void add_divergence(cJSON *obj, const sim_metrics *m, const montecarlo_params *mc)
+{
+    const unsigned reasons = sim_divergence(m, mc);
+    cJSON_AddBoolToObject(obj, "diverged", reasons != 0u);
+    cJSON *why = cJSON_AddArrayToObject(obj, "diverged_reasons");
+    for (int b = 0; b < SIM_DIVERGED_REASON_COUNT; b++) {
+        if ((reasons & (1u << b)) != 0u) {
+            cJSON_AddItemToArray(why, cJSON_CreateString(sim_divergence_reason_name(b)));
+        }
+    }
+    add_number(obj, "max_position_error_m", m->max_position_error_m);
+}
+
 static cJSON *record_json(const run_record *r)
 {
     cJSON *o = cJSON_CreateObject();
@@ -141,6 +179,7 @@ static cJSON *record_json(const run_record *r)
         add_metrics(o, &r->result.metrics);
         add_number(o, "theta_end_kg", r->result.metrics.theta_end_kg);
         add_number(o, "theta_star_end_kg", r->result.metrics.theta_star_end_kg);
+        add_divergence(o, &r->result.metrics, &r->sc->montecarlo);
         add_number(o, "wall_time_s", r->result.wall_s);
         add_number(o, "real_time_factor", r->result.wall_s > 0.0 ? r->sc->duration_s / r->result.wall_s : (double)NAN);
         if (r->sc->mission.command == MISSION_LAND) {
@@ -149,13 +188,28 @@ static cJSON *record_json(const run_record *r)
         return o;
     }
     cJSON_AddNumberToObject(o, "runs", r->runs);
+    /* robustness: how many runs diverged (robustness.h), by reason, and the NaN outputs */
+    const montecarlo_params *mc = &r->sc->montecarlo;
+    cJSON *dv = cJSON_AddObjectToObject(o, "divergence");
+    cJSON_AddNumberToObject(dv, "error_m", mc->diverged_error_m);
+    cJSON_AddNumberToObject(dv, "position_m", mc->diverged_position_m);
+    cJSON_AddNumberToObject(dv, "tilt_deg", mc->diverged_tilt_deg);
+    cJSON_AddNumberToObject(o, "diverged_runs", r->diverged_runs);
+    cJSON *by = cJSON_AddObjectToObject(o, "diverged_by_reason");
+    for (int b = 0; b < SIM_DIVERGED_REASON_COUNT; b++) {
+        cJSON_AddNumberToObject(by, sim_divergence_reason_name(b), r->diverged_by_reason[b]);
+    }
+    cJSON_AddNumberToObject(o, "nan_output_runs", r->nan_output_runs);
+    cJSON_AddNumberToObject(o, "nan_outputs_total", r->nan_outputs_total);
     cJSON *stats = cJSON_AddObjectToObject(o, "metrics");
     for (int k = 0; k < SIM_METRIC_COUNT; k++) {
         const metric_stats *s = &r->stats[k];
         cJSON *m = cJSON_AddObjectToObject(stats, sim_metric_names[k]);
         add_number(m, "min", s->min);
         add_number(m, "median", s->median);
+        add_number(m, "p90", s->p90);
         add_number(m, "p95", s->p95);
+        add_number(m, "p99", s->p99);
         add_number(m, "max", s->max);
         if (s->count > 0) {
             cJSON_AddNumberToObject(m, "worst_seed", (double)s->worst_seed);
@@ -169,6 +223,7 @@ static cJSON *record_json(const run_record *r)
         cJSON *one = cJSON_CreateObject();
         cJSON_AddNumberToObject(one, "seed", (double)r->per_run_seed[i]);
         add_metrics(one, &r->per_run[i]);
+        add_divergence(one, &r->per_run[i], mc);
         cJSON_AddItemToArray(runs, one);
     }
     add_number(o, "wall_time_s", r->wall_s);
@@ -549,6 +604,35 @@ static void print_value(double v, double scale)
     }
 }
 
+/* The robustness lines of a Monte-Carlo record: diverged runs by reason, the
+ * NaN outputs, and the first diverged seeds. */
+static void print_divergence(const run_record *r)
+{
+    const montecarlo_params *mc = &r->sc->montecarlo;
+    printf("diverged: %d of %d runs (|error| > %g m after the transient, position > %g m, tilt > %g deg, "
+           "non-finite state or output):",
+           r->diverged_runs, r->runs, mc->diverged_error_m, mc->diverged_position_m, mc->diverged_tilt_deg);
+    for (int b = 0; b < SIM_DIVERGED_REASON_COUNT; b++) {
+        printf(" %s %d", sim_divergence_reason_name(b), r->diverged_by_reason[b]);
+    }
+    printf("\nNaN outputs: %d runs, %.0f steps\n", r->nan_output_runs, r->nan_outputs_total);
+    if (r->diverged_runs == 0) {
+        return;
+    }
+    printf("diverged seeds:");
+    int shown = 0;
+    for (int i = 0; i < r->runs && shown < 20; i++) {
+        const unsigned reasons = sim_divergence(run_metrics(r, i), mc);
+        if (reasons != 0u) {
+            char why[96];
+            sim_divergence_text(reasons, why, sizeof why);
+            printf(" %llu (%s)", (unsigned long long)(r->runs > 1 ? r->per_run_seed[i] : r->seed), why);
+            shown++;
+        }
+    }
+    printf("%s\n", r->diverged_runs > shown ? " ..." : "");
+}
+
 void output_print(const run_record *records, int count, bool compare)
 {
     if (count == 0) {
@@ -597,13 +681,16 @@ void output_print(const run_record *records, int count, bool compare)
         }
         printf("\n%s, %s: %d runs, seeds %llu..%llu\n", sim_variant_names[r->variant], r->backend, r->runs,
                (unsigned long long)r->seed, (unsigned long long)(r->seed + (uint64_t)r->runs - 1u));
-        printf("%-24s %10s %10s %10s %10s %12s\n", "metric", "min", "median", "p95", "max", "worst seed");
+        printf("%-24s %10s %10s %10s %10s %10s %10s %12s\n", "metric", "min", "median", "p90", "p95", "p99", "max",
+               "worst seed");
         for (int k = 0; k < SIM_METRIC_COUNT; k++) {
             const metric_stats *s = &r->stats[k];
             printf("%-24s", sim_metric_names[k]);
             print_value(s->min, 1.0);
             print_value(s->median, 1.0);
+            print_value(s->p90, 1.0);
             print_value(s->p95, 1.0);
+            print_value(s->p99, 1.0);
             print_value(s->max, 1.0);
             if (s->count > 0) {
                 printf(" %12llu\n", (unsigned long long)s->worst_seed);
@@ -611,5 +698,6 @@ void output_print(const run_record *records, int count, bool compare)
                 printf(" %12s\n", "-");
             }
         }
+        print_divergence(r);
     }
 }

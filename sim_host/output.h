@@ -9,12 +9,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "robustness.h"
 #include "scenario.h"
 #include "sim.h"
 
 /* Statistics of one metric over Monte-Carlo runs (NaN when no run had it). */
 typedef struct metric_stats {
-    double min, median, p95, max;
+    double min, median, p90, p95, p99, max; /* percentiles by nearest rank */
     uint64_t worst_seed;
     int count;                 /* runs where the metric applied */
 } metric_stats;
@@ -31,6 +32,11 @@ typedef struct run_record {
     sim_metrics *per_run;      /* Monte-Carlo: runs entries */
     uint64_t *per_run_seed;
     metric_stats stats[SIM_METRIC_COUNT];
+    /* robustness (robustness.h), over the runs */
+    int diverged_runs;         /* runs with any divergence reason */
+    int diverged_by_reason[SIM_DIVERGED_REASON_COUNT];
+    int nan_output_runs;       /* runs with nan_outputs > 0 */
+    double nan_outputs_total;  /* steps with a NaN output, all runs */
     double wall_s;             /* all of its runs */
     bool failed;               /* the flight software did not start (--compare goes on) */
     char error[256];

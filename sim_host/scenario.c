@@ -340,6 +340,13 @@ static const key_def keys[] = {
     {"montecarlo", "rotor_efficiency_min", K_DOUBLE, R(mc.rotor_efficiency_min), 0.0, 1.0, NULL, 0},
     {"montecarlo", "initial_offset_m", K_DOUBLE, R(mc.initial_offset_m), 0.0, 100.0, NULL, 0},
     {"montecarlo", "ground_effect_rho_rel", K_DOUBLE, R(mc.ground_effect_rho_rel), 0.0, 0.9, NULL, 0},
+    {"montecarlo", "rotor_efficiency_max", K_DOUBLE, R(mc.rotor_efficiency_max), 0.0, 1.0, NULL, OPEN_LO},
+    {"montecarlo", "mass_step_rel", K_DOUBLE, R(mc.mass_step_rel), 0.0, 0.9, NULL, 0},
+    {"montecarlo", "mass_step_time_min_s", K_DOUBLE, R(mc.mass_step_time_min_s), 0.0, 36000.0, NULL, 0},
+    {"montecarlo", "mass_step_time_max_s", K_DOUBLE, R(mc.mass_step_time_max_s), 0.0, 36000.0, NULL, 0},
+    {"montecarlo", "diverged_error_m", K_DOUBLE, R(mc.diverged_error_m), 0.0, 1000.0, NULL, OPEN_LO},
+    {"montecarlo", "diverged_position_m", K_DOUBLE, R(mc.diverged_position_m), 0.0, 1000.0, NULL, OPEN_LO},
+    {"montecarlo", "diverged_tilt_deg", K_DOUBLE, R(mc.diverged_tilt_deg), 0.0, 180.0, NULL, OPEN_LO},
 };
 #define KEY_COUNT ((int)(sizeof keys / sizeof keys[0]))
 
@@ -419,6 +426,11 @@ static void raw_defaults(raw *r)
     r->mc.noise_scale_min = 1.0;
     r->mc.noise_scale_max = 1.0;
     r->mc.rotor_efficiency_min = 1.0;
+    r->mc.rotor_efficiency_max = 1.0;
+    r->mc.mass_step_time_min_s = r->mc.mass_step_time_max_s = (double)NAN; /* the transient .. the end */
+    r->mc.diverged_error_m = 1.0;
+    r->mc.diverged_position_m = 2.0;
+    r->mc.diverged_tilt_deg = 60.0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1005,6 +1017,29 @@ static bool build(parse_ctx *c, scenario *sc)
     if (sc->montecarlo.noise_scale_max < sc->montecarlo.noise_scale_min) {
         return fail_key(c, "montecarlo", "noise_scale_max", "must not be below noise_scale_min");
     }
+    montecarlo_params *mc = &sc->montecarlo;
+    if (mc->rotor_efficiency_max < mc->rotor_efficiency_min) {
+        return fail_key(c, "montecarlo", "rotor_efficiency_max", "must not be below rotor_efficiency_min");
+    }
+    if (mc->mass_step_rel > 0.0) {
+        /* default window: from the end of the transient (5 tau_zr + 5 s with the
+         * nominal tau_zr = 0.1 s, or [metrics] transient_s) to the end less the
+         * mass-step window, so the step's peak error is measured */
+        if (isnan(mc->mass_step_time_min_s)) {
+            mc->mass_step_time_min_s = isnan(sc->metrics.transient_s) ? 5.5 : sc->metrics.transient_s;
+        }
+        if (isnan(mc->mass_step_time_max_s)) {
+            mc->mass_step_time_max_s = sc->duration_s - sc->metrics.mass_step_window_s;
+        }
+        if (!(mc->mass_step_time_max_s >= mc->mass_step_time_min_s)) {
+            return fail_key(c, "montecarlo", "mass_step_time_max_s",
+                            "must not be below mass_step_time_min_s (default: duration_s less "
+                            "[metrics] mass_step_window_s, from the transient's end)");
+        }
+        if (sc->plant.mass_step_count >= PLANT_MAX_MASS_STEPS) {
+            return fail_key(c, "montecarlo", "mass_step_rel", "[mass] step_times_s leaves no room for one more step");
+        }
+    }
     return true;
 }
 
@@ -1209,13 +1244,33 @@ void scenario_perturb(scenario *sc, uint64_t seed)
         p->rotor[i].tau_s *= tau;
     }
     const int weak = (int)(rng_uniform(&r) * p->rotor_count);
-    p->rotor[weak].efficiency *= rng_range(&r, mc->rotor_efficiency_min, 1.0);
+    p->rotor[weak].efficiency *= rng_range(&r, mc->rotor_efficiency_min, mc->rotor_efficiency_max);
     sc->initial.x_m += rng_range(&r, -mc->initial_offset_m, mc->initial_offset_m);
     sc->initial.y_m += rng_range(&r, -mc->initial_offset_m, mc->initial_offset_m);
     p->ge_rho *= 1.0 + rng_range(&r, -mc->ground_effect_rho_rel, mc->ground_effect_rho_rel);
     perturb_pad_family(sc, &r);
     if (!isnan(mc->gust_std_max_mps)) {
         sc->wind.gust_std_mps = rng_range(&r, 0.0, mc->gust_std_max_mps);
+    }
+    /* drawn last, and only when asked for: the draws above (and so every
+     * scenario without mass_step_rel) are as before */
+    if (mc->mass_step_rel > 0.0 && p->mass_step_count < PLANT_MAX_MASS_STEPS) {
+        const double t_step = rng_range(&r, mc->mass_step_time_min_s, mc->mass_step_time_max_s);
+        const double factor = 1.0 + rng_range(&r, -mc->mass_step_rel, mc->mass_step_rel);
+        /* the mass prevailing at t_step; the steps after it keep their masses */
+        int at = 0;
+        double mass_before = p->mass_kg;
+        while (at < p->mass_step_count && p->mass_step_time_s[at] <= t_step) {
+            mass_before = p->mass_step_kg[at];
+            at++;
+        }
+        for (int k = p->mass_step_count; k > at; k--) {
+            p->mass_step_time_s[k] = p->mass_step_time_s[k - 1];
+            p->mass_step_kg[k] = p->mass_step_kg[k - 1];
+        }
+        p->mass_step_time_s[at] = t_step;
+        p->mass_step_kg[at] = mass_before * factor;
+        p->mass_step_count++;
     }
     sc->seed = seed;
 }

@@ -40,6 +40,19 @@ typedef struct montecarlo_params {
     double pad_amplitude_min_m, pad_amplitude_max_m; /* peak to peak of the whole heave, U(min, max) */
     double pad_period_min_s, pad_period_max_s;       /* a sine's period, or each wave's, U(min, max) */
     double gust_std_max_mps;                         /* gust std U(0, max) (NaN: as the file) */
+    double rotor_efficiency_max;  /* the weak rotor's factor is U(rotor_efficiency_min, this); 1 by default */
+    /* a payload step: at U(mass_step_time_min_s, mass_step_time_max_s) the mass
+     * prevailing then (after the other perturbations) steps by x (1 + U(-a, a)),
+     * through the plant's mass filter (4.84); a = mass_step_rel, 0: none */
+    double mass_step_rel;
+    double mass_step_time_min_s, mass_step_time_max_s;
+    /* a run has diverged when, after the transient, |z - z_r| exceeds
+     * diverged_error_m, or at any time the horizontal distance from the
+     * setpoint exceeds diverged_position_m or the tilt diverged_tilt_deg, or an
+     * output or the plant's state is not finite (sim_divergence) */
+    double diverged_error_m;
+    double diverged_position_m;
+    double diverged_tilt_deg;
 } montecarlo_params;
 
 typedef enum mission_command { MISSION_TRACK = 0, MISSION_LAND } mission_command;

@@ -105,6 +105,8 @@ typedef struct acc {
     bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
     long bounces;
+    double max_position_error;
+    long nonfinite_state;
 } acc;
 
 bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_trace *trace, char *err,
@@ -319,6 +321,12 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         if (tilt > a.max_tilt) {
             a.max_tilt = tilt;
         }
+        /* for the divergence test of Monte-Carlo runs (sim_divergence) */
+        const double position_error = hypot(pl.s.p.x - mission->setpoint_x_m, pl.s.p.y - mission->setpoint_y_m);
+        a.max_position_error = position_error > a.max_position_error ? position_error : a.max_position_error;
+        if (!isfinite(position_error + pl.s.p.z + pl.s.v.x + pl.s.v.y + pl.s.v.z + r33)) {
+            a.nonfinite_state++;
+        }
         /* before the planned touchdown (a contact earlier shows as its depth, a
          * collision); with no plan, before the first contact */
         const bool before_plan = land ? (!a.contact_ever && !out.touchdown_window)
@@ -441,6 +449,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     plant_diag d;
     plant_diagnose(&pl, &d);
     m->final_height_m = d.gear_clearance_m;
+    m->max_position_error_m = a.max_position_error;
+    m->nonfinite_state_steps = (double)a.nonfinite_state;
     res->controller_steps = steps;
     res->plant_steps = steps * substeps;
     res->wall_s = now_s() - t_start_wall;

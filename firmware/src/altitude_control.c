@@ -259,6 +259,23 @@ static void compute_discretisation(fc_altitude_control *c)
     c->inv_boundary_layer = fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN));
 }
 
+/* The constants the modulation rho is built from (kp_max = k_g_max/m_min,
+ * kp_max/kappa_m, 1/kappa_m, a_m/kappa_m, the norm observer's input gain, c_f)
+ * must fit their fixed formats (RATIO, MASS +-128, GAIN +-32768), with a margin
+ * below the saturated value. In fixed a larger one has saturated (and init
+ * fails on ar.saturated); in float nothing saturates, and a tiny but positive
+ * m_min (a denormal) gave kp_max = inf and rho = inf * 0 = NaN on the first step
+ * (fuzz finding params-4). Checked in both backends so they accept the same
+ * tunings, and with these bounds no float intermediate of rho can overflow. */
+static bool derived_in_range(const fc_altitude_control *c)
+{
+    const fc_real ratio_max = FC_INT(100, RATIO);
+    const fc_real mass_max = FC_INT(100, MASS);
+    return fc_within(c->kp_max_per_kg, ratio_max) && fc_within(c->kp_max_over_kappa, ratio_max) &&
+           fc_within(c->obs_gain, ratio_max) && fc_within(c->inv_kappa_kg, mass_max) &&
+           fc_within(c->a_m_over_kappa, mass_max) && fc_within(c->eta_fast_gain_kg_per_s, FC_INT(30000, GAIN));
+}
+
 void fc_altitude_control_reset(fc_altitude_control *c)
 {
     c->u0_av_n = FC_INT(0, FORCE);
@@ -290,7 +307,7 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
     }
     compute_discretisation(c);
     fc_altitude_control_reset(c);
-    if (c->ar.saturated != 0u) {
+    if (c->ar.saturated != 0u || !derived_in_range(c)) {
         return FC_INIT_BAD_PARAM;
     }
     c->ready = true;

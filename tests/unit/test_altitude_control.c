@@ -487,6 +487,45 @@ static void test_bad_params_rejected(void **state)
 #endif
 }
 
+/* Fuzz finding params-4 (tests/fuzz/findings/params-4.bin): the Crazyflie's
+ * ssc-norm tuning with m_min a denormal (2.66e-44 kg) was accepted in float;
+ * kp_max = k_g_max / m_min = inf and the first step's rho was inf * 0 = NaN,
+ * the thrust NaN from the second step. kp_max (and the other constants rho is
+ * built from) must fit their fixed formats, in both backends. */
+static void test_rho_constants_bounded_params_4(void **state)
+{
+    (void)state;
+    static fc_altitude_control c;
+    fc_altitude_control_params p;
+    fc_altitude_control_default_params(&p, dt_of(DT_500HZ), mass_of(0.027));
+    p.modulation = FC_SSC_MODULATION_NORM_OBSERVER;
+    assert_int_equal(fc_altitude_control_init(&c, &p), FC_INIT_OK);
+    fc_altitude_control_params q = p;
+#if FC_NUMERIC_FIXED
+    q.mass_min_kg = 1; /* one LSB, 6e-8 kg */
+#else
+    q.mass_min_kg = 2.66247e-44f; /* the finding's value */
+#endif
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
+    fc_altitude_control_input in = {0};
+    in.z_m = fc_from_float(0.8f, FC_LENGTH_FRAC);
+    in.reference.z_m = fc_from_float(1.0f, FC_LENGTH_FRAC);
+    in.tilt_cos = fc_from_float(0.95f, FC_RATIO_FRAC);
+    fc_altitude_control_output out;
+    for (int k = 0; k < 4; k++) {
+        assert_true(fc_altitude_control_step(&c, &in, &out) & FC_STEP_NOT_READY);
+        assert_true(fc_is_finite(out.rho_n) && fc_is_finite(out.thrust_n));
+    }
+    /* kp_max = 1.1 / 5 g = 220 /kg: beyond RATIO in fixed, so beyond it in float too */
+    q = p;
+    q.mass_min_kg = mass_of(0.005);
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
+    /* kp_max / kappa_m: kappa_m = 0.01 with kp_max = 54 /kg */
+    q = p;
+    q.kappa_m_per_kg = fc_from_float(0.01f, FC_GAIN_FRAC);
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -504,6 +543,7 @@ int main(void)
         cmocka_unit_test(test_tilt_compensation),
         cmocka_unit_test(test_bad_input_holds_last_thrust),
         cmocka_unit_test(test_bad_params_rejected),
+        cmocka_unit_test(test_rho_constants_bounded_params_4),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
