@@ -430,7 +430,6 @@ static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
     ATAN_TERM(2);
     ATAN_TERM(1);
     ATAN_TERM(0);
-#undef ATAN_TERM
     return fc_mul(ar, t_q30, acc, 30 + 30 - FC_ANGLE_FRAC);
 }
 

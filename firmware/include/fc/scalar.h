@@ -55,6 +55,10 @@
 #define FC_NUMERIC_FIXED 0
 #endif
 
+#if FC_NUMERIC_FIXED && defined(__AVR__)
+#include "fc/scalar_avr.h" /* the ATmega's products in assembly */
+#endif
+
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "fc/scalar.h: the fixed backend splits 64-bit products assuming little-endian"
 #endif
@@ -93,10 +97,6 @@ typedef struct fc_arith {
 /* fixed backend                                                           */
 /* ======================================================================= */
 typedef int32_t fc_real;
-
-#if defined(__AVR__)
-#include "fc/scalar_avr.h"
-#endif
 
 /* The primitives below must be inlined where they are used: only then is the
  * shift a constant, and on the ATmega a 32-bit shift by a variable is a loop
@@ -483,11 +483,13 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
     if (shift > 0 && shift < 32) {
         /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^shift) + bit shift-1
          * of a: rounded to nearest in 32 bits, and never beyond the range */
+        /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
+         * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
         return (a >> shift) + ((a >> (shift - 1)) & 1);
     }
     if (shift < 0 && shift > -32) {
         /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */
-        const int32_t limit = INT32_MAX >> (-shift);
+        const int32_t limit = (int32_t)((uint32_t)INT32_MAX >> (uint32_t)(-shift));
         if (a > limit || a < -limit) {
             ar->saturated = 1u;
             return a > 0 ? FC_REAL_MAX : FC_REAL_MIN;
