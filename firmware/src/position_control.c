@@ -60,6 +60,20 @@ static fc_vec3 horizontal(fc_vec3 v)
     return fc_vec3_make(v.x, v.y, FC_INT(0, UNIT));
 }
 
+/* The horizontal position and velocity errors; zero, and false, when an input is not finite. */
+static bool horizontal_errors(fc_arith *ar, const fc_position_control_input *in, fc_vec3 *e_m, fc_vec3 *ev_mps)
+{
+    if (!(fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
+          fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps))) {
+        *e_m = fc_vec3_zero();
+        *ev_mps = fc_vec3_zero();
+        return false;
+    }
+    *e_m = horizontal(fc_vec3_sub(ar, in->position_sp_m, in->position_m));
+    *ev_mps = horizontal(fc_vec3_sub(ar, in->velocity_sp_mps, in->velocity_mps));
+    return true;
+}
+
 static bool vec_differs(fc_vec3 a, fc_vec3 b)
 {
     return a.x != b.x || a.y != b.y || a.z != b.z;
@@ -103,15 +117,10 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     fc_step_status status = FC_STEP_OK;
 
     /* inputs */
-    fc_vec3 e_m = fc_vec3_zero();
-    fc_vec3 ev_mps = fc_vec3_zero();
-    bool integrate = true;
-    if (fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
-        fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps)) {
-        e_m = horizontal(fc_vec3_sub(ar, in->position_sp_m, in->position_m));
-        ev_mps = horizontal(fc_vec3_sub(ar, in->velocity_sp_mps, in->velocity_mps));
-    } else {
-        integrate = false;
+    fc_vec3 e_m;
+    fc_vec3 ev_mps;
+    const bool integrate = horizontal_errors(ar, in, &e_m, &ev_mps);
+    if (!integrate) {
         status |= FC_STEP_BAD_INPUT;
     }
     fc_vec3 ff = in->accel_ff_mps2;
