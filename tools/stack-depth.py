@@ -61,6 +61,8 @@ FUNC_RE = re.compile(r"^([0-9a-f]+) <([^>]+)>:$")
 INSN_RE = re.compile(r"^\s*([0-9a-f]+):\s+(?:[0-9a-f]{2,8} )+\s*([a-z][a-z0-9.]*)\s*(.*)$")
 TARGET_RE = re.compile(r"(?:0x)?([0-9a-f]+)\s+<([^>]+)>")
 STARTS = {}
+# avr-libc's math routines whose bodies the soft-float code jumps into
+LIBM_TAILS = {"atan2", "atan", "sqrt", "sin", "cos", "fabs", "ldexp", "frexp", "fmod"}
 CURRENT = [0, 0]
 
 
@@ -113,6 +115,16 @@ def analyse_avr(name, insns):
                 saves = True
             elif t.startswith("?<__epilogue_restores__+") or t.startswith("?__epilogue_restores__+"):
                 pass
+            elif t.startswith("?") and "+" in t and t[1:].split("+")[0] in STARTS.values():
+                # a jump into the body of another function: libgcc's and avr-libc's
+                # hand-written soft-float routines share their tails so (a jump,
+                # no return address, within the frame of the routine that was
+                # called, which is counted where it is called); anything else is
+                # bounded by the whole function jumped into, an over-estimate
+                into = t[1:].split("+")[0]
+                if op in ("jmp", "rjmp") and (into.startswith("__") or into in LIBM_TAILS):
+                    continue
+                calls.add(into)
             elif t.startswith("?"):
                 indirect.append(op + " " + args)
             elif t == "__prologue_saves__":
