@@ -33,6 +33,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static fc_controller_outputs out;
     fc_controller_inputs in;
     for (int k = 0; k < FUZZ_MAX_STEPS && fuzz_take(&b, &in, sizeof in); k++) {
+        fuzz_controller_bools(&in);
         (void)fc_controller_step(&ctl, &in, &out);
         fuzz_check_controller(&p, &out);
     }

@@ -65,4 +65,13 @@ static inline void fuzz_controller_hover_inputs(const fc_controller_params *p, f
     in->command = FC_COMMAND_TRACK_PAD;
 }
 
+/* A bool holds 0 or 1; raw bytes laid over one are reduced to their low bit
+ * (another bit pattern is not a value of the type, as for the params). */
+static inline void fuzz_controller_bools(fc_controller_inputs *in)
+{
+    unsigned char raw;
+    memcpy(&raw, &in->range_fresh, 1);
+    in->range_fresh = (raw & 1u) != 0u;
+}
+
 #endif /* FC_FUZZ_CONTROLLER_CHECK_H */
