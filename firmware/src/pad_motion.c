@@ -80,17 +80,24 @@ static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radp
     pm->ahead_sin[k] = fc_sin(ar, ahead_angle);
 }
 
+/* S = s0 I over the n parameters in use. */
+static void covariance_restart(fc_pad_motion *pm)
+{
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+        for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
+            pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
+        }
+    }
+}
+
 void fc_pad_motion_reset(fc_pad_motion *pm)
 {
-    const unsigned n = pm->n;
     for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
         pm->theta[i] = FC_INT(0, LENGTH);
         pm->theta_old[i] = FC_INT(0, LENGTH);
         pm->theta_new[i] = FC_INT(0, LENGTH);
-        for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
-            pm->s[i][j] = (i == j && i < n) ? pm->p.covariance_init : FC_INT(0, MAT);
-        }
     }
+    covariance_restart(pm);
     pm->error_mean_m = FC_INT(0, LENGTH);
     pm->observed_s = FC_INT(0, TIME);
     pm->since_sample_s = FC_INT(0, TIME);
@@ -342,11 +349,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     adapt_frequencies(pm, amplitude_before);
     pm->since_sample_s = FC_INT(0, TIME);
     if (!covariance_usable(pm)) {
-        for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
-            for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
-                pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
-            }
-        }
+        covariance_restart(pm);
         return FC_STEP_DEGRADED;
     }
     return FC_STEP_OK;

@@ -85,22 +85,13 @@ int main(int argc, char **argv)
     }
 
     static elf_firmware_t fw;
-    if (elf_read_firmware(elf_path, &fw) != 0) {
-        fprintf(stderr, "cannot read %s\n", elf_path);
+    if (!sim_read_atmega2560(elf_path, &fw)) {
         return 2;
     }
-    snprintf(fw.mmcu, sizeof fw.mmcu, "%s", "atmega2560");
-    fw.frequency = 16000000u;
-    avr_t *avr = avr_make_mcu_by_name(fw.mmcu);
+    avr_t *avr = sim_start(&fw);
     if (avr == NULL) {
-        fprintf(stderr, "simavr has no core %s\n", fw.mmcu);
         return 2;
     }
-    avr_init(avr);
-    avr->log = LOG_ERROR;
-    avr_load_firmware(avr, &fw);
-    avr->frequency = fw.frequency;
-    avr->sleep = no_sleep;
 
     const uint64_t limit = (uint64_t)(max_seconds * (double)avr->frequency);
     uint16_t min_sp = 0xFFFFu;

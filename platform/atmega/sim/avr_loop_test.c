@@ -578,16 +578,10 @@ int main(int argc, char **argv)
         load_functions(elf_path);
     }
 
-    avr_t *avr = avr_make_mcu_by_name(fw.mmcu);
+    avr_t *avr = sim_start(&fw);
     if (avr == NULL) {
-        fprintf(stderr, "simavr has no core %s\n", fw.mmcu);
         return 2;
     }
-    avr_init(avr);
-    avr->log = LOG_ERROR;
-    avr_load_firmware(avr, &fw);
-    avr->frequency = fw.frequency;
-    avr->sleep = no_sleep;
     g.avr = avr;
     printf("%s: %s at %u Hz (%s), %.2f s simulated, expected loop rate %u Hz\n", elf_path, fw.mmcu,
            (unsigned)avr->frequency, has_mmcu ? "from its .mmcu section" : "given", seconds, rate);

@@ -1,7 +1,8 @@
 /*
  * sim_support.h - helpers shared by the simavr host programs (avr_loop_test,
- * avr_bench): symbol lookup in the ELF, and the sleep hook that keeps simavr
- * from sleeping in real time. Header-only: each program is one file.
+ * avr_bench, avr_scalar_test): symbol lookup in the ELF, reading an image,
+ * starting a core on it, and the sleep hook that keeps simavr from sleeping
+ * in real time. Header-only: each program is one file.
  */
 #ifndef FC_ATMEGA_SIM_SUPPORT_H
 #define FC_ATMEGA_SIM_SUPPORT_H
@@ -11,10 +12,12 @@
 #include <libelf.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "sim_avr.h"
+#include "sim_elf.h"
 
 /* The value of symbol name in the ELF at path. */
 static bool elf_symbol(const char *path, const char *name, uint32_t *value)
@@ -58,6 +61,36 @@ static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
 {
     (void)avr;
     (void)how_long;
+}
+
+/* The ELF at path as an ATmega2560 image at 16 MHz (the bench and test images
+ * carry no .mmcu section). False, said on stderr, if it cannot be read. */
+static inline bool sim_read_atmega2560(const char *path, elf_firmware_t *fw)
+{
+    if (elf_read_firmware(path, fw) != 0) {
+        fprintf(stderr, "cannot read %s\n", path);
+        return false;
+    }
+    snprintf(fw->mmcu, sizeof fw->mmcu, "%s", "atmega2560");
+    fw->frequency = 16000000u;
+    return true;
+}
+
+/* A core of fw's MCU with fw loaded, at its frequency, errors only logged and
+ * no real-time sleep; NULL, said on stderr, if simavr has no such core. */
+static inline avr_t *sim_start(elf_firmware_t *fw)
+{
+    avr_t *avr = avr_make_mcu_by_name(fw->mmcu);
+    if (avr == NULL) {
+        fprintf(stderr, "simavr has no core %s\n", fw->mmcu);
+        return NULL;
+    }
+    avr_init(avr);
+    avr->log = LOG_ERROR;
+    avr_load_firmware(avr, fw);
+    avr->frequency = fw->frequency;
+    avr->sleep = no_sleep;
+    return avr;
 }
 
 #endif /* FC_ATMEGA_SIM_SUPPORT_H */
