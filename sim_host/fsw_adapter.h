@@ -25,7 +25,7 @@ enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1, FSW_COMMAND_HOLD = 2, 
 /* fc_landing_state and fc_landing_reason, by value (names in sim.c). */
 #define FSW_LANDING_STATE_COUNT 9
 #define FSW_LANDING_REASON_COUNT 19
-enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_ABORT = 7 };
+enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_LANDED = 6, FSW_LANDING_ABORT = 7 };
 /* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
 #define FSW_VARIANT_COUNT 12
 

@@ -122,7 +122,7 @@ typedef struct raw {
     v3 fault_vector;
     /* landing overrides */
     double land_hold_m, land_tau_s, land_accel_max, land_conf_start;
-    double track_start_s, disarm_delay_s, touchdown_planned_s, sp_x, sp_y, sp_yaw_deg;
+    double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, sp_x, sp_y, sp_yaw_deg;
     int landing, disarm_on_contact;
     /* sensors */
     imu_params imu;
@@ -284,6 +284,7 @@ static const key_def keys[] = {
     {"mission", "disarm_on_contact", K_BOOL, R(disarm_on_contact), 0, 0, NULL, 0},
     {"mission", "disarm_delay_s", K_DOUBLE, R(disarm_delay_s), 0.0, 100.0, NULL, 0},
     {"mission", "touchdown_planned_s", K_DOUBLE, R(touchdown_planned_s), 0.0, 36000.0, NULL, OPTIONAL},
+    {"mission", "end_after_landed_s", K_DOUBLE, R(end_after_landed_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"mission", "setpoint_x_m", K_DOUBLE, R(sp_x), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_y_m", K_DOUBLE, R(sp_y), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_yaw_deg", K_DOUBLE, R(sp_yaw_deg), -180.0, 180.0, NULL, 0},
@@ -415,6 +416,7 @@ static void raw_defaults(raw *r)
     r->init_height = (double)NAN;
     r->init_motors_hover = 1;
     r->touchdown_planned_s = (double)NAN;
+    r->end_after_landed_s = (double)NAN;
     r->disarm_delay_s = 0.0;
     r->noise_scale = 1.0;
     r->altitude.source = ALTITUDE_FROM_POSITION;
@@ -995,6 +997,7 @@ static bool build(parse_ctx *c, scenario *sc)
     m->disarm_on_contact = r->disarm_on_contact != 0;
     m->disarm_delay_s = r->disarm_delay_s;
     m->touchdown_planned_s = r->touchdown_planned_s;
+    m->end_after_landed_s = r->end_after_landed_s;
     m->setpoint_x_m = r->sp_x;
     m->setpoint_y_m = r->sp_y;
     m->setpoint_yaw_rad = r->sp_yaw_deg * DEG;

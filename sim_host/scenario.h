@@ -89,6 +89,7 @@ typedef struct mission_params {
     bool disarm_on_contact;       /* the stand-in for the landing mission: cut the motors after touchdown */
     double disarm_delay_s;
     double touchdown_planned_s;   /* min_clearance_m is taken before this time (NaN: before first contact) */
+    double end_after_landed_s;    /* a landing run ends this long after LANDED (motors off); NaN: runs its duration */
     double setpoint_x_m, setpoint_y_m, setpoint_yaw_rad;
 } mission_params;
 

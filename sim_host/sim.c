@@ -195,6 +195,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     const double gust_pole = exp(-dt / sc->wind.gust_tau_s);
     const double gust_drive = sc->wind.gust_std_mps * sqrt(1.0 - gust_pole * gust_pole);
     res->touchdown_planned_s = (double)NAN;
+    double landed_at = (double)INFINITY;
+    long steps_run = 0;
 
     for (long k = 0; k < steps; k++) {
         const double t = (double)k * dt;
@@ -258,6 +260,15 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.command = (t + 1e-9 >= mission->track_start_s && t < disarm_at) ? armed_command : FSW_COMMAND_DISARM;
 
         opt->backend->step(fsw, &in, &out);
+        steps_run = k + 1;
+        if (land && out.landing_state == FSW_LANDING_LANDED) {
+            landed_at = fmin(landed_at, t);
+            if (t >= landed_at + mission->end_after_landed_s) {
+                break; /* motors off on the pad for long enough: nothing is left to measure */
+            }
+        } else {
+            landed_at = (double)INFINITY;
+        }
         if (out.landing_changed && res->event_count < SIM_MAX_EVENTS) {
             sim_event *ev = &res->events[res->event_count++];
             ev->t_s = t;
@@ -434,7 +445,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->rms_error_m = a.window > 0 ? sqrt(a.sum_sq / (double)a.window) : (double)NAN;
     m->max_abs_error_m = a.window > 0 ? a.max_abs : (double)NAN;
     m->mass_step_peak_error_m = a.mass_step_seen ? a.mass_peak : (double)NAN;
-    m->control_tv_per_s = a.tv / sc->duration_s;
+    m->control_tv_per_s = a.tv / ((double)steps_run * dt);
     m->theta_end_kg = last_theta;
     m->theta_star_end_kg = last_theta_star;
     m->theta_rel_error =
@@ -451,8 +462,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->final_height_m = d.gear_clearance_m;
     m->max_position_error_m = a.max_position_error;
     m->nonfinite_state_steps = (double)a.nonfinite_state;
-    res->controller_steps = steps;
-    res->plant_steps = steps * substeps;
+    res->controller_steps = steps_run;
+    res->plant_steps = steps_run * substeps;
     res->wall_s = now_s() - t_start_wall;
     res->cpu_s = clock_s(CLOCK_PROCESS_CPUTIME_ID) - t_start_cpu;
     if (opt->progress != NULL) {

@@ -88,9 +88,13 @@ static void landing_crazyflie_defaults(fc_controller_params *p)
     l->touchdown_dip_m = FC_C(0.04f, LENGTH);
     /* the plan's uncertainty: the pad estimate's (~1 cm) and the tracking error's */
     l->touchdown_window_m = FC_C(0.03f, LENGTH);
-    /* the ToF's noise is 2-4 mm: five samples in a row under 5 mm */
+    /* the ToF's noise is 2-4 mm (1 mm steps): it cannot tell resting on the
+     * pad from floating on the ground-effect cushion a few mm above it. So
+     * 12 samples in a row under 5 mm, pressed (fc/landing.h): a vehicle still
+     * in the air is on the surface well within the 0.25 s, and the ramp
+     * starts from a vehicle at rest on the pad */
     l->contact_height_m = FC_C(0.005f, LENGTH);
-    l->contact_confirm_s = FC_C(0.1f, TIME);
+    l->contact_confirm_s = FC_C(0.25f, TIME);
     l->ramp_s = FC_C(0.3f, TIME);
     l->horizontal_start_m = FC_C(0.08f, LENGTH);
     l->horizontal_abort_m = FC_C(0.2f, LENGTH);

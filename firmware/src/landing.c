@@ -75,6 +75,7 @@ void fc_landing_reset(fc_landing *lm)
     lm->touchdown_thrust_n = FC_INT(0, FORCE);
     lm->hold_level_m = FC_INT(0, LENGTH);
     lm->gear_height_m = FC_INT(100, LENGTH);
+    lm->pressing = false;
     lm->aborts = 0u;
 }
 
@@ -221,6 +222,17 @@ static bool contact_lost(fc_landing *lm, const fc_landing_input *in, const fc_ve
     return in->range_fresh && (in->gear_height_m > contact_band_m(lm) || behind_m <= FC_INT(0, LENGTH));
 }
 
+/* Where (3.6) ends: the gear dip below the pad's surface, moving with it. */
+static void press_reference(fc_landing *lm, const fc_landing_input *in, fc_vertical_trajectory *reference)
+{
+    const fc_real pressed_z_m = fc_add(&lm->ar, in->pad->now.z_m, lm->descent_reference.bias_m);
+    if (reference->z_m > pressed_z_m) {
+        reference->z_m = pressed_z_m;
+        reference->vz_mps = in->pad->now.vz_mps;
+        reference->az_mps2 = in->pad->now.az_mps2;
+    }
+}
+
 /* HOLD, OBSERVE and ABORT: the hold point's reference; OBSERVE starts the
  * descent when nothing blocks it, HOLD and ABORT end when settled there. */
 static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
@@ -244,6 +256,7 @@ static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *i
                 fc_sub(ar, in->z_m, fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
             fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
             lm->gear_height_m = FC_INT(100, LENGTH);
+            lm->pressing = false;
             enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
         } else if (!range_alive(lm) && lm->state_time_s > lm->p.range_timeout_s) {
             /* nothing to learn from: back to HOLD, which waits for the range finder */
@@ -287,6 +300,14 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
             out->reference.z_m = in->z_m;
             out->reference.vz_mps = fc_min(out->reference.vz_mps, in->pad->now.vz_mps);
         }
+    } else {
+        lm->pressing = false;
+    }
+    if (out->touchdown_window && lm->gear_height_m <= lm->p.contact_height_m) {
+        lm->pressing = true;
+    }
+    if (lm->pressing) {
+        press_reference(lm, in, &out->reference);
     }
     if (lm->state == FC_LANDING_DESCEND) {
         if (abort != FC_REASON_NONE) {
@@ -382,6 +403,9 @@ fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_la
     case FC_LANDING_STATE_COUNT:
     default:
         break;
+    }
+    if (lm->state == FC_LANDING_TOUCHDOWN || lm->state == FC_LANDING_DISARM || lm->state == FC_LANDING_LANDED) {
+        out->touchdown_window = true; /* touchdown declared: the window stays open to the end */
     }
     out->state = lm->state;
     out->reason = lm->reason;

@@ -23,6 +23,14 @@
  *   contact_confirm_s of samples that all say so (a sample that does not
  *   restarts the time); lost, back to DESCEND, when the gear is 3 contact
  *   heights off the surface or the vehicle back on its reference.
+ *   Pressing: once the range finder puts the gear within contact_height_m of
+ *   the surface inside the window, the reference jumps to where (3.6) ends,
+ *   dip below the surface (moving with the pad), until the gear is 3 contact
+ *   heights off again. Near the surface the ground effect cushions the vehicle,
+ *   and a reference that still approaches at dip / tau_d leaves it resting on
+ *   the pad with little downward force: a pad starting down (its deceleration
+ *   at the top of the heave) then outruns it and the gear hops. Pressed, the
+ *   vehicle stays on the surface and the contact is confirmed at once.
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
  * ABORT (from DESCEND; from TOUCHDOWN only by the operator): horizontal
@@ -144,6 +152,7 @@ typedef struct fc_landing {
     fc_real hold_level_m;           /* LENGTH: the pad level the hold point stands on */
     fc_real stuck_error_m;          /* LENGTH: dip / 2: z - z_r beyond it, the vehicle is held by the pad */
     fc_real gear_height_m;          /* LENGTH: the newest range sample in this descent (100 m: none yet) */
+    bool pressing;                  /* the gear met the surface in the window: the reference at its end (dip below) */
     fc_real inv_ramp_per_s;         /* GAIN: 1 / ramp_s */
     fc_real step_s;                 /* TIME: dt */
     uint8_t aborts;
