@@ -139,6 +139,38 @@ static void test_thrust_ramp(void **state)
     assert_int_equal(w.out.state, FC_LANDING_LANDED);
 }
 
+/* Pressing: the gear within contact height in the window puts the reference
+ * where (3.6) ends (gear dip below the surface); 3 contact heights off, (3.6) again. */
+static void test_press_at_contact(void **state)
+{
+    (void)state;
+    static world w;
+    world_init(&w);
+    long k = 0;
+    for (; k < 100000 && !(w.out.state == FC_LANDING_DESCEND && w.out.touchdown_window); k++) {
+        step(&w, k);
+    }
+    assert_true(k < 100000);
+    const double dip_m = ts_val(w.p.touchdown_dip_m, FC_LENGTH_FRAC);
+    const double contact_m = ts_val(w.p.contact_height_m, FC_LENGTH_FRAC);
+    const double pressed_z_m = w.pad_z_m + w.gear_m - dip_m;
+    w.follow = false;
+    w.z_m = w.pad_z_m + w.gear_m + 0.5 * contact_m; /* floating just above the surface */
+    for (long j = 0; j < 10; j++) {
+        step(&w, k + 1 + j);
+    }
+    assert_true(w.out.state == FC_LANDING_DESCEND || w.out.state == FC_LANDING_TOUCHDOWN);
+    assert_true(fabs(ts_val(w.out.reference.z_m, FC_LENGTH_FRAC) - pressed_z_m) < 1e-3);
+    assert_true(fabs(ts_val(w.out.reference.vz_mps, FC_VEL_FRAC)) < 1e-3);
+    /* lifted clear of the surface: back on (3.6), above the pressed level */
+    w.z_m = w.pad_z_m + w.gear_m + 4.0 * contact_m;
+    for (long j = 0; j < 10; j++) {
+        step(&w, k + 11 + j);
+    }
+    assert_int_equal(w.out.state, FC_LANDING_DESCEND);
+    assert_true(ts_val(w.out.reference.z_m, FC_LENGTH_FRAC) > pressed_z_m + 1e-3);
+}
+
 typedef void (*fault_fn)(world *w);
 static void fault_hold(world *w) { w->in.request = FC_LANDING_REQUEST_HOLD; }
 static void fault_horizontal(world *w) { w->in.horizontal_error_m = len(1.0); }
@@ -264,7 +296,7 @@ int main(void)
         cmocka_unit_test(test_full_landing),      cmocka_unit_test(test_thrust_ramp),
         cmocka_unit_test(test_abort_causes),      cmocka_unit_test(test_descent_gated),
         cmocka_unit_test(test_retries_exhausted), cmocka_unit_test(test_request_none_is_idle),
-        cmocka_unit_test(test_params_rejected),
+        cmocka_unit_test(test_params_rejected),   cmocka_unit_test(test_press_at_contact),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "landing (fixed)" : "landing (float)", tests, NULL, NULL);
 }
