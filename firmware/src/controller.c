@@ -54,6 +54,7 @@ static void landing_common_defaults(fc_controller_params *p)
     m->adapt_amplitude_min_m = FC_C(0.003f, LENGTH);
     l->hold_settle_s = FC_INT(1, TIME);
     l->contact_confirm_s = FC_C(0.05f, TIME);
+    l->press_at_contact = false;
     l->confidence_start = FC_C(0.6f, UNIT);
     l->confidence_abort = FC_C(0.25f, UNIT);
     l->tilt_cos_abort = FC_C(0.906f, RATIO); /* 25 deg */
@@ -95,6 +96,7 @@ static void landing_crazyflie_defaults(fc_controller_params *p)
      * starts from a vehicle at rest on the pad */
     l->contact_height_m = FC_C(0.005f, LENGTH);
     l->contact_confirm_s = FC_C(0.25f, TIME);
+    l->press_at_contact = true; /* 28 g on a 2 cm ground-effect cushion */
     l->ramp_s = FC_C(0.3f, TIME);
     l->horizontal_start_m = FC_C(0.08f, LENGTH);
     l->horizontal_abort_m = FC_C(0.2f, LENGTH);
@@ -128,7 +130,9 @@ static void landing_deck_defaults(fc_controller_params *p, fc_real gear_height_m
      * ranger's delays shift the pad's samples by centimetres: the check of
      * the predictions gets worse while the estimate now stays good */
     l->confidence_abort = FC_C(0.1f, UNIT);
-    l->touchdown_window_m = FC_C(0.03f, LENGTH);
+    /* the pad estimate's error while descending (the delays above: 1-3 cm)
+     * and the tracking error's */
+    l->touchdown_window_m = FC_C(0.05f, LENGTH);
     /* the laser's noise is 5-10 mm: five samples in a row under 12 mm */
     l->contact_height_m = FC_C(0.012f, LENGTH);
     l->ramp_s = FC_C(0.5f, TIME);

@@ -199,7 +199,7 @@ static fc_step_status descent_reference(fc_landing *lm, const fc_landing_input *
 
 /* On the pad: the range finder puts the gear on the surface, and the vehicle
  * no longer follows the reference, which goes on to dip below the surface
- * (z - z_r >= dip / 4). The second cue keeps range noise during the last
+ * (z - z_r >= dip / 2). The second cue keeps range noise during the last
  * centimetres of a descent (the vehicle on its reference) from counting. */
 static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
 {
@@ -289,6 +289,7 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
     if (in->range_fresh) {
         lm->gear_height_m = in->gear_height_m;
     }
+    const fc_vertical_trajectory natural = out->reference; /* (3.6): contact is judged against it */
     if (lm->gear_height_m <= contact_band_m(lm)) {
         /* the gear at the surface: climbing away from it would be the riskier
          * move, and the reference may not lift the vehicle off (a touch while
@@ -303,7 +304,7 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
     } else {
         lm->pressing = false;
     }
-    if (out->touchdown_window && lm->gear_height_m <= lm->p.contact_height_m) {
+    if (lm->p.press_at_contact && out->touchdown_window && lm->gear_height_m <= lm->p.contact_height_m) {
         lm->pressing = true;
     }
     if (lm->pressing) {
@@ -312,16 +313,16 @@ static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input
     if (lm->state == FC_LANDING_DESCEND) {
         if (abort != FC_REASON_NONE) {
             start_abort(lm, in, abort);
-        } else if (contact_seen(lm, in, &out->reference)) {
+        } else if (contact_seen(lm, in, &natural)) {
             enter(lm, FC_LANDING_TOUCHDOWN, FC_REASON_CONTACT);
         } else {
             /* descending on */
         }
     } else if (abort == FC_REASON_ABORT_COMMANDED) {
         start_abort(lm, in, abort);
-    } else if (contact_lost(lm, in, &out->reference)) {
+    } else if (contact_lost(lm, in, &natural)) {
         enter(lm, FC_LANDING_DESCEND, FC_REASON_CONTACT_LOST);
-    } else if (in->range_fresh && !contact_seen(lm, in, &out->reference)) {
+    } else if (in->range_fresh && !contact_seen(lm, in, &natural)) {
         /* not clearly off, not clearly on: the confirmation starts again */
         lm->state_time_s = FC_INT(0, TIME);
     } else if (lm->state_time_s >= lm->p.contact_confirm_s) {

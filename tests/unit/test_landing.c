@@ -146,6 +146,8 @@ static void test_press_at_contact(void **state)
     (void)state;
     static world w;
     world_init(&w);
+    w.p.press_at_contact = true; /* the Crazyflie's; the hexa's default is off */
+    assert_int_equal(fc_landing_init(&w.lm, &w.p), FC_INIT_OK);
     long k = 0;
     for (; k < 100000 && !(w.out.state == FC_LANDING_DESCEND && w.out.touchdown_window); k++) {
         step(&w, k);
@@ -156,18 +158,42 @@ static void test_press_at_contact(void **state)
     const double pressed_z_m = w.pad_z_m + w.gear_m - dip_m;
     w.follow = false;
     w.z_m = w.pad_z_m + w.gear_m + 0.5 * contact_m; /* floating just above the surface */
-    for (long j = 0; j < 10; j++) {
-        step(&w, k + 1 + j);
+    /* pressed from the first range sample that says so (one every 5 steps) */
+    long j = 1;
+    for (; j <= 5; j++) {
+        step(&w, k + j);
     }
-    assert_true(w.out.state == FC_LANDING_DESCEND || w.out.state == FC_LANDING_TOUCHDOWN);
     assert_true(fabs(ts_val(w.out.reference.z_m, FC_LENGTH_FRAC) - pressed_z_m) < 1e-3);
+    /* the press does not confirm itself: (3.6) is not yet dip / 2 under the vehicle */
+    assert_int_equal(w.out.state, FC_LANDING_DESCEND);
     assert_true(fabs(ts_val(w.out.reference.vz_mps, FC_VEL_FRAC)) < 1e-3);
     /* lifted clear of the surface: back on (3.6), above the pressed level */
     w.z_m = w.pad_z_m + w.gear_m + 4.0 * contact_m;
-    for (long j = 0; j < 10; j++) {
-        step(&w, k + 11 + j);
+    for (long i = 0; i < 10; i++) {
+        step(&w, k + j + i);
     }
     assert_int_equal(w.out.state, FC_LANDING_DESCEND);
+    assert_true(ts_val(w.out.reference.z_m, FC_LENGTH_FRAC) > pressed_z_m + 1e-3);
+}
+
+/* The hexa's default: no press, the reference stays on (3.6). */
+static void test_no_press_by_default(void **state)
+{
+    (void)state;
+    static world w;
+    world_init(&w);
+    assert_false(w.p.press_at_contact);
+    long k = 0;
+    for (; k < 100000 && !(w.out.state == FC_LANDING_DESCEND && w.out.touchdown_window); k++) {
+        step(&w, k);
+    }
+    assert_true(k < 100000);
+    const double pressed_z_m = w.pad_z_m + w.gear_m - ts_val(w.p.touchdown_dip_m, FC_LENGTH_FRAC);
+    w.follow = false;
+    w.z_m = w.pad_z_m + w.gear_m + 0.5 * ts_val(w.p.contact_height_m, FC_LENGTH_FRAC);
+    for (long j = 1; j <= 5; j++) {
+        step(&w, k + j);
+    }
     assert_true(ts_val(w.out.reference.z_m, FC_LENGTH_FRAC) > pressed_z_m + 1e-3);
 }
 
@@ -297,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_abort_causes),      cmocka_unit_test(test_descent_gated),
         cmocka_unit_test(test_retries_exhausted), cmocka_unit_test(test_request_none_is_idle),
         cmocka_unit_test(test_params_rejected),   cmocka_unit_test(test_press_at_contact),
+        cmocka_unit_test(test_no_press_by_default),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "landing (fixed)" : "landing (float)", tests, NULL, NULL);
 }

@@ -109,6 +109,24 @@ static run_result fly(const fc_pad_motion_params *p, const heave *h, int sample_
     return r;
 }
 
+/* The Crazyflie family's fastest corner: 9 cm peak to peak at 2.12 s, below
+ * the first start period (2.5 s), 4 mm noise (the family's noise x2). */
+static void test_fast_pad(void **state)
+{
+    (void)state;
+    fc_pad_motion_params p = params(2.5, 4.5, 8.0);
+    p.period_min_s = FC_C(1.8f, TIME); /* the Crazyflie's band */
+    const heave h = {1, {0.045, 0, 0}, {2.0 * TS_PI / 2.12, 0, 0}, {0.3, 0, 0}, 0.045};
+    const run_result r = fly(&p, &h, 10, 0.004, 40.0, 20.0);
+    print_message("fast pad: |dz| %.4f m |dvz| %.4f m/s |dz(t+1s)| %.4f m conf %.3f (at 20 s %.3f) period %.3f s\n",
+                  r.max_z_error_m, r.max_vz_error_mps, r.max_ahead_error_m, r.final_confidence,
+                  r.confidence_at_check, r.final_dominant_period_s);
+    assert_true(r.max_z_error_m < 0.010);
+    assert_true(r.max_ahead_error_m < 0.012);
+    assert_true(r.final_confidence > 0.6);
+    assert_true(fabs(r.final_dominant_period_s - 2.12) < 0.1);
+}
+
 /* The Crazyflie pad: 5 cm peak to peak (3.1) at a 4 s period, off the
  * start grid (2.5, 4.5, 8 s): the middle mode's frequency adapts to it;
  * a 50 Hz ToF with 2 mm noise. */
@@ -281,6 +299,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_single_sine_off_grid),
+        cmocka_unit_test(test_fast_pad),
         cmocka_unit_test(test_three_waves),
         cmocka_unit_test(test_still_pad),
         cmocka_unit_test(test_no_confidence_before_observing),

@@ -18,19 +18,23 @@
  *   touchdown window opens when the reference's gear is window_m above the
  *   surface (touchdown_window in the output): no contact is planned before.
  * TOUCHDOWN: the gear height from the range finder (range k_h - gear) is below
- *   contact_height_m and the vehicle stays above its reference by dip / 4 (the
+ *   contact_height_m and the vehicle stays above its reference by dip / 2 (the
  *   pad holds it while the reference goes on down); confirmed after
  *   contact_confirm_s of samples that all say so (a sample that does not
  *   restarts the time); lost, back to DESCEND, when the gear is 3 contact
  *   heights off the surface or the vehicle back on its reference.
- *   Pressing: once the range finder puts the gear within contact_height_m of
+ *   Pressing (press_at_contact): once the range finder puts the gear within contact_height_m of
  *   the surface inside the window, the reference jumps to where (3.6) ends,
  *   dip below the surface (moving with the pad), until the gear is 3 contact
  *   heights off again. Near the surface the ground effect cushions the vehicle,
  *   and a reference that still approaches at dip / tau_d leaves it resting on
  *   the pad with little downward force: a pad starting down (its deceleration
  *   at the top of the heave) then outruns it and the gear hops. Pressed, the
- *   vehicle stays on the surface and the contact is confirmed at once.
+ *   vehicle stays on the surface. Contact is still seen and confirmed against
+ *   the unpressed (3.6) reference, so the press cannot confirm itself: a
+ *   vehicle pressed while a few mm up is on the surface before (3.6) has gone
+ *   dip / 2 under it. Off where the ranger's noise is near contact_height_m
+ *   (a press on a noisy sample drives the vehicle into the pad).
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
  * ABORT (from DESCEND; from TOUCHDOWN only by the operator): horizontal
@@ -103,6 +107,7 @@ typedef struct fc_landing_params {
     fc_real touchdown_window_m;     /* LENGTH: contact expected once the reference's gear is this close, [0, 1] */
     fc_real contact_height_m;       /* LENGTH: gear height from range under which contact is seen, (0, 1] */
     fc_real contact_confirm_s;      /* TIME: [0, 10] */
+    bool press_at_contact;          /* pressing (above): for a vehicle the ground effect floats */
     fc_real ramp_s;                 /* TIME: thrust ramp-down after touchdown, (0, 10] */
     fc_real confidence_start;       /* UNIT: confidence to start a descent, (0, 1] */
     fc_real confidence_abort;       /* UNIT: a descent aborts below this, [0, confidence_start] */
