@@ -363,7 +363,13 @@ fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *
         return result;
     }
     a->ready = 1u;
+    a->wrench_output = 1u;
     return FC_INIT_OK;
+}
+
+void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled)
+{
+    a->wrench_output = enabled ? 1u : 0u;
 }
 
 void fc_allocation_reset(fc_allocation *a)
@@ -774,9 +780,11 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
     }
 
-    fc_vec3 force;
-    forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
-    out->thrust_n = force.z;
+    if (a->wrench_output != 0u) {
+        fc_vec3 force;
+        forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
+        out->thrust_n = force.z;
+    }
     out->saturation = saturation;
     if (saturation != 0u) {
         status |= FC_STEP_OUTPUT_LIMITED;

@@ -18,26 +18,95 @@
 #error "scalar.c holds the out-of-line products: it is never a compact unit"
 #endif
 
-/* The out-of-line products of compact translation units (fc/scalar.h). */
+#if defined(__AVR__)
+/*
+ * fc_fx_narrow_wide for a shift known only at run time (0 < shift < 32), the
+ * out-of-line products' case. fc_fx_narrow_wide with a run-time shift builds
+ * 2^(shift - 1) and its bound by 32-bit shift loops (up to 31 rounds each, a
+ * few hundred cycles on the ATmega); here the value is shifted once:
+ *   w = floor(v / 2^(shift-1))         (whole bytes by moves, 0..7 bits by ASR)
+ *   floor((v + 2^(shift-1)) / 2^shift) = floor((w + 1) / 2)
+ * (v = q 2^(s-1) + r, 0 <= r < 2^(s-1): both sides are floor((q + 1) / 2)), the
+ * same value as fc_fx_narrow_wide, saturated the same way: the result is
+ * inside +-INT32_MAX iff -2^32 < w < 2^32 - 1, i.e. high is 0 with low below
+ * 2^32 - 1, or high is all ones with low above 0.
+ */
+FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    uint32_t low = value.low;
+    uint32_t high = value.high;
+    /* unsigned: a signed / 8 and % 8 are libgcc divisions at -Os */
+    const uint8_t s = (uint8_t)(shift - 1);
+    const uint8_t bytes = (uint8_t)(s >> 3);
+    if (bytes == 1) {
+        low = (low >> 8) | (high << 24);
+        high = (uint32_t)((int32_t)high >> 8);
+    } else if (bytes == 2) {
+        low = (low >> 16) | (high << 16);
+        high = (uint32_t)((int32_t)high >> 16);
+    } else if (bytes == 3) {
+        low = (low >> 24) | (high << 8);
+        high = (uint32_t)((int32_t)high >> 24);
+    } else {
+        /* s < 8: the bits alone */
+    }
+    FC_AVR_ASR64(low, high, s & 7u);
+    if (high == 0u && low != UINT32_MAX) {
+        return (fc_real)((low >> 1) + (low & 1u)); /* (w + 1) / 2 */
+    }
+    if (high == UINT32_MAX && low != 0u) {
+        if (low == UINT32_MAX) {
+            return 0; /* w = -1 */
+        }
+        /* w + 1 = low + 1 - 2^32 in [-2^32 + 2, -1]: halved, the top bit is the sign */
+        return (fc_real)(((low + 1u) >> 1) | 0x80000000u);
+    }
+    ar->saturated = 1u;
+    return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
+}
+#define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
+#else
+#define OUTLINE_RUNTIME_SHIFT(shift) 0
+#define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
+#endif
+
+/* The out-of-line products of compact translation units (fc/scalar.h). On
+ * the ATmega the 64-bit sum is formed as the inlined primitives form it and
+ * narrowed by narrow_wide_runtime (bit-identical: atmega.scalar_equivalence). */
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        return narrow_wide_runtime(ar, fc_fx_mul_wide(a, b), shift);
+    }
     return fc_mul(ar, a, b, shift);
 }
 
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        return narrow_wide_runtime(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
+    }
     return fc_dot2(ar, a0, b0, a1, b1, shift);
 }
 
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
+    }
     return fc_dot3(ar, a0, b0, a1, b1, a2, b2, shift);
 }
 
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
+    }
     return fc_dot4(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 }
 

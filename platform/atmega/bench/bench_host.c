@@ -11,7 +11,8 @@
  * With --profile NAME (one of the --time names), a flat profile of NAME's
  * timed calls: every cycle spent while a call of NAME is under way is
  * charged to the function whose code holds the PC (exclusive cycles, from
- * the ELF's FUNC symbols and their sizes); a call of a function is counted
+ * the ELF's FUNC symbols and their sizes, libgcc's untyped labels up to the
+ * next symbol); a call of a function is counted
  * when the PC enters its first instruction from outside it.
  *
  * Output, one line per name: "CYCLES name min max mean calls", then
@@ -80,13 +81,19 @@ static bool prof_load(const char *path)
         const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
         for (size_t i = 0; data != NULL && i < n && g_nfuncs < MAX_FUNCS; i++) {
             GElf_Sym sym;
-            if (gelf_getsym(data, (int)i, &sym) == NULL || GELF_ST_TYPE(sym.st_info) != STT_FUNC ||
-                sym.st_size == 0) {
+            /* functions, and the untyped labels of libgcc's assembly routines
+             * (no type, no size: they extend to the next symbol) */
+            if (gelf_getsym(data, (int)i, &sym) == NULL ||
+                (GELF_ST_TYPE(sym.st_info) != STT_FUNC && GELF_ST_TYPE(sym.st_info) != STT_NOTYPE) ||
+                sym.st_shndx == SHN_UNDEF || sym.st_shndx >= SHN_LORESERVE || sym.st_value >= 0x800000u) {
                 continue;
             }
             const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
+            if (s == NULL || s[0] == '\0' || (GELF_ST_TYPE(sym.st_info) == STT_NOTYPE && s[0] == '.')) {
+                continue;
+            }
             prof_fn *f = &g_funcs[g_nfuncs++];
-            f->name = strdup(s != NULL ? s : "?");
+            f->name = strdup(s);
             f->addr = (uint32_t)sym.st_value;
             f->size = (uint32_t)sym.st_size;
         }
@@ -96,6 +103,11 @@ static bool prof_load(const char *path)
     }
     close(fd);
     qsort(g_funcs, g_nfuncs, sizeof g_funcs[0], prof_cmp_addr);
+    for (unsigned i = 0; i < g_nfuncs; i++) {
+        if (g_funcs[i].size == 0u) {
+            g_funcs[i].size = i + 1 < g_nfuncs ? g_funcs[i + 1].addr - g_funcs[i].addr : 2u;
+        }
+    }
     return g_nfuncs > 0;
 }
 
