@@ -81,7 +81,7 @@ for p in "${presets[@]}"; do
       -Wl,--gc-sections -o bench.elf "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" \
       -lm -lrdimon
     sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
-    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt"
+    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt,profile=fc_controller_step"
     for m in "${modules[@]}"; do pargs+=",fn=$m@$(sym "$m")"; done
     rm -f plugin.txt
     timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
@@ -148,6 +148,14 @@ echo "charged to the function holding the PC, calls per step, share; top 15 (all
 for p in atmega-fixed atmega; do
   echo "$p:"
   awk '$1 == "PROFILE" { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt" | head -15
+done
+echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, same run): instructions and estimated"
+echo "cycles per step charged to the function holding the PC; top 15."
+for p in cf2 cf2-fixed; do
+  echo "$p:"
+  n=$(awk '$1 == "INSNS" && $2 == "fc_controller_step" { print $6 }' "$out/$p/plugin.txt")
+  python3 "$root/tools/pc-profile.py" --nm arm-none-eabi-nm --elf "$out/$p/bench.elf" --calls "$n" --top 15 \
+    "$out/$p/plugin.txt"
 done
 
 # ---- worst-case stack depth of fc_controller_step (tools/stack-depth.py) ----

@@ -330,17 +330,31 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
     return (fc_real)sqrt_rounded_wide(scaled);
 }
 
+/* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits
+ * unsigned. One copy (its three products are the flash of a few hundred
+ * bytes on the ATmega) for fc_hypot3 and fc_hypot3_within. */
+static __attribute__((noinline)) fc_fx_wide sum_of_squares(fc_real a, fc_real b, fc_real c)
+{
+    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
+    return fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
+}
+
 fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
 {
-    /* each square is at most 2^62, so three of them fit 64 bits unsigned */
-    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
-    const fc_fx_wide sum = fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
-    const uint32_t root = sqrt_rounded_wide(sum);
+    const uint32_t root = sqrt_rounded_wide(sum_of_squares(a, b, c));
     if (root > (uint32_t)INT32_MAX) {
         ar->saturated = 1u;
         return FC_REAL_MAX;
     }
     return (fc_real)root;
+}
+
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
+{
+    const fc_fx_wide sum = sum_of_squares(a, b, c); /* < 3 2^62 */
+    const uint32_t l = limit > 0 ? (uint32_t)limit : 0u;
+    const fc_fx_wide bound = wide_plus(fc_fx_umul_wide(l, l), l); /* l^2 + l < 2^62 + 2^31 */
+    return !wide_above(sum, bound);
 }
 
 /* Bit length of a positive value: X lies in [2^(len-1), 2^len). */
@@ -669,6 +683,13 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 }
 
 #endif
+
+/* the comparison itself (the root is one instruction on an FPU) */
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
+{
+    fc_arith ar = {0u};
+    return fc_hypot3(&ar, a, b, c) <= limit;
+}
 
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {

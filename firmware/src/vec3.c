@@ -42,6 +42,9 @@ fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok)
 
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 {
+    if (max_norm >= FC_INT(0, UNIT) && fc_hypot3_within(v.x, v.y, v.z, max_norm)) {
+        return v; /* |v| <= max_norm, the common case: in fixed decided without the root */
+    }
     fc_arith probe = {0u};
     fc_real norm = fc_vec3_norm(&probe, v, frac);
     fc_real limit = max_norm;

@@ -705,6 +705,12 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
 #endif
 
+/* fc_hypot3(a, b, c) <= limit (limit >= 0), the same answer as that comparison;
+ * in fixed without the root: the rounded root R of S = a^2 + b^2 + c^2 is the
+ * integer with R^2 - R < S <= R^2 + R, so R <= limit iff S <= limit^2 + limit,
+ * compared in 64 bits (the norm clamps, whose vectors are mostly inside). */
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit);
+
 /* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);
 fc_real fc_cos(fc_arith *ar, fc_real angle_rad);
