@@ -127,21 +127,27 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
  */
 static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
 {
-    uint32_t high = shift == 0 ? 0u : n >> (32 - shift);
-    uint32_t low = n << shift;
+    /* high:low = n 2^shift: whole bytes by moves, then the bits one at a
+     * time (a C shift by a run-time count is a loop of up to 31 rounds) */
+    uint32_t high = 0u;
+    uint32_t low = n;
+    uint8_t bits = (uint8_t)shift;
+    while (bits >= 8u) {
+        high = (high << 8) | (low >> 24);
+        low <<= 8;
+        bits = (uint8_t)(bits - 8u);
+    }
+    while (bits != 0u) {
+        high = (high << 1) | (low >> 31);
+        low <<= 1;
+        bits--;
+    }
     if (high >= d) {
         return UINT32_MAX; /* N / D >= 2^32 */
     }
-    uint32_t quotient = 0u;
-    for (int i = 0; i < 32; i++) {
-        high = (high << 1) | (low >> 31); /* below 2 D <= 2^32 */
-        low <<= 1;
-        quotient <<= 1;
-        if (high >= d) {
-            high -= d;
-            quotient |= 1u;
-        }
-    }
+    /* 32 rounds: low becomes the quotient, high the remainder */
+    fc_avr_divide_rounds(&high, &low, d, 32u);
+    const uint32_t quotient = low;
     const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
     return rounded < quotient ? UINT32_MAX : rounded;
 }
@@ -219,16 +225,10 @@ static uint32_t heron_quotient(uint32_t n, uint32_t s)
         rest -= s;
         quotient = 1u;
     }
-    for (int i = 0; i < 16; i++) {
-        rest = (rest << 1) | (low >> 31); /* below 2 s < 2^17 */
-        low <<= 1;
-        quotient <<= 1;
-        if (rest >= s) {
-            rest -= s;
-            quotient |= 1u;
-        }
-    }
-    return quotient;
+    /* 16 rounds (rest below 2 s < 2^17): n's low half shifts out of low's top,
+     * the quotient bits come in at its bottom */
+    fc_avr_divide_rounds(&rest, &low, s, 16u);
+    return (quotient << 16) | (low & 0xFFFFu);
 #endif
 }
 
