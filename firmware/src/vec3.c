@@ -28,7 +28,11 @@ fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac)
 
 fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok)
 {
-    const fc_real norm = fc_vec3_norm(ar, v, frac);
+    return fc_vec3_divide_by_norm(ar, v, fc_vec3_norm(ar, v, frac), ok);
+}
+
+fc_vec3 fc_vec3_divide_by_norm(fc_arith *ar, fc_vec3 v, fc_real norm, bool *ok)
+{
     if (!(norm > FC_INT(0, UNIT)) || !fc_is_finite(norm)) {
         *ok = false;
         return fc_vec3_zero();

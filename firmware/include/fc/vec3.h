@@ -70,6 +70,10 @@ fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac);
 /* v / |v| as a UNIT vector. A zero vector gives the zero vector and *ok = false. */
 fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok);
 
+/* The same with |v| already formed (norm = fc_vec3_norm(ar, v, frac)): a caller
+ * that needs the length too takes one root, not two. */
+fc_vec3 fc_vec3_divide_by_norm(fc_arith *ar, fc_vec3 v, fc_real norm, bool *ok);
+
 /* Saturation that keeps the direction (dissertation 2.6.4): if |v| > max_norm,
  * v is scaled down to length max_norm; v and max_norm share format frac. */
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac);
