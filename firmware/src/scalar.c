@@ -189,6 +189,37 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     return fc_fx_saturate(ar, rounded / den64);
 }
 
+/* x << n and x >> n for a run-time n in [0, 31]: whole bytes first (moves
+ * on the ATmega, where a C shift by a variable count is a loop of n rounds),
+ * then the 0..7 bits left. Plain shifts elsewhere. */
+static uint32_t shl_u32(uint32_t x, int n)
+{
+#if defined(__AVR__)
+    uint8_t k = (uint8_t)n;
+    while (k >= 8u) {
+        x <<= 8;
+        k = (uint8_t)(k - 8u);
+    }
+    return x << k;
+#else
+    return x << n;
+#endif
+}
+
+static uint32_t shr_u32(uint32_t x, int n)
+{
+#if defined(__AVR__)
+    uint8_t k = (uint8_t)n;
+    while (k >= 8u) {
+        x >>= 8;
+        k = (uint8_t)(k - 8u);
+    }
+    return x >> k;
+#else
+    return x >> n;
+#endif
+}
+
 /* floor(sqrt(m)) of a 32-bit m by the digit-by-digit method: 16 rounds of
  * 32-bit operations, no division. */
 static uint32_t isqrt_u32(uint32_t m)
@@ -293,12 +324,12 @@ static uint32_t sqrt_rounded_wide(fc_fx_wide v)
         n += 1;
     }
     const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
-    const uint32_t r = m - s * s;     /* <= 2 s < 2^17 */
+    const uint32_t r = m - (uint32_t)(uint16_t)s * (uint16_t)s; /* <= 2 s < 2^17; 16 x 16 bits */
     /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
     const uint32_t heron = heron_quotient((r << 15) + (l >> 17), s);
     const uint32_t top = s << 16;
     uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
-    root >>= n;
+    root = shr_u32(root, n);
     /* exact by steps: R^2 - R < v <= R^2 + R */
     fc_fx_wide square = fc_fx_umul_wide(root, root);
     while (wide_above(v, wide_plus(square, root))) {
@@ -324,8 +355,8 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
         scaled.low = (uint32_t)x;
         scaled.high = 0u;
     } else {
-        scaled.low = (uint32_t)x << frac;
-        scaled.high = (uint32_t)x >> (32 - frac);
+        scaled.low = shl_u32((uint32_t)x, frac);
+        scaled.high = shr_u32((uint32_t)x, 32 - frac); /* frac >= 1 here */
     }
     return (fc_real)sqrt_rounded_wide(scaled);
 }
@@ -361,6 +392,10 @@ bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
 static int bit_length_u32(uint32_t x)
 {
     int len = 0;
+    while (x >= 256u) { /* whole bytes first */
+        x >>= 8;
+        len += 8;
+    }
     while (x != 0u) {
         x >>= 1;
         len++;
@@ -385,7 +420,7 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     if (((30 - s - frac_in) & 1) != 0) {
         s -= 1;
     }
-    const int32_t m_q30 = s >= 0 ? (int32_t)((uint32_t)x << s) : (int32_t)((uint32_t)x >> (-s));
+    const int32_t m_q30 = s >= 0 ? (int32_t)shl_u32((uint32_t)x, s) : (int32_t)shr_u32((uint32_t)x, -s);
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
     /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
