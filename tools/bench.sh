@@ -147,7 +147,8 @@ echo "Flat profile of fc_controller_step on the ATmega2560 (simavr, same run): e
 echo "charged to the function holding the PC, calls per step, share; top 15 (all: build/bench/<preset>/run.txt)."
 for p in atmega-fixed atmega; do
   echo "$p:"
-  awk '$1 == "PROFILE" { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt" | head -15
+  # (no "| head": under pipefail its early exit fails the pipeline)
+  awk '$1 == "PROFILE" && ++n <= 15 { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt"
 done
 echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, same run): instructions and estimated"
 echo "cycles per step charged to the function holding the PC; top 15."
