@@ -68,7 +68,3 @@ fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 }
 
 
-bool fc_vec3_is_finite(fc_vec3 v)
-{
-    return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
-}

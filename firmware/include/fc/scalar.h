@@ -649,7 +649,7 @@ static inline fc_real fc_clamp(fc_real a, fc_real lo, fc_real hi)
 }
 
 /* x is a number with |x| <= limit (a NaN fails both comparisons). */
-static inline bool fc_within(fc_real x, fc_real limit)
+static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real limit)
 {
     return fc_is_finite(x) && x <= limit && x >= -limit;
 }

@@ -86,7 +86,11 @@ FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, i
                         fc_convert(ar, v.z, frac_from, frac_to));
 }
 
-/* True when every component is a finite number (always true in fixed). */
-bool fc_vec3_is_finite(fc_vec3 v);
+/* True when every component is a finite number (always true in fixed).
+ * Inlined: ten calls a step, each a few instructions (the M4F profile). */
+FC_VEC3_INLINE bool fc_vec3_is_finite(fc_vec3 v)
+{
+    return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
+}
 
 #endif /* FC_VEC3_H */
