@@ -9,6 +9,8 @@
 #   Cortex-M4F: executed instructions per call in QEMU (netduinoplus2 =
 #               STM32F405), counted by a TCG plugin the same way
 #               (platform/cortex-m4-bench/insn_count.c); not cycles.
+# then the flat profile of fc_controller_step on the AVR (exclusive cycles per
+# call of each function, from the same run: bench_host.c --profile),
 # and per image: flash, static RAM, the largest stack frame (-fstack-usage)
 # and, on the AVR, the measured stack peak.
 # Usage: tools/bench.sh [--no-deps]   (everything lands in build/bench/)
@@ -69,7 +71,7 @@ for p in "${presets[@]}"; do
     fi
     targs=()
     for m in "${modules[@]}"; do targs+=(--time "$m"); done
-    "$out/avr_bench" --elf bench.elf "${targs[@]}" >run.txt || { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
+    "$out/avr_bench" --elf bench.elf "${targs[@]}" --profile fc_controller_step >run.txt || { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
     awk -v p="$p" '$1 == "CYCLES" { print p, "calls", $2, $3, $4, $5, $6 } $1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
     read -r text data bss < <(avr-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
@@ -79,7 +81,7 @@ for p in "${presets[@]}"; do
       -Wl,--gc-sections -o bench.elf "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" \
       -lm -lrdimon
     sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
-    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt"
+    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt,profile=fc_controller_step"
     for m in "${modules[@]}"; do pargs+=",fn=$m@$(sym "$m")"; done
     rm -f plugin.txt
     timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
@@ -138,6 +140,24 @@ awk -v mods="${modules[*]}" '
     printf "in simavr; M4F painted-stack high-water mark. Images and raw output: build/bench/<preset>/;\n"
     printf "bench-dwt.elf there times each step with DWT->CYCCNT on a real STM32F405 (Crazyflie).\n"
   }' "$results"
+
+# ---- where fc_controller_step's AVR cycles go ----
+echo
+echo "Flat profile of fc_controller_step on the ATmega2560 (simavr, same run): exclusive cycles per step"
+echo "charged to the function holding the PC, calls per step, share; top 15 (all: build/bench/<preset>/run.txt)."
+for p in atmega-fixed atmega; do
+  echo "$p:"
+  # (no "| head": under pipefail its early exit fails the pipeline)
+  awk '$1 == "PROFILE" && ++n <= 15 { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt"
+done
+echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, same run): instructions and estimated"
+echo "cycles per step charged to the function holding the PC; top 15."
+for p in cf2 cf2-fixed; do
+  echo "$p:"
+  n=$(awk '$1 == "INSNS" && $2 == "fc_controller_step" { print $6 }' "$out/$p/plugin.txt")
+  python3 "$root/tools/pc-profile.py" --nm arm-none-eabi-nm --elf "$out/$p/bench.elf" --calls "$n" --top 15 \
+    "$out/$p/plugin.txt"
+done
 
 # ---- worst-case stack depth of fc_controller_step (tools/stack-depth.py) ----
 echo

@@ -363,7 +363,13 @@ fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *
         return result;
     }
     a->ready = 1u;
+    a->wrench_output = 1u;
     return FC_INIT_OK;
+}
+
+void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled)
+{
+    a->wrench_output = enabled ? 1u : 0u;
 }
 
 void fc_allocation_reset(fc_allocation *a)
@@ -629,12 +635,14 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
     /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
     fc_real roll_pitch[FC_MAX_ROTORS] = {0};
     fc_real yaw[FC_MAX_ROTORS] = {0};
+    fc_real thrust_part[FC_MAX_ROTORS] = {0}; /* x_0 P_i0, kept for step 2 */
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         roll_pitch[i] =
             fc_dot2(ar, r->pinv[1], x[1], r->pinv[2], x[2], FC_SHIFT(MAT, RATIO, RATIO));
         yaw[i] = fc_mul(ar, r->pinv[3], x[3], FC_SHIFT(MAT, RATIO, RATIO));
-        v[i] = fc_add(ar, fc_mul(ar, x[0], r->pinv[0], FC_SHIFT(RATIO, MAT, RATIO)), roll_pitch[i]);
+        thrust_part[i] = fc_mul(ar, x[0], r->pinv[0], FC_SHIFT(RATIO, MAT, RATIO));
+        v[i] = fc_add(ar, thrust_part[i], roll_pitch[i]);
     }
 
     /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
@@ -693,9 +701,16 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
         if (roll_pitch_scale < FC_INT(1, UNIT)) {
             saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
         }
+        /* the products of a factor left as demanded are the ones already formed
+         * (t = x_0: x_0 P_i0; a = 1: 1 R_i = R_i exactly) */
         for (int i = 0; i < n; i++) {
-            v[i] = fc_add(ar, fc_mul(ar, t, a->rotor[i].pinv[0], FC_SHIFT(RATIO, MAT, RATIO)),
-                          fc_mul(ar, roll_pitch_scale, roll_pitch[i], FC_SHIFT(UNIT, RATIO, RATIO)));
+            const fc_real thrust_i = t == x[0] ? thrust_part[i]
+                                               : fc_mul(ar, t, a->rotor[i].pinv[0], FC_SHIFT(RATIO, MAT, RATIO));
+            const fc_real roll_pitch_i =
+                roll_pitch_scale < FC_INT(1, UNIT)
+                    ? fc_mul(ar, roll_pitch_scale, roll_pitch[i], FC_SHIFT(UNIT, RATIO, RATIO))
+                    : roll_pitch[i];
+            v[i] = fc_add(ar, thrust_i, roll_pitch_i);
         }
         /* b = 0 fits by construction: only the upper bounds of b matter */
         room = yaw_room(a, v, yaw);
@@ -774,9 +789,11 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
     }
 
-    fc_vec3 force;
-    forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
-    out->thrust_n = force.z;
+    if (a->wrench_output != 0u) {
+        fc_vec3 force;
+        forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
+        out->thrust_n = force.z;
+    }
     out->saturation = saturation;
     if (saturation != 0u) {
         status |= FC_STEP_OUTPUT_LIMITED;

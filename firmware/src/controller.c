@@ -294,6 +294,8 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
             result = parts[i];
         }
     }
+    /* the step uses the allocation's speeds and saturation, not its forward model */
+    fc_allocation_set_wrench_output(&ctl->allocation, false);
     const bool same_step = p->estimator.dt_s == p->dt_s && p->attitude.dt_s == p->dt_s &&
                            p->reference.dt_s == p->dt_s && p->altitude.dt_s == p->dt_s &&
                            p->horizontal.dt_s == p->dt_s && p->pad_motion.dt_s == p->dt_s &&

@@ -95,9 +95,17 @@ static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3 b3, fc_real c, fc_real s)
     } else {
         q_yaw = fc_quat_make(s_half, FC_INT(0, UNIT), FC_INT(0, UNIT), fc_sub(ar, half, c_half));
     }
+    /* q_tilt (x) q_yaw, (2.8) with the zero components of q_tilt (z) and q_yaw
+     * (x, y) left out: the products that remain, summed as fc_quat_mul sums
+     * them (the dropped terms are exact zeros), 6 products instead of 16 */
+    const fc_quat q_product =
+        fc_quat_make(fc_mul(ar, q_tilt.w, q_yaw.w, UNIT_X_UNIT),
+                     fc_dot2(ar, q_tilt.x, q_yaw.w, q_tilt.y, q_yaw.z, UNIT_X_UNIT),
+                     fc_dot2(ar, fc_neg(ar, q_tilt.x), q_yaw.z, q_tilt.y, q_yaw.w, UNIT_X_UNIT),
+                     fc_mul(ar, q_tilt.w, q_yaw.z, UNIT_X_UNIT));
     /* |q_tilt| >= 0.7 (b3_z > 0), |q_yaw| >= 0.35: the product is well away from zero */
     bool ok = false;
-    const fc_quat q = fc_quat_normalize(ar, fc_quat_mul(ar, q_tilt, q_yaw), &ok);
+    const fc_quat q = fc_quat_normalize(ar, q_product, &ok);
     return fc_quat_shortest(ar, q);
 }
 
@@ -189,9 +197,10 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
 
     /* attitude setpoint and collective thrust along body z */
     bool ok = false;
-    const fc_vec3 b3 = fc_vec3_normalize(ar, force, FC_FRAC(FORCE), &ok); /* force.z >= thrust_min > 0 */
+    const fc_real force_norm_n = fc_vec3_norm(ar, force, FC_FRAC(FORCE)); /* one root for both */
+    const fc_vec3 b3 = fc_vec3_divide_by_norm(ar, force, force_norm_n, &ok); /* force.z >= thrust_min > 0 */
     out->attitude_sp = attitude_setpoint(ar, b3, hc, hs);
-    out->thrust_n = fc_min(fc_vec3_norm(ar, force, FC_FRAC(FORCE)), p->thrust_max_n);
+    out->thrust_n = fc_min(force_norm_n, p->thrust_max_n);
     out->thrust_world_n = force;
     out->accel_des_mps2 = a_des;
 

@@ -133,13 +133,17 @@ void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real 
 
 fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
 {
-    const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
+    /* a^2 first: the branch is taken on a^2 < 1/4, so the small angles of a
+     * step (|w| dt, 0.17 rad at 3.5 rad/s and 50 ms) need no root; a^2 of
+     * an angle beyond sqrt(2) does not fit UNIT and takes the other branch
+     * (its saturation in a probe, not reported) */
+    fc_arith probe = {0u};
+    const fc_real a2 = fc_vec3_dot(&probe, theta_rad, theta_rad, FC_SHIFT(ANGLE, ANGLE, UNIT));
     fc_real cos_half;          /* cos(a/2), UNIT */
     fc_real sin_half_over_a;   /* sin(a/2)/a, UNIT */
-    if (angle < FC_C(0.5f, ANGLE)) {
+    if (probe.saturated == 0u && a2 < FC_C(0.25f, UNIT)) {
         /* series in a^2 (truncation below 4e-10 for a < 0.5 rad); no division,
          * and exact at a = 0 where sin(a/2)/a is 0/0 */
-        const fc_real a2 = fc_vec3_dot(ar, theta_rad, theta_rad, FC_SHIFT(ANGLE, ANGLE, UNIT));
         /* cos(a/2) = 1 - a^2/8 (1 - a^2/48 (1 - a^2/120)) */
         fc_real acc = fc_sub(ar, FC_INT(1, UNIT), fc_mul(ar, a2, FC_C(1.0f / 120.0f, UNIT), UNIT_X_UNIT));
         acc = fc_sub(ar, FC_INT(1, UNIT),
@@ -154,6 +158,7 @@ fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
                      fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 24.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
         sin_half_over_a = fc_mul(ar, acc, FC_C(0.5f, UNIT), UNIT_X_UNIT);
     } else {
+        const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
         const fc_real half_angle = fc_mul(ar, angle, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
         cos_half = fc_cos(ar, half_angle);
         sin_half_over_a = fc_div(ar, fc_sin(ar, half_angle), angle, FC_DIV_SHIFT(UNIT, ANGLE, UNIT));

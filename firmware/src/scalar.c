@@ -18,26 +18,95 @@
 #error "scalar.c holds the out-of-line products: it is never a compact unit"
 #endif
 
-/* The out-of-line products of compact translation units (fc/scalar.h). */
+#if defined(__AVR__)
+/*
+ * fc_fx_narrow_wide for a shift known only at run time (0 < shift < 32), the
+ * out-of-line products' case. fc_fx_narrow_wide with a run-time shift builds
+ * 2^(shift - 1) and its bound by 32-bit shift loops (up to 31 rounds each, a
+ * few hundred cycles on the ATmega); here the value is shifted once:
+ *   w = floor(v / 2^(shift-1))         (whole bytes by moves, 0..7 bits by ASR)
+ *   floor((v + 2^(shift-1)) / 2^shift) = floor((w + 1) / 2)
+ * (v = q 2^(s-1) + r, 0 <= r < 2^(s-1): both sides are floor((q + 1) / 2)), the
+ * same value as fc_fx_narrow_wide, saturated the same way: the result is
+ * inside +-INT32_MAX iff -2^32 < w < 2^32 - 1, i.e. high is 0 with low below
+ * 2^32 - 1, or high is all ones with low above 0.
+ */
+FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    uint32_t low = value.low;
+    uint32_t high = value.high;
+    /* unsigned: a signed / 8 and % 8 are libgcc divisions at -Os */
+    const uint8_t s = (uint8_t)(shift - 1);
+    const uint8_t bytes = (uint8_t)(s >> 3);
+    if (bytes == 1) {
+        low = (low >> 8) | (high << 24);
+        high = (uint32_t)((int32_t)high >> 8);
+    } else if (bytes == 2) {
+        low = (low >> 16) | (high << 16);
+        high = (uint32_t)((int32_t)high >> 16);
+    } else if (bytes == 3) {
+        low = (low >> 24) | (high << 8);
+        high = (uint32_t)((int32_t)high >> 24);
+    } else {
+        /* s < 8: the bits alone */
+    }
+    FC_AVR_ASR64(low, high, s & 7u);
+    if (high == 0u && low != UINT32_MAX) {
+        return (fc_real)((low >> 1) + (low & 1u)); /* (w + 1) / 2 */
+    }
+    if (high == UINT32_MAX && low != 0u) {
+        if (low == UINT32_MAX) {
+            return 0; /* w = -1 */
+        }
+        /* w + 1 = low + 1 - 2^32 in [-2^32 + 2, -1]: halved, the top bit is the sign */
+        return (fc_real)(((low + 1u) >> 1) | 0x80000000u);
+    }
+    ar->saturated = 1u;
+    return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
+}
+#define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
+#else
+#define OUTLINE_RUNTIME_SHIFT(shift) 0
+#define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
+#endif
+
+/* The out-of-line products of compact translation units (fc/scalar.h). On
+ * the ATmega the 64-bit sum is formed as the inlined primitives form it and
+ * narrowed by narrow_wide_runtime (bit-identical: atmega.scalar_equivalence). */
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        return narrow_wide_runtime(ar, fc_fx_mul_wide(a, b), shift);
+    }
     return fc_mul(ar, a, b, shift);
 }
 
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        return narrow_wide_runtime(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
+    }
     return fc_dot2(ar, a0, b0, a1, b1, shift);
 }
 
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
+    }
     return fc_dot3(ar, a0, b0, a1, b1, a2, b2, shift);
 }
 
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift)
 {
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
+    }
     return fc_dot4(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 }
 
@@ -58,21 +127,27 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
  */
 static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
 {
-    uint32_t high = shift == 0 ? 0u : n >> (32 - shift);
-    uint32_t low = n << shift;
+    /* high:low = n 2^shift: whole bytes by moves, then the bits one at a
+     * time (a C shift by a run-time count is a loop of up to 31 rounds) */
+    uint32_t high = 0u;
+    uint32_t low = n;
+    uint8_t bits = (uint8_t)shift;
+    while (bits >= 8u) {
+        high = (high << 8) | (low >> 24);
+        low <<= 8;
+        bits = (uint8_t)(bits - 8u);
+    }
+    while (bits != 0u) {
+        high = (high << 1) | (low >> 31);
+        low <<= 1;
+        bits--;
+    }
     if (high >= d) {
         return UINT32_MAX; /* N / D >= 2^32 */
     }
-    uint32_t quotient = 0u;
-    for (int i = 0; i < 32; i++) {
-        high = (high << 1) | (low >> 31); /* below 2 D <= 2^32 */
-        low <<= 1;
-        quotient <<= 1;
-        if (high >= d) {
-            high -= d;
-            quotient |= 1u;
-        }
-    }
+    /* 32 rounds: low becomes the quotient, high the remainder */
+    fc_avr_divide_rounds(&high, &low, d, 32u);
+    const uint32_t quotient = low;
     const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
     return rounded < quotient ? UINT32_MAX : rounded;
 }
@@ -114,6 +189,37 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     return fc_fx_saturate(ar, rounded / den64);
 }
 
+/* x << n and x >> n for a run-time n in [0, 31]: whole bytes first (moves
+ * on the ATmega, where a C shift by a variable count is a loop of n rounds),
+ * then the 0..7 bits left. Plain shifts elsewhere. */
+static uint32_t shl_u32(uint32_t x, int n)
+{
+#if defined(__AVR__)
+    uint8_t k = (uint8_t)n;
+    while (k >= 8u) {
+        x <<= 8;
+        k = (uint8_t)(k - 8u);
+    }
+    return x << k;
+#else
+    return x << n;
+#endif
+}
+
+static uint32_t shr_u32(uint32_t x, int n)
+{
+#if defined(__AVR__)
+    uint8_t k = (uint8_t)n;
+    while (k >= 8u) {
+        x >>= 8;
+        k = (uint8_t)(k - 8u);
+    }
+    return x >> k;
+#else
+    return x >> n;
+#endif
+}
+
 /* floor(sqrt(m)) of a 32-bit m by the digit-by-digit method: 16 rounds of
  * 32-bit operations, no division. */
 static uint32_t isqrt_u32(uint32_t m)
@@ -150,16 +256,10 @@ static uint32_t heron_quotient(uint32_t n, uint32_t s)
         rest -= s;
         quotient = 1u;
     }
-    for (int i = 0; i < 16; i++) {
-        rest = (rest << 1) | (low >> 31); /* below 2 s < 2^17 */
-        low <<= 1;
-        quotient <<= 1;
-        if (rest >= s) {
-            rest -= s;
-            quotient |= 1u;
-        }
-    }
-    return quotient;
+    /* 16 rounds (rest below 2 s < 2^17): n's low half shifts out of low's top,
+     * the quotient bits come in at its bottom */
+    fc_avr_divide_rounds(&rest, &low, s, 16u);
+    return (quotient << 16) | (low & 0xFFFFu);
 #endif
 }
 
@@ -224,12 +324,12 @@ static uint32_t sqrt_rounded_wide(fc_fx_wide v)
         n += 1;
     }
     const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
-    const uint32_t r = m - s * s;     /* <= 2 s < 2^17 */
+    const uint32_t r = m - (uint32_t)(uint16_t)s * (uint16_t)s; /* <= 2 s < 2^17; 16 x 16 bits */
     /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
     const uint32_t heron = heron_quotient((r << 15) + (l >> 17), s);
     const uint32_t top = s << 16;
     uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
-    root >>= n;
+    root = shr_u32(root, n);
     /* exact by steps: R^2 - R < v <= R^2 + R */
     fc_fx_wide square = fc_fx_umul_wide(root, root);
     while (wide_above(v, wide_plus(square, root))) {
@@ -255,18 +355,24 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
         scaled.low = (uint32_t)x;
         scaled.high = 0u;
     } else {
-        scaled.low = (uint32_t)x << frac;
-        scaled.high = (uint32_t)x >> (32 - frac);
+        scaled.low = shl_u32((uint32_t)x, frac);
+        scaled.high = shr_u32((uint32_t)x, 32 - frac); /* frac >= 1 here */
     }
     return (fc_real)sqrt_rounded_wide(scaled);
 }
 
+/* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits
+ * unsigned. One copy (its three products are the flash of a few hundred
+ * bytes on the ATmega) for fc_hypot3 and fc_hypot3_within. */
+static __attribute__((noinline)) fc_fx_wide sum_of_squares(fc_real a, fc_real b, fc_real c)
+{
+    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
+    return fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
+}
+
 fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
 {
-    /* each square is at most 2^62, so three of them fit 64 bits unsigned */
-    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
-    const fc_fx_wide sum = fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
-    const uint32_t root = sqrt_rounded_wide(sum);
+    const uint32_t root = sqrt_rounded_wide(sum_of_squares(a, b, c));
     if (root > (uint32_t)INT32_MAX) {
         ar->saturated = 1u;
         return FC_REAL_MAX;
@@ -274,10 +380,22 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
     return (fc_real)root;
 }
 
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
+{
+    const fc_fx_wide sum = sum_of_squares(a, b, c); /* < 3 2^62 */
+    const uint32_t l = limit > 0 ? (uint32_t)limit : 0u;
+    const fc_fx_wide bound = wide_plus(fc_fx_umul_wide(l, l), l); /* l^2 + l < 2^62 + 2^31 */
+    return !wide_above(sum, bound);
+}
+
 /* Bit length of a positive value: X lies in [2^(len-1), 2^len). */
 static int bit_length_u32(uint32_t x)
 {
     int len = 0;
+    while (x >= 256u) { /* whole bytes first */
+        x >>= 8;
+        len += 8;
+    }
     while (x != 0u) {
         x >>= 1;
         len++;
@@ -302,7 +420,7 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     if (((30 - s - frac_in) & 1) != 0) {
         s -= 1;
     }
-    const int32_t m_q30 = s >= 0 ? (int32_t)((uint32_t)x << s) : (int32_t)((uint32_t)x >> (-s));
+    const int32_t m_q30 = s >= 0 ? (int32_t)shl_u32((uint32_t)x, s) : (int32_t)shr_u32((uint32_t)x, -s);
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
     /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
@@ -600,6 +718,13 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 }
 
 #endif
+
+/* the comparison itself (the root is one instruction on an FPU) */
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
+{
+    fc_arith ar = {0u};
+    return fc_hypot3(&ar, a, b, c) <= limit;
+}
 
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {

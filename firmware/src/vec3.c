@@ -28,7 +28,11 @@ fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac)
 
 fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok)
 {
-    const fc_real norm = fc_vec3_norm(ar, v, frac);
+    return fc_vec3_divide_by_norm(ar, v, fc_vec3_norm(ar, v, frac), ok);
+}
+
+fc_vec3 fc_vec3_divide_by_norm(fc_arith *ar, fc_vec3 v, fc_real norm, bool *ok)
+{
     if (!(norm > FC_INT(0, UNIT)) || !fc_is_finite(norm)) {
         *ok = false;
         return fc_vec3_zero();
@@ -42,6 +46,9 @@ fc_vec3 fc_vec3_normalize(fc_arith *ar, fc_vec3 v, int frac, bool *ok)
 
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 {
+    if (max_norm >= FC_INT(0, UNIT) && fc_hypot3_within(v.x, v.y, v.z, max_norm)) {
+        return v; /* |v| <= max_norm, the common case: in fixed decided without the root */
+    }
     fc_arith probe = {0u};
     fc_real norm = fc_vec3_norm(&probe, v, frac);
     fc_real limit = max_norm;
@@ -61,7 +68,3 @@ fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 }
 
 
-bool fc_vec3_is_finite(fc_vec3 v)
-{
-    return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
-}

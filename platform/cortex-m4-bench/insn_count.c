@@ -12,6 +12,12 @@
  *   begin=ADDR end=ADDR        the markers (hex, Thumb bit ignored)
  *   fn=NAME@ADDR               a function to count (repeatable)
  *   out=PATH                   where the results go (default: stderr)
+ *   profile=NAME               also a flat profile of NAME's counted calls
+ *                              (one of the fn= names): per instruction
+ *                              address, instructions and estimated cycles
+ *                              executed while a call of NAME is under way;
+ *                              lines "PCPROF addr insns cycles" (hex addr),
+ *                              mapped onto functions by tools/bench.sh
  * Output lines: "INSNS name min max mean calls", "INSNS_TOTAL n", and
  * "CYCEST name min max mean calls": a cycle estimate from the Cortex-M4
  * instruction timings (ARM DDI 0439B, table 3-1), each instruction costed
@@ -78,6 +84,14 @@ static uint64_t count, prev_next, cycles;
 static bool prev_branch;
 #define REFILL 2u /* P: pipeline refill after a taken branch */
 static char out_path[512];
+static char profile_name[64];
+static counted_fn *profiled;
+/* the flat profile: per executed address, open addressing (the image is small) */
+#define PCPROF_SLOTS 65536u
+typedef struct pc_slot {
+    uint64_t pc, insns, cycles;
+} pc_slot;
+static pc_slot *pcprof;
 
 /* one per translated instruction: its address and the address after it */
 typedef struct insn_info {
@@ -218,6 +232,16 @@ static void on_insn(unsigned int vcpu, void *udata)
             f->n++;
         }
     }
+    if (profiled != NULL && profiled->in_call) {
+        uint32_t h = (uint32_t)(pc >> 1) & (PCPROF_SLOTS - 1u);
+        while (pcprof[h].pc != 0u && pcprof[h].pc != pc + 1u) {
+            h = (h + 1u) & (PCPROF_SLOTS - 1u);
+        }
+        pcprof[h].pc = pc + 1u; /* 0 marks a free slot */
+        pcprof[h].insns++;
+        /* the refill of a taken branch into pc was charged above, to cycles */
+        pcprof[h].cycles += ii->cost + (prev_branch && pc != prev_next ? REFILL : 0u);
+    }
     count++;
     cycles += ii->cost;
     prev_next = ii->next;
@@ -262,6 +286,12 @@ static void plugin_exit(qemu_plugin_id_t id, void *udata)
                 (unsigned long long)c->cmax, c->n ? (double)c->csum / c->n : 0.0, c->n);
     }
     fprintf(f, "INSNS_TOTAL %llu\n", (unsigned long long)count);
+    for (uint32_t h = 0; pcprof != NULL && h < PCPROF_SLOTS; h++) {
+        if (pcprof[h].pc != 0u) {
+            fprintf(f, "PCPROF %llx %llu %llu\n", (unsigned long long)(pcprof[h].pc - 1u),
+                    (unsigned long long)pcprof[h].insns, (unsigned long long)pcprof[h].cycles);
+        }
+    }
     if (f != stderr) {
         fclose(f);
     }
@@ -279,6 +309,8 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qem
             end_addr = strtoull(a + 4, NULL, 0) & ~1ull;
         } else if (!strncmp(a, "out=", 4)) {
             snprintf(out_path, sizeof out_path, "%s", a + 4);
+        } else if (!strncmp(a, "profile=", 8)) {
+            snprintf(profile_name, sizeof profile_name, "%s", a + 8);
         } else if (!strncmp(a, "fn=", 3) && nfns < MAX_FN) {
             const char *at = strchr(a + 3, '@');
             if (at == NULL) {
@@ -292,6 +324,18 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qem
             f->cmin = UINT64_MAX;
         } else {
             fprintf(stderr, "insn_count: unknown argument %s\n", a);
+            return -1;
+        }
+    }
+    for (unsigned k = 0; profile_name[0] != '\0' && k < nfns; k++) {
+        if (!strcmp(fns[k].name, profile_name)) {
+            profiled = &fns[k];
+        }
+    }
+    if (profile_name[0] != '\0') {
+        pcprof = profiled != NULL ? calloc(PCPROF_SLOTS, sizeof *pcprof) : NULL;
+        if (pcprof == NULL) {
+            fprintf(stderr, "insn_count: profile=%s is not a fn= name\n", profile_name);
             return -1;
         }
     }

@@ -649,7 +649,7 @@ static inline fc_real fc_clamp(fc_real a, fc_real lo, fc_real hi)
 }
 
 /* x is a number with |x| <= limit (a NaN fails both comparisons). */
-static inline bool fc_within(fc_real x, fc_real limit)
+static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real limit)
 {
     return fc_is_finite(x) && x <= limit && x >= -limit;
 }
@@ -704,6 +704,12 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
 /* 1/sqrt(x): x in format frac_in, result in format frac_out; x <= 0 saturates. */
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
 #endif
+
+/* fc_hypot3(a, b, c) <= limit (limit >= 0), the same answer as that comparison;
+ * in fixed without the root: the rounded root R of S = a^2 + b^2 + c^2 is the
+ * integer with R^2 - R < S <= R^2 + R, so R <= limit iff S <= limit^2 + limit,
+ * compared in 64 bits (the norm clamps, whose vectors are mostly inside). */
+bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit);
 
 /* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);

@@ -162,6 +162,34 @@ static inline __attribute__((always_inline)) void fc_avr_mul_u32(uint32_t a, uin
         }                                                                                     \
     } while (0)
 
+/*
+ * ROUNDS rounds of restoring division (the divisions and square roots of
+ * scalar.c): each round shifts rem:low left by one bit and, when rem >= d,
+ * subtracts d and sets the bit that came free at the bottom of low, so after
+ * ROUNDS rounds the low ROUNDS bits of low are the quotient bits and rem the
+ * remainder. Needs rem < d <= 2^31 on entry (then 2 rem + 1 < 2^32: no bit
+ * leaves rem). About 21 cycles a round, against some 40 for the same C.
+ */
+static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t *rem, uint32_t *low, uint32_t d,
+                                                                        uint8_t rounds)
+{
+    uint32_t r = *rem, l = *low;
+    __asm__("1:\n\t"
+            "lsl %A1\n\trol %B1\n\trol %C1\n\trol %D1\n\t"
+            "rol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
+            "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"
+            "brlo 2f\n\t"
+            "sub %A0, %A3\n\tsbc %B0, %B3\n\tsbc %C0, %C3\n\tsbc %D0, %D3\n\t"
+            "inc %A1\n\t" /* bit 0 of low is 0 after the shift */
+            "2:\n\t"
+            "dec %2\n\t"
+            "brne 1b"
+            : "+r"(r), "+r"(l), "+r"(rounds)
+            : "r"(d));
+    *rem = r;
+    *low = l;
+}
+
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
  * C shifts by whole bytes, which avr-gcc does by moves. */
 static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, uint32_t high, int i)

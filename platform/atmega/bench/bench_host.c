@@ -8,7 +8,16 @@
  * bench_timed_begin and bench_timed_end count. Cycles are simavr's exact
  * instruction cycle counts of the ATmega2560.
  *
+ * With --profile NAME (one of the --time names), a flat profile of NAME's
+ * timed calls: every cycle spent while a call of NAME is under way is
+ * charged to the function whose code holds the PC (exclusive cycles, from
+ * the ELF's FUNC symbols and their sizes, libgcc's untyped labels up to the
+ * next symbol); a call of a function is counted
+ * when the PC enters its first instruction from outside it.
+ *
  * Output, one line per name: "CYCLES name min max mean calls", then
+ * (--profile) "PROFILE name exclusive_cycles_per_call calls_per_call
+ * percent", most cycles first, then
  * "STACK peak_bytes" (lowest SP from reset, against RAMEND) and
  * "RESULT 0x...." (the image's bench_result). Exit status 0 when the image
  * finished, its init succeeded and every name was timed at least once (no
@@ -29,6 +38,97 @@
 #include "../sim/sim_support.h"
 
 #define MAX_TIMED 16
+#define MAX_FUNCS 4096
+
+/* a function of the image: [addr, addr + size) in bytes of flash */
+typedef struct prof_fn {
+    const char *name;
+    uint32_t addr, size;
+    uint64_t cycles;
+    uint64_t calls;
+} prof_fn;
+
+static prof_fn g_funcs[MAX_FUNCS];
+static unsigned g_nfuncs;
+
+static int prof_cmp_addr(const void *a, const void *b)
+{
+    const prof_fn *x = a, *y = b;
+    return x->addr < y->addr ? -1 : x->addr > y->addr;
+}
+
+static int prof_cmp_cycles(const void *a, const void *b)
+{
+    const prof_fn *x = a, *y = b;
+    return x->cycles > y->cycles ? -1 : x->cycles < y->cycles;
+}
+
+/* Every FUNC symbol of the ELF with a size, sorted by address. */
+static bool prof_load(const char *path)
+{
+    const int fd = open(path, O_RDONLY);
+    if (fd < 0) {
+        return false;
+    }
+    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
+    Elf_Scn *scn = NULL;
+    while (elf != NULL && (scn = elf_nextscn(elf, scn)) != NULL) {
+        GElf_Shdr sh;
+        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
+            continue;
+        }
+        Elf_Data *data = elf_getdata(scn, NULL);
+        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
+        for (size_t i = 0; data != NULL && i < n && g_nfuncs < MAX_FUNCS; i++) {
+            GElf_Sym sym;
+            /* functions, and the untyped labels of libgcc's assembly routines
+             * (no type, no size: they extend to the next symbol) */
+            if (gelf_getsym(data, (int)i, &sym) == NULL ||
+                (GELF_ST_TYPE(sym.st_info) != STT_FUNC && GELF_ST_TYPE(sym.st_info) != STT_NOTYPE) ||
+                sym.st_shndx == SHN_UNDEF || sym.st_shndx >= SHN_LORESERVE || sym.st_value >= 0x800000u) {
+                continue;
+            }
+            const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
+            if (s == NULL || s[0] == '\0' || (GELF_ST_TYPE(sym.st_info) == STT_NOTYPE && s[0] == '.')) {
+                continue;
+            }
+            prof_fn *f = &g_funcs[g_nfuncs++];
+            f->name = strdup(s);
+            f->addr = (uint32_t)sym.st_value;
+            f->size = (uint32_t)sym.st_size;
+        }
+    }
+    if (elf != NULL) {
+        elf_end(elf);
+    }
+    close(fd);
+    qsort(g_funcs, g_nfuncs, sizeof g_funcs[0], prof_cmp_addr);
+    for (unsigned i = 0; i < g_nfuncs; i++) {
+        if (g_funcs[i].size == 0u) {
+            g_funcs[i].size = i + 1 < g_nfuncs ? g_funcs[i + 1].addr - g_funcs[i].addr : 2u;
+        }
+    }
+    return g_nfuncs > 0;
+}
+
+/* The function holding byte address pc, or NULL. */
+static prof_fn *prof_find(uint32_t pc)
+{
+    unsigned lo = 0, hi = g_nfuncs;
+    while (lo < hi) {
+        const unsigned mid = (lo + hi) / 2;
+        if (g_funcs[mid].addr <= pc) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    if (lo == 0) {
+        return NULL;
+    }
+    prof_fn *f = &g_funcs[lo - 1];
+    return pc < f->addr + f->size ? f : NULL;
+}
 
 typedef struct timed_fn {
     const char *name;
@@ -51,11 +151,14 @@ int main(int argc, char **argv)
     double max_seconds = 600.0;
     const char *names[MAX_TIMED];
     unsigned nnames = 0;
+    const char *profile_name = NULL;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--elf")) {
             elf_path = argv[i + 1];
         } else if (!strcmp(argv[i], "--time") && nnames < MAX_TIMED) {
             names[nnames++] = argv[i + 1];
+        } else if (!strcmp(argv[i], "--profile")) {
+            profile_name = argv[i + 1];
         } else if (!strcmp(argv[i], "--max-seconds")) {
             max_seconds = strtod(argv[i + 1], NULL);
         } else {
@@ -63,7 +166,7 @@ int main(int argc, char **argv)
         }
     }
     if (elf_path == NULL || nnames == 0 || (argc - 1) % 2 != 0) {
-        fprintf(stderr, "usage: avr_bench --elf FILE --time NAME... [--max-seconds S]\n");
+        fprintf(stderr, "usage: avr_bench --elf FILE --time NAME... [--profile NAME] [--max-seconds S]\n");
         return 2;
     }
     elf_version(EV_CURRENT);
@@ -83,6 +186,19 @@ int main(int argc, char **argv)
         }
         g_ntimed++;
     }
+    const timed_fn *profiled = NULL;
+    if (profile_name != NULL) {
+        for (unsigned k = 0; k < g_ntimed; k++) {
+            if (!strcmp(g_timed[k].name, profile_name)) {
+                profiled = &g_timed[k];
+            }
+        }
+        if (profiled == NULL || !prof_load(elf_path)) {
+            fprintf(stderr, "--profile %s: not a --time name, or no function symbols\n", profile_name);
+            return 2;
+        }
+    }
+    prof_fn *prev_fn = NULL;
 
     static elf_firmware_t fw;
     if (!sim_read_atmega2560(elf_path, &fw)) {
@@ -126,7 +242,19 @@ int main(int argc, char **argv)
                 t->n++;
             }
         }
+        const uint64_t before = avr->cycle;
+        const bool profiling = profiled != NULL && profiled->in_call;
         state = avr_run(avr);
+        if (profiling) {
+            prof_fn *f = prof_find(pc);
+            if (f != NULL) {
+                f->cycles += avr->cycle - before;
+                if (f != prev_fn && pc == f->addr) {
+                    f->calls++;
+                }
+            }
+            prev_fn = f;
+        }
         if (state == cpu_Done || state == cpu_Crashed) {
             break;
         }
@@ -136,6 +264,17 @@ int main(int argc, char **argv)
         const timed_fn *t = &g_timed[k];
         printf("CYCLES %s %u %u %.0f %u\n", t->name, t->n ? t->min : 0u, t->max, t->n ? (double)t->sum / t->n : 0.0,
                t->n);
+    }
+    if (profiled != NULL && profiled->n > 0) {
+        uint64_t total = 0;
+        for (unsigned i = 0; i < g_nfuncs; i++) {
+            total += g_funcs[i].cycles;
+        }
+        qsort(g_funcs, g_nfuncs, sizeof g_funcs[0], prof_cmp_cycles);
+        for (unsigned i = 0; i < g_nfuncs && g_funcs[i].cycles > 0; i++) {
+            printf("PROFILE %s %.0f %.2f %.1f\n", g_funcs[i].name, (double)g_funcs[i].cycles / profiled->n,
+                   (double)g_funcs[i].calls / profiled->n, 100.0 * (double)g_funcs[i].cycles / (double)total);
+        }
     }
     printf("STACK %u\n", (unsigned)(avr->ramend - min_sp));
     printf("RESULT 0x%04x after %llu cycles (%s)\n", result, (unsigned long long)avr->cycle,

@@ -12,7 +12,10 @@
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) against the
- * digit-by-digit square root of the uint64_t value rounded to nearest.
+ * digit-by-digit square root of the uint64_t value rounded to nearest, and
+ * fc_hypot3_within against that root compared; the out-of-line products of
+ * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
+ * shift narrowed by bytes and bits) against the int64_t form.
  *
  * No I/O: the counts are in scalar_test_cases / scalar_test_failures and the
  * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
@@ -153,6 +156,11 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_DIV 10u
 #define OP_SQRT 11u
 #define OP_HYPOT3 12u
+#define OP_HYPOT3_WITHIN 13u
+#define OP_MUL_OUTLINE 14u
+#define OP_DOT2_OUTLINE 15u
+#define OP_DOT3_OUTLINE 16u
+#define OP_DOT4_OUTLINE 17u
 
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
@@ -172,6 +180,16 @@ static void compare_functions(const int32_t *a, const int32_t *b)
     const uint32_t root = ref_sqrt(sum);
     const bool over = root > (uint32_t)INT32_MAX;
     check(OP_HYPOT3, 0u, value, got.saturated, over ? FC_REAL_MAX : (int32_t)root, over ? 1u : 0u);
+    /* against a limit near the root (the boundary) or anywhere */
+    const uint32_t pick = rng_next();
+    int32_t limit = (int32_t)(over ? (uint32_t)INT32_MAX : root) - (int32_t)(pick % 3u) + 1;
+    if ((pick & 0x30u) == 0u) {
+        limit = b[3];
+    }
+    if (limit >= 0) {
+        const bool within = fc_hypot3_within(a[2], b[2], a[3], limit);
+        check(OP_HYPOT3_WITHIN, 0u, within ? 1 : 0, 0u, (!over && root <= (uint32_t)limit) ? 1 : 0, 0u);
+    }
 }
 
 /* ---- the library's primitives, shift a compile-time constant ----------- */
@@ -263,6 +281,27 @@ static __attribute__((noinline)) void case_runtime(const int32_t *a, const int32
     r.saturated = 0u;
     want = ref_dot(&r, a, b, 4, shift);
     check(OP_DOT4_RUNTIME, (uint8_t)shift, dot4, d4.saturated, want, r.saturated);
+    /* the compact units' out-of-line products (scalar.c) */
+    fc_arith o = {0u};
+    r.saturated = 0u;
+    int32_t got = fc_fx_mul_outline(&o, a[0], b[0], shift);
+    want = ref_narrow(&r, (int64_t)a[0] * b[0], shift);
+    check(OP_MUL_OUTLINE, (uint8_t)shift, got, o.saturated, want, r.saturated);
+    o.saturated = 0u;
+    r.saturated = 0u;
+    got = fc_fx_dot2_outline(&o, a[0], b[0], a[1], b[1], shift);
+    want = ref_dot(&r, a, b, 2, shift);
+    check(OP_DOT2_OUTLINE, (uint8_t)shift, got, o.saturated, want, r.saturated);
+    o.saturated = 0u;
+    r.saturated = 0u;
+    got = fc_fx_dot3_outline(&o, a[0], b[0], a[1], b[1], a[2], b[2], shift);
+    want = ref_dot(&r, a, b, 3, shift);
+    check(OP_DOT3_OUTLINE, (uint8_t)shift, got, o.saturated, want, r.saturated);
+    o.saturated = 0u;
+    r.saturated = 0u;
+    got = fc_fx_dot4_outline(&o, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], shift);
+    want = ref_dot(&r, a, b, 4, shift);
+    check(OP_DOT4_OUTLINE, (uint8_t)shift, got, o.saturated, want, r.saturated);
 }
 
 #ifndef SCALAR_TEST_ROUNDS
@@ -283,6 +322,7 @@ int main(void)
             b[0] = edges[j];
             for (uint8_t s = 0; s < 31; s++) {
                 cases[s](a, b);
+                case_runtime(a, b, (int)s + 1);
             }
             compare_functions(a, b);
         }
