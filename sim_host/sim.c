@@ -419,6 +419,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_fsw_pad_z_m] = out.pad_est_z_m;
             row[SIM_COL_fsw_pad_vz_mps] = out.pad_est_vz_mps;
             row[SIM_COL_pad_confidence] = out.pad_confidence;
+            row[SIM_COL_fsw_pad_period_s] = out.pad_period_s;
             trace->rows++;
         }
 
