@@ -189,13 +189,15 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
          * (30 ms), -5.4 +- 22j (45 ms; kp = 100's was -5.8 +- 14j there); a
          * step of d = 28 rad/s^2 peaks at 0.09..0.13 rad (0.28..0.30 with kp =
          * 100 and no integral). Yaw keeps wn = 5, adds ki = kp wn/5 = 25
-         * (-1.9 +- 0.9j). Bounds: ki I_max = 60 rad/s^2 roll and pitch (13 %
-         * of the budget, 7.8e-3 N m / Jx), 7.5 rad/s^2 yaw (the weak rotor's
-         * torque 0.2 x 0.112 N x 7 mm = 1.6e-4 N m is 5.3 rad/s^2 at Jz). */
+         * (-1.9 +- 0.9j). Bounds: ki I_max = 120 rad/s^2 roll and pitch (26 %
+         * of the budget, 7.8e-3 N m / Jx: while it trims a step the integral
+         * overshoots d/ki, and a bound of 60 cut that short on vehicles that
+         * start heavy), 7.5 rad/s^2 yaw (the weak rotor's torque
+         * 0.2 x 0.112 N x 7 mm = 1.6e-4 N m is 5.3 rad/s^2 at Jz). */
         p->attitude.kp_per_s2.x = p->attitude.kp_per_s2.y = FC_INT(225, GAIN);
         p->attitude.kd_per_s.x = p->attitude.kd_per_s.y = FC_INT(30, GAIN);
         p->attitude.ki_per_s3 = fc_vec3_make(FC_INT(1200, GAIN), FC_INT(1200, GAIN), FC_INT(25, GAIN));
-        p->attitude.integral_limit_rad = fc_vec3_make(FC_C(0.05f, ANGLE), FC_C(0.05f, ANGLE), FC_C(0.3f, ANGLE));
+        p->attitude.integral_limit_rad = fc_vec3_make(FC_C(0.1f, ANGLE), FC_C(0.1f, ANGLE), FC_C(0.3f, ANGLE));
     }
     /* the 4.4 reference: tau_zr = 0.1 s, z_r_init = 1 m, z_r_bias = 0.18 m */
     p->reference.dt_s = dt_s;
