@@ -222,6 +222,10 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     out->pad_accel_bound_mps2 = FROM_FC(tm->pad.accel_bound_mps2, ACCEL);
     out->pad_period_s = FROM_FC(tm->pad.dominant_period_s, TIME);
     out->gear_height_m = FROM_FC(tm->gear_height_m, LENGTH);
+    vec_from_fc(ctl->attitude.last_error_rad, FC_ANGLE_FRAC, out->attitude_error_rad);
+    vec_from_fc(ctl->attitude.integral_rad_s, FC_ANGLE_FRAC, out->attitude_integral_rad_s);
+    out->position_integral_mps2[0] = FROM_FC(ctl->position.integral_mps2.x, ACCEL);
+    out->position_integral_mps2[1] = FROM_FC(ctl->position.integral_mps2.y, ACCEL);
 }
 
 const fsw_backend FSW_TABLE = {FSW_STR(FSW_BACKEND), adapter_create, adapter_destroy, adapter_step};

@@ -87,6 +87,9 @@ typedef struct fsw_outputs {
     /* the landing mission */
     int landing_state, landing_reason, landing_changed, touchdown_window, aborts, descent_blocked_by;
     double pad_est_z_m, pad_est_vz_mps, pad_confidence, pad_accel_bound_mps2, pad_period_s, gear_height_m;
+    /* loop internals, for traces: the attitude error (tilt x, y, heading z) and
+     * its integral, the horizontal loop's integral (x, y) */
+    double attitude_error_rad[3], attitude_integral_rad_s[3], position_integral_mps2[2];
 } fsw_outputs;
 
 /* What the firmware was configured with (for reports and for the plant's

@@ -343,6 +343,7 @@ static const key_def keys[] = {
     {"montecarlo", "ground_effect_rho_rel", K_DOUBLE, R(mc.ground_effect_rho_rel), 0.0, 0.9, NULL, 0},
     {"montecarlo", "rotor_efficiency_max", K_DOUBLE, R(mc.rotor_efficiency_max), 0.0, 1.0, NULL, OPEN_LO},
     {"montecarlo", "mass_step_rel", K_DOUBLE, R(mc.mass_step_rel), 0.0, 0.9, NULL, 0},
+    {"montecarlo", "mass_max_rel", K_DOUBLE, R(mc.mass_max_rel), 0.0, 10.0, NULL, OPTIONAL},
     {"montecarlo", "mass_step_time_min_s", K_DOUBLE, R(mc.mass_step_time_min_s), 0.0, 36000.0, NULL, 0},
     {"montecarlo", "mass_step_time_max_s", K_DOUBLE, R(mc.mass_step_time_max_s), 0.0, 36000.0, NULL, 0},
     {"montecarlo", "diverged_error_m", K_DOUBLE, R(mc.diverged_error_m), 0.0, 1000.0, NULL, OPEN_LO},
@@ -377,6 +378,7 @@ static void raw_defaults(raw *r)
     r->fault_scale = 1.0;
     r->mc.pad_amplitude_min_m = r->mc.pad_amplitude_max_m = (double)NAN;
     r->mc.pad_period_min_s = r->mc.pad_period_max_s = r->mc.gust_std_max_mps = (double)NAN;
+    r->mc.mass_max_rel = (double)NAN;
     r->rho_scale = r->gamma_scale = r->kappa_m_scale = (double)NAN;
     r->mass_kg = 4.0;
     r->inertia = v3_make(0.082, 0.082, 0.149);
@@ -1222,7 +1224,9 @@ void scenario_perturb(scenario *sc, uint64_t seed)
     rng r;
     rng_seed(&r, seed, 100); /* stream 100: the perturbations (the sensors use 1..4) */
     plant_params *p = &sc->plant;
-    const double mass_factor = 1.0 + rng_range(&r, -mc->mass_rel, mc->mass_rel);
+    /* mass_max_rel: the heaviest mass of the run, x the file's mass */
+    const double mass_cap_kg = isnan(mc->mass_max_rel) ? (double)INFINITY : p->mass_kg * (1.0 + mc->mass_max_rel);
+    const double mass_factor = 1.0 + rng_range(&r, -mc->mass_rel, fmin(mc->mass_rel, mc->mass_max_rel));
     p->mass_kg *= mass_factor;
     for (int k = 0; k < p->mass_step_count; k++) {
         p->mass_step_kg[k] *= mass_factor;
@@ -1259,7 +1263,6 @@ void scenario_perturb(scenario *sc, uint64_t seed)
      * scenario without mass_step_rel) are as before */
     if (mc->mass_step_rel > 0.0 && p->mass_step_count < PLANT_MAX_MASS_STEPS) {
         const double t_step = rng_range(&r, mc->mass_step_time_min_s, mc->mass_step_time_max_s);
-        const double factor = 1.0 + rng_range(&r, -mc->mass_step_rel, mc->mass_step_rel);
         /* the mass prevailing at t_step; the steps after it keep their masses */
         int at = 0;
         double mass_before = p->mass_kg;
@@ -1267,6 +1270,8 @@ void scenario_perturb(scenario *sc, uint64_t seed)
             mass_before = p->mass_step_kg[at];
             at++;
         }
+        const double step_max = fmax(-mc->mass_step_rel, fmin(mc->mass_step_rel, mass_cap_kg / mass_before - 1.0));
+        const double factor = 1.0 + rng_range(&r, -mc->mass_step_rel, step_max);
         for (int k = p->mass_step_count; k > at; k--) {
             p->mass_step_time_s[k] = p->mass_step_time_s[k - 1];
             p->mass_step_kg[k] = p->mass_step_kg[k - 1];

@@ -46,6 +46,11 @@ typedef struct montecarlo_params {
      * through the plant's mass filter (4.84); a = mass_step_rel, 0: none */
     double mass_step_rel;
     double mass_step_time_min_s, mass_step_time_max_s;
+    /* the heaviest the drawn masses may be, x (1 + a) the file's mass (NaN: no
+     * bound): caps the upper ends of the mass draw and of the payload step's
+     * (the draws stay uniform on the shortened ranges; the number of draws,
+     * and so every other perturbation of a seed, is unchanged) */
+    double mass_max_rel;
     /* a run has diverged when, after the transient, |z - z_r| exceeds
      * diverged_error_m, or at any time the horizontal distance from the
      * setpoint exceeds diverged_position_m or the tilt diverged_tilt_deg, or an

@@ -420,6 +420,18 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_fsw_pad_vz_mps] = out.pad_est_vz_mps;
             row[SIM_COL_pad_confidence] = out.pad_confidence;
             row[SIM_COL_fsw_pad_period_s] = out.pad_period_s;
+            row[SIM_COL_moment_x_nm] = out.moment_nm[0];
+            row[SIM_COL_moment_y_nm] = out.moment_nm[1];
+            row[SIM_COL_moment_z_nm] = out.moment_nm[2];
+            row[SIM_COL_saturation] = out.allocation_saturation;
+            row[SIM_COL_att_err_x_rad] = out.attitude_error_rad[0];
+            row[SIM_COL_att_err_y_rad] = out.attitude_error_rad[1];
+            row[SIM_COL_att_err_z_rad] = out.attitude_error_rad[2];
+            row[SIM_COL_att_int_x_rad_s] = out.attitude_integral_rad_s[0];
+            row[SIM_COL_att_int_y_rad_s] = out.attitude_integral_rad_s[1];
+            row[SIM_COL_att_int_z_rad_s] = out.attitude_integral_rad_s[2];
+            row[SIM_COL_pos_int_x_mps2] = out.position_integral_mps2[0];
+            row[SIM_COL_pos_int_y_mps2] = out.position_integral_mps2[1];
             trace->rows++;
         }
 

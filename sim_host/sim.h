@@ -50,7 +50,9 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(yaw_deg) X(tilt_deg) X(thrust_cmd_n) X(vertical_force_n) X(u_nom_n) X(u0_av_n) X(rho_n) X(sigma_mps)        \
     X(sigma_tilde_mps) X(theta_kg) X(theta_star_kg) X(adaptation_term_mps2) X(ground_gain) X(mass_kg)             \
     X(gear_clearance_m) X(contact_force_n) X(rotor_thrust_n) X(fsw_z_r_m) X(u_mean) X(u_min) X(u_max)          \
-    X(motors_on) X(status) X(landing_state) X(fsw_gear_height_m) X(fsw_pad_z_m) X(fsw_pad_vz_mps) X(pad_confidence) X(fsw_pad_period_s)
+    X(motors_on) X(status) X(landing_state) X(fsw_gear_height_m) X(fsw_pad_z_m) X(fsw_pad_vz_mps) X(pad_confidence) X(fsw_pad_period_s) \
+    X(moment_x_nm) X(moment_y_nm) X(moment_z_nm) X(saturation) X(att_err_x_rad) X(att_err_y_rad) X(att_err_z_rad) \
+    X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,

@@ -57,6 +57,7 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
     c->integral_rad_s = fc_vec3_zero();
     c->last_moment_nm = fc_vec3_zero();
     c->last_error_rad = fc_vec3_zero();
+    c->integral_hold = 0u;
     c->inertia_diff_kgm2 = fc_vec3_zero();
     c->hold_decay = FC_INT(0, UNIT);
     if (!params_valid(p)) {
@@ -80,6 +81,11 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
 void fc_attitude_control_reset(fc_attitude_control *c)
 {
     c->integral_rad_s = fc_vec3_zero();
+}
+
+void fc_attitude_control_hold_integral(fc_attitude_control *c, bool hold)
+{
+    c->integral_hold = hold ? 1u : 0u;
 }
 
 void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real dt_s, fc_vec3 inertia_kgm2)
@@ -249,17 +255,21 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
             status |= FC_STEP_OUTPUT_LIMITED;
         }
-        /* anti-windup: the allocation's report and this step's own clamp */
+        /* anti-windup: the allocation's report and this step's own clamp; a
+         * hold blocks both directions */
+        const bool hold = c->integral_hold != 0u;
         const uint8_t sat = in->allocation_saturation;
         const fc_vec3 lim = p->integral_limit_rad;
         const fc_real dt = p->dt_s;
-        c->integral_rad_s = fc_vec3_make(
-            integrate_axis(ar, i.x, e.x, dt, ki.x, lim.x, (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x,
-                           (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x),
-            integrate_axis(ar, i.y, e.y, dt, ki.y, lim.y, (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y,
-                           (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y),
-            integrate_axis(ar, i.z, e.z, dt, ki.z, lim.z, (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z,
-                           (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z));
+        const bool roll_pos = hold || (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x;
+        const bool roll_neg = hold || (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x;
+        const bool pitch_pos = hold || (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y;
+        const bool pitch_neg = hold || (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y;
+        const bool yaw_pos = hold || (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z;
+        const bool yaw_neg = hold || (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z;
+        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki.x, lim.x, roll_pos, roll_neg),
+                                         integrate_axis(ar, i.y, e.y, dt, ki.y, lim.y, pitch_pos, pitch_neg),
+                                         integrate_axis(ar, i.z, e.z, dt, ki.z, lim.z, yaw_pos, yaw_neg));
     }
     c->last_moment_nm = moment;
     out->moment_nm = moment;

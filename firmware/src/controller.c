@@ -182,6 +182,31 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     fc_attitude_estimator_default_params(&p->estimator, dt_s);
     fc_attitude_control_default_params(&p->attitude, dt_s, inertia);
     p->attitude.moment_limit_nm = moment_budget_nm(&p->allocation);
+    if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
+        /* One rotor at 80 % leaves a constant moment of 0.2 T_hover x 46 mm
+         * sin 45 deg = 2.4e-4..7.3e-4 N m on roll and pitch (15..46 g), i.e.
+         * d = 14..44 rad/s^2 at Jx = 1.66e-5 kg m^2 (a 4 kg hexa's is ~6). The
+         * defaults (wn = 10, kp = 100, no integral) hold it with a d/kp =
+         * 0.14..0.44 rad error per axis, more than the horizontal integral
+         * (2 m/s^2) takes back: the vehicle flies off (robustness-cf2). With
+         * an integral the tilt left over after a step of d is d/ki (rad s),
+         * the velocity it costs g d/ki. Roll/pitch: wn = 15 rad/s, zeta = 1
+         * (kp = 225, kd = 30), ki = 1200: s^3 (tau s + 1) + kd s^2 + kp s + ki
+         * (the motors' lag tau, 15..45 ms) has the integral's pair at
+         * -4.2 +- 6j and the fast pair at -25 +- 29j (15 ms), -10 +- 25j
+         * (30 ms), -5.4 +- 22j (45 ms; kp = 100's was -5.8 +- 14j there); a
+         * step of d = 28 rad/s^2 peaks at 0.09..0.13 rad (0.28..0.30 with kp =
+         * 100 and no integral). Yaw keeps wn = 5, adds ki = kp wn/5 = 25
+         * (-1.9 +- 0.9j). Bounds: ki I_max = 120 rad/s^2 roll and pitch (26 %
+         * of the budget, 7.8e-3 N m / Jx: while it trims a step the integral
+         * overshoots d/ki, and a bound of 60 cut that short on vehicles that
+         * start heavy), 7.5 rad/s^2 yaw (the weak rotor's torque
+         * 0.2 x 0.112 N x 7 mm = 1.6e-4 N m is 5.3 rad/s^2 at Jz). */
+        p->attitude.kp_per_s2.x = p->attitude.kp_per_s2.y = FC_INT(225, GAIN);
+        p->attitude.kd_per_s.x = p->attitude.kd_per_s.y = FC_INT(30, GAIN);
+        p->attitude.ki_per_s3 = fc_vec3_make(FC_INT(1200, GAIN), FC_INT(1200, GAIN), FC_INT(25, GAIN));
+        p->attitude.integral_limit_rad = fc_vec3_make(FC_C(0.1f, ANGLE), FC_C(0.1f, ANGLE), FC_C(0.3f, ANGLE));
+    }
     /* the 4.4 reference: tau_zr = 0.1 s, z_r_init = 1 m, z_r_bias = 0.18 m */
     p->reference.dt_s = dt_s;
     p->reference.tau_s = FC_C(0.1f, TIME);
@@ -190,16 +215,18 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     fc_altitude_control_variant_params(&p->altitude, variant, dt_s, p->mass_kg);
     thrust_range_n(&p->allocation, &p->altitude.thrust_min_n, &p->altitude.thrust_max_n);
     /* horizontal PID (2.6.4): wn = 1.5 rad/s, zeta = 0.9, a slow integral,
-     * tilt at most 30 deg; no acceleration feedback (k_a = 0) */
+     * tilt at most 30 deg; no acceleration feedback (k_a = 0). The Crazyflie
+     * (position at 100 Hz, 5-11 ms old, its attitude loop at wn = 15):
+     * wn = 2.5 rad/s, which halves the drift after a rotor's step loss */
     fc_position_control_params *h = &p->horizontal;
     h->dt_s = dt_s;
-    h->kp_per_s2 = FC_C(2.25f, RATIO);
-    /* the Crazyflie: a faster integral against the steady tilt of a weak rotor
-     * (its attitude loop has none); the larger airframes, with 40 ms of GNSS
-     * delay and 50 ms motors, keep a slow one (k_I = 1 makes the hexa's position
+    const bool cf2 = airframe == FC_AIRFRAME_CRAZYFLIE2;
+    h->kp_per_s2 = cf2 ? FC_C(6.25f, RATIO) : FC_C(2.25f, RATIO);
+    /* a slow integral for every airframe: the Crazyflie's weak-rotor moment is
+     * trimmed by its attitude integral above (k_I = 1 makes the hexa's position
      * loop oscillate with growing amplitude in the hexa-deck Monte-Carlo) */
-    h->ki_per_s3 = airframe == FC_AIRFRAME_CRAZYFLIE2 ? FC_INT(1, RATIO) : FC_C(0.3f, RATIO);
-    h->kd_per_s = FC_C(2.7f, RATIO);
+    h->ki_per_s3 = FC_C(0.3f, RATIO);
+    h->kd_per_s = cf2 ? FC_C(4.5f, RATIO) : FC_C(2.7f, RATIO);
     h->error_max_m = FC_INT(2, LENGTH);
     h->integral_max_mps2 = FC_INT(2, ACCEL);
     h->accel_max_mps2 = FC_INT(6, ACCEL);
@@ -674,6 +701,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     } else {
         status |= horizontal_step(ctl, in, &tm->attitude_setpoint);
     }
+    /* on the pad (contact being confirmed, the thrust ramp) the feet and not
+     * the moments hold the attitude: the integrals hold their trim */
+    fc_attitude_control_hold_integral(&ctl->attitude, ctl->landing.state == FC_LANDING_TOUCHDOWN ||
+                                                          ctl->landing.state == FC_LANDING_DISARM);
     const fc_attitude_control_input attitude_in = {attitude, tm->attitude_setpoint, estimate.rate_radps,
                                                    fc_vec3_zero(), ctl->last_saturation};
     fc_attitude_control_output attitude_out;

@@ -566,6 +566,45 @@ static fc_step_status step_with(fc_attitude_control *c, dq q, uint8_t sat, fc_at
     return fc_attitude_control_step(c, &in, out);
 }
 
+/* hold_integral: the integrals stay where they are (and still act on the
+ * moment) until released; init clears the hold */
+static void test_integral_hold(void **state)
+{
+    (void)state;
+    fc_attitude_control_params p = hexa_params();
+    p.ki_per_s3 = vec_all(20.0, FC_GAIN_FRAC);
+    p.integral_limit_rad = vec_all(0.05, FC_ANGLE_FRAC);
+    fc_attitude_control c;
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    const ref_params r = ref_from(&p);
+    const dq q = dq_axis_angle(1.0, 1.0, 1.0, 5.0 * kDeg);
+    fc_attitude_control_output out;
+    for (int k = 0; k < 10; k++) {
+        step_with(&c, q, 0u, &out);
+    }
+    const fc_vec3 held = c.integral_rad_s;
+    assert_true(held.x != FC_INT(0, ANGLE) && held.y != FC_INT(0, ANGLE) && held.z != FC_INT(0, ANGLE));
+    fc_attitude_control_hold_integral(&c, true);
+    for (int k = 0; k < 50; k++) {
+        step_with(&c, q, 0u, &out);
+        step_with(&c, dq_axis_angle(1.0, 1.0, 1.0, -5.0 * kDeg), 0u, &out);
+    }
+    assert_true(c.integral_rad_s.x == held.x && c.integral_rad_s.y == held.y && c.integral_rad_s.z == held.z);
+    /* the held integral still acts: at zero error the moment is -J ki I */
+    step_with(&c, dq_make(1.0, 0.0, 0.0, 0.0), 0u, &out);
+    const double m_expect = -r.j[0] * r.ki[0] * D(held.x, FC_ANGLE_FRAC);
+    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], m_expect) + 1e-7);
+    /* released, it integrates again */
+    fc_attitude_control_hold_integral(&c, false);
+    step_with(&c, q, 0u, &out);
+    assert_true(D(c.integral_rad_s.x, FC_ANGLE_FRAC) > D(held.x, FC_ANGLE_FRAC));
+    /* init clears the hold */
+    fc_attitude_control_hold_integral(&c, true);
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    step_with(&c, q, 0u, &out);
+    assert_true(c.integral_rad_s.x != FC_INT(0, ANGLE));
+}
+
 static void test_integral_anti_windup(void **state)
 {
     (void)state;
@@ -954,6 +993,7 @@ int main(void)
         cmocka_unit_test(test_tilt_heading_split),
         cmocka_unit_test(test_short_budget_tilt_first),
         cmocka_unit_test(test_integral_anti_windup),
+        cmocka_unit_test(test_integral_hold),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_matches_reference),
         cmocka_unit_test(test_gyroscopic_term),

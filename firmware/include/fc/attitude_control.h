@@ -59,7 +59,9 @@
  * Anti-windup: I is clamped to +-integral_limit, and an axis does not integrate
  * in a direction its moment cannot go: the allocation reported FC_SAT_<AXIS>_POS
  * (or _NEG) last time, or this step's own moment was clamped in that direction.
- * ki = 0 leaves that axis' integral at zero.
+ * ki = 0 leaves that axis' integral at zero. fc_attitude_control_hold_integral
+ * holds all three where they are (on the ground, where the feet and not the
+ * moments set the attitude); the moment still uses them.
  *
  * Bad input (a quaternion of zero length or not finite, a rate not finite or
  * beyond +-100 rad/s): the step holds the last good moment and lets it decay
@@ -128,6 +130,7 @@ typedef struct fc_attitude_control {
     fc_vec3 integral_rad_s;    /* ANGLE: I, the integral of e (rad s) */
     fc_vec3 last_moment_nm;    /* MOMENT: the last output (held on bad input) */
     fc_vec3 last_error_rad;    /* ANGLE: the last good error (held on bad input) */
+    uint8_t integral_hold;     /* 1: the integrals do not integrate (hold_integral) */
     uint8_t ready;             /* 1 after a successful init */
     fc_arith ar;
 } fc_attitude_control;
@@ -143,6 +146,10 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 
 /* Clears the integrals (e.g. on the ground, before take-off). */
 void fc_attitude_control_reset(fc_attitude_control *c);
+
+/* hold = true: the steps from now on keep the integrals where they are (and
+ * still apply them); false: they integrate again. Cleared by init. */
+void fc_attitude_control_hold_integral(fc_attitude_control *c, bool hold);
 
 /* Gains from the stated bandwidth (the DEFAULT_* above): kp = wn^2, kd = 2 zeta wn
  * per axis, no integral (ki = 0, integral_limit 0.2 rad s), yaw_weight 1,
