@@ -139,6 +139,7 @@ static void add_divergence(cJSON *obj, const sim_metrics *m, const montecarlo_pa
         }
     }
     add_number(obj, "max_position_error_m", m->max_position_error_m);
+    add_number(obj, "settled_position_error_m", m->settled_position_error_m);
 }
 
 static cJSON *record_json(const run_record *r)

@@ -21,7 +21,10 @@ unsigned sim_divergence(const sim_metrics *m, const montecarlo_params *mc)
     if (m->max_abs_error_m > mc->diverged_error_m) {
         reasons |= SIM_DIVERGED_ERROR;
     }
-    if (m->max_position_error_m > mc->diverged_position_m) {
+    /* like the altitude error, judged once the transient is over: an excursion
+     * that comes back (a heavy start trimmed by the integrals) is not a
+     * divergence; max_position_error_m keeps the whole run's */
+    if (m->settled_position_error_m > mc->diverged_position_m) {
         reasons |= SIM_DIVERGED_POSITION;
     }
     if (m->max_tilt_deg > mc->diverged_tilt_deg) {

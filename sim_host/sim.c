@@ -106,6 +106,7 @@ typedef struct acc {
     double touchdown_time, touchdown_speed;
     long bounces;
     double max_position_error;
+    double settled_position_error; /* after the transient */
     long nonfinite_state;
 } acc;
 
@@ -335,6 +336,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         /* for the divergence test of Monte-Carlo runs (sim_divergence) */
         const double position_error = hypot(pl.s.p.x - mission->setpoint_x_m, pl.s.p.y - mission->setpoint_y_m);
         a.max_position_error = position_error > a.max_position_error ? position_error : a.max_position_error;
+        if (t >= transient && position_error > a.settled_position_error) {
+            a.settled_position_error = position_error;
+        }
         if (!isfinite(position_error + pl.s.p.z + pl.s.v.x + pl.s.v.y + pl.s.v.z + r33)) {
             a.nonfinite_state++;
         }
@@ -474,6 +478,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     plant_diagnose(&pl, &d);
     m->final_height_m = d.gear_clearance_m;
     m->max_position_error_m = a.max_position_error;
+    m->settled_position_error_m = a.settled_position_error;
     m->nonfinite_state_steps = (double)a.nonfinite_state;
     res->controller_steps = steps_run;
     res->plant_steps = steps_run * substeps;

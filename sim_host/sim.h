@@ -36,6 +36,7 @@ typedef struct sim_metrics {
     double theta_end_kg, theta_star_end_kg;
     double final_height_m;          /* gear above the pad at the end */
     double max_position_error_m;    /* largest horizontal distance from the setpoint over the run */
+    double settled_position_error_m; /* the same after the transient (the error window's start) */
     double nonfinite_state_steps;   /* controller steps at which the plant's state was not finite */
 } sim_metrics;
 
