@@ -152,8 +152,37 @@ static void landing_defaults(fc_controller_params *p, fc_airframe airframe)
     }
 }
 
-void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
-                                  fc_real dt_s)
+static void attitude_crazyflie_gains(fc_attitude_control_params *a)
+{
+    /* One rotor at 80 % leaves a constant moment of 0.2 T_hover x 46 mm
+     * sin 45 deg = 2.4e-4..7.3e-4 N m on roll and pitch (15..46 g), i.e.
+     * d = 14..44 rad/s^2 at Jx = 1.66e-5 kg m^2 (a 4 kg hexa's is ~6). The
+     * defaults (wn = 10, kp = 100, no integral) hold it with a d/kp =
+     * 0.14..0.44 rad error per axis, more than the horizontal integral
+     * (2 m/s^2) takes back: the vehicle flies off (robustness-cf2). With
+     * an integral the tilt left over after a step of d is d/ki (rad s),
+     * the velocity it costs g d/ki. Roll/pitch: wn = 15 rad/s, zeta = 1
+     * (kp = 225, kd = 30), ki = 1200: s^3 (tau s + 1) + kd s^2 + kp s + ki
+     * (the motors' lag tau, 15..45 ms) has the integral's pair at
+     * -4.2 +- 6j and the fast pair at -25 +- 29j (15 ms), -10 +- 25j
+     * (30 ms), -5.4 +- 22j (45 ms; kp = 100's was -5.8 +- 14j there); a
+     * step of d = 28 rad/s^2 peaks at 0.09..0.13 rad (0.28..0.30 with kp =
+     * 100 and no integral). Yaw keeps wn = 5, adds ki = kp wn/5 = 25
+     * (-1.9 +- 0.9j). Bounds: ki I_max = 120 rad/s^2 roll and pitch (26 %
+     * of the budget, 7.8e-3 N m / Jx: while it trims a step the integral
+     * overshoots d/ki, and a bound of 60 cut that short on vehicles that
+     * start heavy), 7.5 rad/s^2 yaw (the weak rotor's torque
+     * 0.2 x 0.112 N x 7 mm = 1.6e-4 N m is 5.3 rad/s^2 at Jz). */
+    a->kp_per_s2.x = FC_INT(225, GAIN);
+    a->kp_per_s2.y = FC_INT(225, GAIN);
+    a->kd_per_s.x = FC_INT(30, GAIN);
+    a->kd_per_s.y = FC_INT(30, GAIN);
+    a->ki_per_s3 = fc_vec3_make(FC_INT(1200, GAIN), FC_INT(1200, GAIN), FC_INT(25, GAIN));
+    a->integral_limit_rad = fc_vec3_make(FC_C(0.1f, ANGLE), FC_C(0.1f, ANGLE), FC_C(0.3f, ANGLE));
+}
+
+/* The airframe's mass and rotors; returns its inertia (kg m^2). */
+static fc_vec3 airframe_defaults(fc_controller_params *p, fc_airframe airframe)
 {
     fc_vec3 inertia;
     switch (airframe) {
@@ -176,6 +205,13 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
         fc_allocation_preset_hexa_x_4kg(&p->allocation);
         break;
     }
+    return inertia;
+}
+
+void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
+                                  fc_real dt_s)
+{
+    const fc_vec3 inertia = airframe_defaults(p, airframe);
     p->dt_s = dt_s;
     p->gravity_mps2 = FC_C(9.81f, ACCEL);
     p->use_external_attitude = false;
@@ -183,29 +219,7 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     fc_attitude_control_default_params(&p->attitude, dt_s, inertia);
     p->attitude.moment_limit_nm = moment_budget_nm(&p->allocation);
     if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
-        /* One rotor at 80 % leaves a constant moment of 0.2 T_hover x 46 mm
-         * sin 45 deg = 2.4e-4..7.3e-4 N m on roll and pitch (15..46 g), i.e.
-         * d = 14..44 rad/s^2 at Jx = 1.66e-5 kg m^2 (a 4 kg hexa's is ~6). The
-         * defaults (wn = 10, kp = 100, no integral) hold it with a d/kp =
-         * 0.14..0.44 rad error per axis, more than the horizontal integral
-         * (2 m/s^2) takes back: the vehicle flies off (robustness-cf2). With
-         * an integral the tilt left over after a step of d is d/ki (rad s),
-         * the velocity it costs g d/ki. Roll/pitch: wn = 15 rad/s, zeta = 1
-         * (kp = 225, kd = 30), ki = 1200: s^3 (tau s + 1) + kd s^2 + kp s + ki
-         * (the motors' lag tau, 15..45 ms) has the integral's pair at
-         * -4.2 +- 6j and the fast pair at -25 +- 29j (15 ms), -10 +- 25j
-         * (30 ms), -5.4 +- 22j (45 ms; kp = 100's was -5.8 +- 14j there); a
-         * step of d = 28 rad/s^2 peaks at 0.09..0.13 rad (0.28..0.30 with kp =
-         * 100 and no integral). Yaw keeps wn = 5, adds ki = kp wn/5 = 25
-         * (-1.9 +- 0.9j). Bounds: ki I_max = 120 rad/s^2 roll and pitch (26 %
-         * of the budget, 7.8e-3 N m / Jx: while it trims a step the integral
-         * overshoots d/ki, and a bound of 60 cut that short on vehicles that
-         * start heavy), 7.5 rad/s^2 yaw (the weak rotor's torque
-         * 0.2 x 0.112 N x 7 mm = 1.6e-4 N m is 5.3 rad/s^2 at Jz). */
-        p->attitude.kp_per_s2.x = p->attitude.kp_per_s2.y = FC_INT(225, GAIN);
-        p->attitude.kd_per_s.x = p->attitude.kd_per_s.y = FC_INT(30, GAIN);
-        p->attitude.ki_per_s3 = fc_vec3_make(FC_INT(1200, GAIN), FC_INT(1200, GAIN), FC_INT(25, GAIN));
-        p->attitude.integral_limit_rad = fc_vec3_make(FC_C(0.1f, ANGLE), FC_C(0.1f, ANGLE), FC_C(0.3f, ANGLE));
+        attitude_crazyflie_gains(&p->attitude);
     }
     /* the 4.4 reference: tau_zr = 0.1 s, z_r_init = 1 m, z_r_bias = 0.18 m */
     p->reference.dt_s = dt_s;
