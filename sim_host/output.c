@@ -610,7 +610,7 @@ static void print_value(double v, double scale)
 static void print_divergence(const run_record *r)
 {
     const montecarlo_params *mc = &r->sc->montecarlo;
-    printf("diverged: %d of %d runs (|error| > %g m after the transient, position > %g m, tilt > %g deg, "
+    printf("diverged: %d of %d runs (after the transient |error| > %g m or position > %g m; tilt > %g deg, "
            "non-finite state or output):",
            r->diverged_runs, r->runs, mc->diverged_error_m, mc->diverged_position_m, mc->diverged_tilt_deg);
     for (int b = 0; b < SIM_DIVERGED_REASON_COUNT; b++) {
