@@ -540,9 +540,25 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
     }
 }
 
+/* A constraint s c <= e with e >= max(c, 0) leaves every s in [0, 1]: the
+ * cases of interval_constrain that change nothing (c > 0 and e >= c; c <= 0
+ * and e >= 0). The callers test this first and skip the call. */
+static bool never_binds(fc_real c, fc_real e)
+{
+    return e >= fc_max(c, FC_INT(0, RATIO));
+}
+
 static bool interval_feasible(fc_arith *ar, const scale_interval *s)
 {
-    return !s->zero_violates && ratio_compare(ar, s->low, s->high) <= 0;
+    if (s->zero_violates) {
+        return false;
+    }
+    /* low = 0 (its numerator is 0 only as set by interval_full: a bound has
+     * -e > 0): 0 <= high always, high.num >= 0; the product is not needed */
+    if (s->low.num == FC_INT(0, RATIO)) {
+        return true;
+    }
+    return ratio_compare(ar, s->low, s->high) <= 0;
 }
 
 /* The room for the yaw scale b: every rotor v_min <= base_i + b Y_i <= 1. */
@@ -551,8 +567,14 @@ static scale_interval yaw_room(fc_allocation *a, const fc_real *base, const fc_r
     fc_arith *ar = &a->ar;
     scale_interval room = interval_full();
     for (int i = 0; i < a->rotor_count; i++) {
-        interval_constrain(ar, &room, yaw[i], fc_sub(ar, FC_INT(1, RATIO), base[i]));
-        interval_constrain(ar, &room, fc_neg(ar, yaw[i]), fc_sub(ar, base[i], a->rotor[i].v_min));
+        const fc_real up_c = yaw[i], up_e = fc_sub(ar, FC_INT(1, RATIO), base[i]);
+        const fc_real down_c = fc_neg(ar, yaw[i]), down_e = fc_sub(ar, base[i], a->rotor[i].v_min);
+        if (!never_binds(up_c, up_e)) {
+            interval_constrain(ar, &room, up_c, up_e);
+        }
+        if (!never_binds(down_c, down_e)) {
+            interval_constrain(ar, &room, down_c, down_e);
+        }
     }
     return room;
 }
@@ -633,9 +655,12 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
     uint8_t saturation = normalise_demand(a, thrust_n, moment_nm, x);
 
     /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
-    fc_real roll_pitch[FC_MAX_ROTORS] = {0};
+    /* entries 0..n-1 written below, only those read; roll_pitch and
+     * thrust_part not zero-initialised (a memset each, every step), yaw is
+     * for -fanalyzer (loop widening in yaw_room) */
+    fc_real roll_pitch[FC_MAX_ROTORS];
     fc_real yaw[FC_MAX_ROTORS] = {0};
-    fc_real thrust_part[FC_MAX_ROTORS] = {0}; /* x_0 P_i0, kept for step 2 */
+    fc_real thrust_part[FC_MAX_ROTORS]; /* x_0 P_i0, kept for step 2 */
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         roll_pitch[i] =
@@ -665,8 +690,11 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
             }
             for (int i = 0; i < n; i++) {
                 if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
-                    interval_constrain(ar, &fit, fc_sub(ar, shift_rate[j], shift_rate[i]),
-                                       fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low));
+                    const fc_real c = fc_sub(ar, shift_rate[j], shift_rate[i]);
+                    const fc_real e = fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low);
+                    if (!never_binds(c, e)) {
+                        interval_constrain(ar, &fit, c, e);
+                    }
                 }
             }
         }

@@ -175,7 +175,7 @@ static fc_real model_value(fc_arith *ar, unsigned n, const fc_real *theta, const
 static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k)
 {
     fc_arith *ar = &pm->ar;
-    fc_real phi[FC_PAD_MAX_PARAMS] = {0};
+    fc_real phi[FC_PAD_MAX_PARAMS];
     regressor(pm, sin_k, cos_k, phi);
     fc_vertical_trajectory t;
     t.z_m = model_value(ar, pm->n, pm->theta, phi);
@@ -246,7 +246,7 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = pm->n;
-    fc_real s_phi[FC_PAD_MAX_PARAMS] = {0}; /* MAT: S phi (= (phi' S)' as S is symmetric) */
+    fc_real s_phi[FC_PAD_MAX_PARAMS]; /* MAT: S phi (= (phi' S)' as S is symmetric) */
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
         fc_acc acc = fc_acc_zero();
@@ -263,7 +263,7 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
         fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
                fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
     const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
-    fc_real gain[FC_PAD_MAX_PARAMS] = {0}; /* MAT */
+    fc_real gain[FC_PAD_MAX_PARAMS]; /* MAT */
     for (unsigned i = 0u; i < n; i++) {
         gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
         pm->theta[i] = fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
@@ -322,7 +322,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
         restart_from(pm, height_m);
         return FC_STEP_OK;
     }
-    fc_real phi[FC_PAD_MAX_PARAMS] = {0};
+    fc_real phi[FC_PAD_MAX_PARAMS];
     regressor(pm, pm->phase_sin, pm->phase_cos, phi);
     const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta, phi));
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
@@ -341,7 +341,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
                                     FC_SHIFT(UNIT, LENGTH, LENGTH));
         pm->error_mean_m = fc_add(ar, pm->error_mean_m, step);
     }
-    fc_real amplitude_before[2u * FC_PAD_MAX_MODES] = {0};
+    fc_real amplitude_before[2u * FC_PAD_MAX_MODES];
     for (unsigned i = 0u; i + 1u < pm->n; i++) {
         amplitude_before[i] = pm->theta[1u + i];
     }
