@@ -184,19 +184,24 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real 
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
         /* z' = w (a cos - b sin),  z'' = -w^2 (a sin + b cos) */
-        const fc_real rate_part = fc_dot2(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
-        const fc_real accel_part = fc_dot2(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
-        t.vz_mps = fc_add(ar, t.vz_mps, fc_mul(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
-        t.az_mps2 = fc_sub(ar, t.az_mps2, fc_mul(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+        const fc_real rate_part =
+            fc_dot2_inline(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        const fc_real accel_part = fc_dot2_inline(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        t.vz_mps =
+            fc_add(ar, t.vz_mps, fc_mul_inline(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
+        t.az_mps2 =
+            fc_sub(ar, t.az_mps2, fc_mul_inline(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
     }
     return t;
 }
 
 /* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). */
+/* (this and the model below run for every mode several times a step: their
+ * products inlined on the ATmega too, fc_dot2_inline, fc/scalar.h) */
 static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 {
-    const fc_real s_new = fc_dot2(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
-    const fc_real c_new = fc_dot2(ar, *c, rc, fc_neg(ar, *s), rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real s_new = fc_dot2_inline(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real c_new = fc_dot2_inline(ar, *c, rc, fc_neg(ar, *s), rs, FC_SHIFT(UNIT, UNIT, UNIT));
     *s = s_new;
     *c = c_new;
 }
@@ -208,13 +213,13 @@ static void advance_phases(fc_pad_motion *pm)
     fc_arith *ar = &pm->ar;
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         rotate(ar, &pm->phase_sin[k], &pm->phase_cos[k], pm->step_cos[k], pm->step_sin[k]);
-        const fc_real norm_sq = fc_dot2(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k], pm->phase_cos[k],
-                                        FC_SHIFT(UNIT, UNIT, UNIT));
+        const fc_real norm_sq = fc_dot2_inline(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k],
+                                               pm->phase_cos[k], FC_SHIFT(UNIT, UNIT, UNIT));
         const fc_real factor =
             fc_add(ar, FC_INT(1, UNIT),
                    fc_mul(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq), FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
-        pm->phase_sin[k] = fc_mul(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
-        pm->phase_cos[k] = fc_mul(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        pm->phase_sin[k] = fc_mul_inline(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        pm->phase_cos[k] = fc_mul_inline(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
     }
 }
 
