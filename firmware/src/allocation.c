@@ -579,6 +579,30 @@ static scale_interval yaw_room(fc_allocation *a, const fc_real *base, const fc_r
     return room;
 }
 
+/* The largest roll/pitch scale a in [0, 1] for which some collective fits
+ * every rotor with no yaw: a (s_j - s_i) <= high_j - low_i for every pair of
+ * shifting rotors of the n, s_i = shift_rate[i] (allocate_linear, step 3). */
+static fc_real roll_pitch_room(fc_allocation *a, int n, const fc_real *shift_rate)
+{
+    fc_arith *ar = &a->ar;
+    scale_interval fit = interval_full();
+    for (int j = 0; j < n; j++) {
+        if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
+            continue;
+        }
+        for (int i = 0; i < n; i++) {
+            if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
+                const fc_real c = fc_sub(ar, shift_rate[j], shift_rate[i]);
+                const fc_real e = fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low);
+                if (!never_binds(c, e)) {
+                    interval_constrain(ar, &fit, c, e);
+                }
+            }
+        }
+    }
+    return ratio_unit(ar, fit.high);
+}
+
 /* The FC_SAT_* bit of a row (0 F_z, 1 M_x, 2 M_y, 3 M_z) short in the positive
  * (demand above what was given) or negative direction. */
 static uint8_t sat_bit(int row, bool positive)
@@ -683,22 +707,7 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
             shift_rate[i] =
                 fc_mul(ar, a->rotor[i].shift_gain, roll_pitch[i], FC_SHIFT(RATIO, RATIO, RATIO));
         }
-        scale_interval fit = interval_full();
-        for (int j = 0; j < n; j++) {
-            if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
-                continue;
-            }
-            for (int i = 0; i < n; i++) {
-                if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
-                    const fc_real c = fc_sub(ar, shift_rate[j], shift_rate[i]);
-                    const fc_real e = fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low);
-                    if (!never_binds(c, e)) {
-                        interval_constrain(ar, &fit, c, e);
-                    }
-                }
-            }
-        }
-        roll_pitch_scale = ratio_unit(ar, fit.high);
+        roll_pitch_scale = roll_pitch_room(a, n, shift_rate);
 
         /* 2. then the collective: the demand clamped to the interval that fits a R */
         fc_real t_low = FC_REAL_MIN;
