@@ -696,7 +696,6 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
 
     /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
     scale_interval room = yaw_room(a, v, yaw);
-    fc_real roll_pitch_scale = FC_INT(1, UNIT);
     if (!interval_feasible(ar, &room)) {
         /* 3. roll/pitch last: the largest a in [0, 1] for which some t fits
          * every rotor with no yaw. Rotor i bounds t to [low_i - a s_i,
@@ -707,7 +706,7 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
             shift_rate[i] =
                 fc_mul(ar, a->rotor[i].shift_gain, roll_pitch[i], FC_SHIFT(RATIO, RATIO, RATIO));
         }
-        roll_pitch_scale = roll_pitch_room(a, n, shift_rate);
+        const fc_real roll_pitch_scale = roll_pitch_room(a, n, shift_rate);
 
         /* 2. then the collective: the demand clamped to the interval that fits a R */
         fc_real t_low = FC_REAL_MIN;
