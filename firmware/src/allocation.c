@@ -540,9 +540,25 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
     }
 }
 
+/* A constraint s c <= e with e >= max(c, 0) leaves every s in [0, 1]: the
+ * cases of interval_constrain that change nothing (c > 0 and e >= c; c <= 0
+ * and e >= 0). The callers test this first and skip the call. */
+static bool never_binds(fc_real c, fc_real e)
+{
+    return e >= fc_max(c, FC_INT(0, RATIO));
+}
+
 static bool interval_feasible(fc_arith *ar, const scale_interval *s)
 {
-    return !s->zero_violates && ratio_compare(ar, s->low, s->high) <= 0;
+    if (s->zero_violates) {
+        return false;
+    }
+    /* low = 0 (its numerator is 0 only as set by interval_full: a bound has
+     * -e > 0): 0 <= high always, high.num >= 0; the product is not needed */
+    if (s->low.num == FC_INT(0, RATIO)) {
+        return true;
+    }
+    return ratio_compare(ar, s->low, s->high) <= 0;
 }
 
 /* The room for the yaw scale b: every rotor v_min <= base_i + b Y_i <= 1. */
@@ -551,10 +567,40 @@ static scale_interval yaw_room(fc_allocation *a, const fc_real *base, const fc_r
     fc_arith *ar = &a->ar;
     scale_interval room = interval_full();
     for (int i = 0; i < a->rotor_count; i++) {
-        interval_constrain(ar, &room, yaw[i], fc_sub(ar, FC_INT(1, RATIO), base[i]));
-        interval_constrain(ar, &room, fc_neg(ar, yaw[i]), fc_sub(ar, base[i], a->rotor[i].v_min));
+        const fc_real up_c = yaw[i], up_e = fc_sub(ar, FC_INT(1, RATIO), base[i]);
+        const fc_real down_c = fc_neg(ar, yaw[i]), down_e = fc_sub(ar, base[i], a->rotor[i].v_min);
+        if (!never_binds(up_c, up_e)) {
+            interval_constrain(ar, &room, up_c, up_e);
+        }
+        if (!never_binds(down_c, down_e)) {
+            interval_constrain(ar, &room, down_c, down_e);
+        }
     }
     return room;
+}
+
+/* The largest roll/pitch scale a in [0, 1] for which some collective fits
+ * every rotor with no yaw: a (s_j - s_i) <= high_j - low_i for every pair of
+ * shifting rotors of the n, s_i = shift_rate[i] (allocate_linear, step 3). */
+static fc_real roll_pitch_room(fc_allocation *a, int n, const fc_real *shift_rate)
+{
+    fc_arith *ar = &a->ar;
+    scale_interval fit = interval_full();
+    for (int j = 0; j < n; j++) {
+        if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
+            continue;
+        }
+        for (int i = 0; i < n; i++) {
+            if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
+                const fc_real c = fc_sub(ar, shift_rate[j], shift_rate[i]);
+                const fc_real e = fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low);
+                if (!never_binds(c, e)) {
+                    interval_constrain(ar, &fit, c, e);
+                }
+            }
+        }
+    }
+    return ratio_unit(ar, fit.high);
 }
 
 /* The FC_SAT_* bit of a row (0 F_z, 1 M_x, 2 M_y, 3 M_z) short in the positive
@@ -633,9 +679,12 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
     uint8_t saturation = normalise_demand(a, thrust_n, moment_nm, x);
 
     /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
-    fc_real roll_pitch[FC_MAX_ROTORS] = {0};
+    /* entries 0..n-1 written below, only those read; roll_pitch and
+     * thrust_part not zero-initialised (a memset each, every step), yaw is
+     * for -fanalyzer (loop widening in yaw_room) */
+    fc_real roll_pitch[FC_MAX_ROTORS];
     fc_real yaw[FC_MAX_ROTORS] = {0};
-    fc_real thrust_part[FC_MAX_ROTORS] = {0}; /* x_0 P_i0, kept for step 2 */
+    fc_real thrust_part[FC_MAX_ROTORS]; /* x_0 P_i0, kept for step 2 */
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         roll_pitch[i] =
@@ -647,7 +696,6 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
 
     /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
     scale_interval room = yaw_room(a, v, yaw);
-    fc_real roll_pitch_scale = FC_INT(1, UNIT);
     if (!interval_feasible(ar, &room)) {
         /* 3. roll/pitch last: the largest a in [0, 1] for which some t fits
          * every rotor with no yaw. Rotor i bounds t to [low_i - a s_i,
@@ -658,19 +706,7 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
             shift_rate[i] =
                 fc_mul(ar, a->rotor[i].shift_gain, roll_pitch[i], FC_SHIFT(RATIO, RATIO, RATIO));
         }
-        scale_interval fit = interval_full();
-        for (int j = 0; j < n; j++) {
-            if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
-                continue;
-            }
-            for (int i = 0; i < n; i++) {
-                if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
-                    interval_constrain(ar, &fit, fc_sub(ar, shift_rate[j], shift_rate[i]),
-                                       fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low));
-                }
-            }
-        }
-        roll_pitch_scale = ratio_unit(ar, fit.high);
+        const fc_real roll_pitch_scale = roll_pitch_room(a, n, shift_rate);
 
         /* 2. then the collective: the demand clamped to the interval that fits a R */
         fc_real t_low = FC_REAL_MIN;

@@ -108,6 +108,7 @@ int main(void)
     printf("bench_m4 (%s): %s, step status bits 0x%04x\n", FC_NUMERIC_FIXED ? "fixed" : "float",
            rc == 0 ? "done" : "fc_controller_init failed", (unsigned)status);
     printf("STACK %lu\n", (unsigned long)peak);
+    printf("DIGEST 0x%08lx (rotor speeds, thrust, moments of the timed steps)\n", (unsigned long)bench_digest);
 #if BENCH_DWT
     printf("DWT fc_controller_step %lu %lu cycles min max\n", (unsigned long)bench_dwt_min,
            (unsigned long)bench_dwt_max);

@@ -377,16 +377,27 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift);
 
+/* fc_mul and fc_dot2 inlined even in a compact unit: for the few sites of a
+ * compact unit that run many times a step (pad motion's phase rotations and
+ * model), where the call, its register saves and the run-time shift cost
+ * more than the flash of the inlined product (~200 cycles a call on the
+ * ATmega). The same values as fc_mul / fc_dot2 (atmega.scalar_equivalence:
+ * the outlined products against these). */
+FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
+    }
+    return fc_fx_narrow(ar, (int64_t)a * b, shift);
+}
+
 /* a * b >> shift, rounded, saturated. */
 FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
 #if defined(FC_SCALAR_COMPACT)
     return fc_fx_mul_outline(ar, a, b, shift);
 #endif
-    if (shift > 0 && shift < 32) {
-        return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
-    }
-    return fc_fx_narrow(ar, (int64_t)a * b, shift);
+    return fc_mul_inline(ar, a, b, shift);
 }
 
 /* A sum of products (up to four, each below 2^62 in magnitude) narrowed by
@@ -405,16 +416,21 @@ FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int6
 
 /* a0*b0 + a1*b1 (+ ...) >> shift with one rounding: the dot products of the
  * vector and quaternion code accumulate in 64 bits. */
+FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
+    }
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
+}
+
 FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
 #if defined(FC_SCALAR_COMPACT)
     return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
 #endif
-    if (shift > 0 && shift < 32) {
-        return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
-    }
-    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
+    return fc_dot2_inline(ar, a0, b0, a1, b1, shift);
 }
 
 FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
@@ -572,6 +588,17 @@ static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, 
     (void)ar;
     (void)shift;
     return a0 * b0 + a1 * b1 + a2 * b2;
+}
+
+/* (the fixed backend's products inlined in compact units: here fc_mul and fc_dot2) */
+static inline fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    return fc_mul(ar, a, b, shift);
+}
+
+static inline fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    return fc_dot2(ar, a0, b0, a1, b1, shift);
 }
 
 static inline fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,

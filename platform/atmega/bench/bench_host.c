@@ -277,6 +277,12 @@ int main(int argc, char **argv)
         }
     }
     printf("STACK %u\n", (unsigned)(avr->ramend - min_sp));
+    uint32_t digest_addr = 0;
+    if (elf_symbol(elf_path, "bench_digest_out", &digest_addr)) {
+        const uint8_t *d = &avr->data[digest_addr & 0xFFFFu];
+        printf("DIGEST 0x%08lx (rotor speeds, thrust, moments of the timed steps)\n",
+               (unsigned long)((uint32_t)d[0] | (uint32_t)d[1] << 8 | (uint32_t)d[2] << 16 | (uint32_t)d[3] << 24));
+    }
     printf("RESULT 0x%04x after %llu cycles (%s)\n", result, (unsigned long long)avr->cycle,
            state == cpu_Done ? "done" : state == cpu_Crashed ? "crashed" : "cycle limit");
     bool ok = state == cpu_Done && (result & 0x8000u) && phase == 2;

@@ -8,7 +8,9 @@
  * shift 1..31 as a compile-time constant (what the library uses) and through
  * a run-time shift (a shift passed to a function that is not inlined).
  * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
- * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert;
+ * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert
+ * (fc_mul and fc_dot2 of this non-compact unit are fc_mul_inline and
+ * fc_dot2_inline, the products compact units inline at their hot sites);
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) against the
