@@ -185,23 +185,24 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real 
         const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
         /* z' = w (a cos - b sin),  z'' = -w^2 (a sin + b cos) */
         const fc_real rate_part =
-            fc_dot2_inline(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
-        const fc_real accel_part = fc_dot2_inline(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+            fc_dot2(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        const fc_real accel_part = fc_dot2(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
         t.vz_mps =
-            fc_add(ar, t.vz_mps, fc_mul_inline(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
+            fc_add(ar, t.vz_mps, fc_mul(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
         t.az_mps2 =
-            fc_sub(ar, t.az_mps2, fc_mul_inline(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+            fc_sub(ar, t.az_mps2, fc_mul(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
     }
     return t;
 }
 
-/* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). */
-/* (this and the model below run for every mode several times a step: their
- * products inlined on the ATmega too, fc_dot2_inline, fc/scalar.h) */
+/* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). (On the
+ * ATmega this unit's products stay out of line, FC_SCALAR_COMPACT: inlining
+ * them, fc_mul_inline, saves ~9k cycles on a range sample but takes 6.8 KB,
+ * more than the flash the bootloader leaves.) */
 static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 {
-    const fc_real s_new = fc_dot2_inline(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
-    const fc_real c_new = fc_dot2_inline(ar, *c, rc, fc_neg(ar, *s), rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real s_new = fc_dot2(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real c_new = fc_dot2(ar, *c, rc, fc_neg(ar, *s), rs, FC_SHIFT(UNIT, UNIT, UNIT));
     *s = s_new;
     *c = c_new;
 }
@@ -213,13 +214,13 @@ static void advance_phases(fc_pad_motion *pm)
     fc_arith *ar = &pm->ar;
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         rotate(ar, &pm->phase_sin[k], &pm->phase_cos[k], pm->step_cos[k], pm->step_sin[k]);
-        const fc_real norm_sq = fc_dot2_inline(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k],
+        const fc_real norm_sq = fc_dot2(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k],
                                                pm->phase_cos[k], FC_SHIFT(UNIT, UNIT, UNIT));
         const fc_real factor =
             fc_add(ar, FC_INT(1, UNIT),
                    fc_mul(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq), FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
-        pm->phase_sin[k] = fc_mul_inline(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
-        pm->phase_cos[k] = fc_mul_inline(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        pm->phase_sin[k] = fc_mul(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        pm->phase_cos[k] = fc_mul(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
     }
 }
 
@@ -270,13 +271,12 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
     const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
     fc_real gain[FC_PAD_MAX_PARAMS]; /* MAT */
     for (unsigned i = 0u; i < n; i++) {
-        gain[i] = fc_mul_inline(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
+        gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
         pm->theta[i] =
-            fc_add(ar, pm->theta[i], fc_mul_inline(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
+            fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
     }
-    /* S = (S - g phi' S) / lambda, the upper triangle mirrored (its products
-     * inlined on the ATmega: 2 n (n + 1) / 2 = 56 of them for 3 modes, on
-     * every sample, fc_mul_inline); no inflation
+    /* S = (S - g phi' S) / lambda, the upper triangle mirrored (2 n (n + 1) / 2
+     * = 56 products for 3 modes, on every sample); no inflation
      * while trace(S) is above its bound (a scratch sum: past the format is past the bound) */
     fc_arith scratch = {0u};
     fc_real trace = FC_INT(0, MAT);
@@ -286,9 +286,9 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
     const bool inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
     for (unsigned i = 0u; i < n; i++) {
         for (unsigned j = i; j < n; j++) {
-            fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
+            fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
             if (inflate) {
-                sij = fc_add(ar, sij, fc_mul_inline(ar, sij, pm->inflation, FC_SHIFT(MAT, UNIT, MAT)));
+                sij = fc_add(ar, sij, fc_mul(ar, sij, pm->inflation, FC_SHIFT(MAT, UNIT, MAT)));
             }
             pm->s[i][j] = sij;
             pm->s[j][i] = sij;
