@@ -63,45 +63,24 @@ static int prof_cmp_cycles(const void *a, const void *b)
     return x->cycles > y->cycles ? -1 : x->cycles < y->cycles;
 }
 
-/* Every FUNC symbol of the ELF with a size, sorted by address. */
+static void prof_add(const char *name, uint32_t addr, uint32_t size, void *user)
+{
+    (void)user;
+    if (g_nfuncs < MAX_FUNCS) {
+        prof_fn *f = &g_funcs[g_nfuncs++];
+        f->name = strdup(name);
+        f->addr = addr;
+        f->size = size;
+    }
+}
+
+/* Every code symbol of the ELF (sim_code_symbols), sorted by address; an
+ * assembly label without a size extends to the next symbol. */
 static bool prof_load(const char *path)
 {
-    const int fd = open(path, O_RDONLY);
-    if (fd < 0) {
+    if (!sim_code_symbols(path, prof_add, NULL)) {
         return false;
     }
-    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
-    Elf_Scn *scn = NULL;
-    while (elf != NULL && (scn = elf_nextscn(elf, scn)) != NULL) {
-        GElf_Shdr sh;
-        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
-            continue;
-        }
-        Elf_Data *data = elf_getdata(scn, NULL);
-        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
-        for (size_t i = 0; data != NULL && i < n && g_nfuncs < MAX_FUNCS; i++) {
-            GElf_Sym sym;
-            /* functions, and the untyped labels of libgcc's assembly routines
-             * (no type, no size: they extend to the next symbol) */
-            if (gelf_getsym(data, (int)i, &sym) == NULL ||
-                (GELF_ST_TYPE(sym.st_info) != STT_FUNC && GELF_ST_TYPE(sym.st_info) != STT_NOTYPE) ||
-                sym.st_shndx == SHN_UNDEF || sym.st_shndx >= SHN_LORESERVE || sym.st_value >= 0x800000u) {
-                continue;
-            }
-            const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
-            if (s == NULL || s[0] == '\0' || (GELF_ST_TYPE(sym.st_info) == STT_NOTYPE && s[0] == '.')) {
-                continue;
-            }
-            prof_fn *f = &g_funcs[g_nfuncs++];
-            f->name = strdup(s);
-            f->addr = (uint32_t)sym.st_value;
-            f->size = (uint32_t)sym.st_size;
-        }
-    }
-    if (elf != NULL) {
-        elf_end(elf);
-    }
-    close(fd);
     qsort(g_funcs, g_nfuncs, sizeof g_funcs[0], prof_cmp_addr);
     for (unsigned i = 0; i < g_nfuncs; i++) {
         if (g_funcs[i].size == 0u) {

@@ -398,53 +398,28 @@ static int func_cmp(const void *a, const void *b)
     return x->addr < y->addr ? -1 : x->addr > y->addr;
 }
 
+static void add_function(const char *name, uint32_t addr, uint32_t size, void *user)
+{
+    size_t *capacity = user;
+    if (g_nfuncs == *capacity) {
+        const size_t grown = *capacity ? 2 * *capacity : 256;
+        func *more = realloc(g_funcs, grown * sizeof *g_funcs);
+        if (more == NULL) {
+            return;
+        }
+        g_funcs = more;
+        *capacity = grown;
+    }
+    g_funcs[g_nfuncs] = (func){addr, size, strdup(name), 0, 0};
+    g_nfuncs++;
+}
+
+/* The image's code symbols (sim_code_symbols), sorted by address. */
 static void load_functions(const char *path)
 {
-    const int fd = open(path, O_RDONLY);
-    if (fd < 0) {
-        return;
-    }
-    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
-    Elf_Scn *scn = NULL;
-    while (elf != NULL && (scn = elf_nextscn(elf, scn)) != NULL) {
-        GElf_Shdr sh;
-        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
-            continue;
-        }
-        Elf_Data *data = elf_getdata(scn, NULL);
-        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
-        g_funcs = calloc(n + 1, sizeof *g_funcs);
-        for (size_t i = 0; data != NULL && g_funcs != NULL && i < n; i++) {
-            GElf_Sym sym;
-            if (gelf_getsym(data, (int)i, &sym) == NULL) {
-                continue;
-            }
-            /* C functions, and libgcc's assembler routines (untyped globals
-             * in code: __mulsidi3, __ashrdi3, __udivmod64, ...) */
-            const int type = GELF_ST_TYPE(sym.st_info), bind = GELF_ST_BIND(sym.st_info);
-            bool code = type == STT_FUNC;
-            if (!code && type == STT_NOTYPE && bind != STB_LOCAL && sym.st_shndx != SHN_UNDEF &&
-                sym.st_shndx < SHN_LORESERVE) {
-                Elf_Scn *in = elf_getscn(elf, sym.st_shndx);
-                GElf_Shdr ish;
-                code = in != NULL && gelf_getshdr(in, &ish) != NULL && (ish.sh_flags & SHF_EXECINSTR) != 0;
-            }
-            if (!code) {
-                continue;
-            }
-            const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
-            g_funcs[g_nfuncs].addr = (uint32_t)sym.st_value;
-            g_funcs[g_nfuncs].size = (uint32_t)sym.st_size;
-            g_funcs[g_nfuncs].name = strdup(s != NULL ? s : "?");
-            g_nfuncs++;
-        }
-    }
+    size_t capacity = 0;
+    (void)sim_code_symbols(path, add_function, &capacity);
     qsort(g_funcs, g_nfuncs, sizeof *g_funcs, func_cmp);
-    /* elf_end would free the strings' table: they were copied */
-    if (elf != NULL) {
-        elf_end(elf);
-    }
-    close(fd);
 }
 
 static func *func_at(uint32_t pc)

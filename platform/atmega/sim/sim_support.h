@@ -56,6 +56,53 @@ static bool elf_symbol(const char *path, const char *name, uint32_t *value)
     return found;
 }
 
+/* visit(name, address, size, user) for every code symbol of the ELF at path:
+ * C functions, and the untyped global labels of libgcc's assembly routines
+ * (__mulsidi3, __udivmod64, ...: no type and size 0, in an executable
+ * section). For the profilers of avr_loop_test and avr_bench. */
+typedef void (*sim_code_symbol_fn)(const char *name, uint32_t addr, uint32_t size, void *user);
+
+static inline bool sim_code_symbols(const char *path, sim_code_symbol_fn visit, void *user)
+{
+    const int fd = open(path, O_RDONLY);
+    if (fd < 0) {
+        return false;
+    }
+    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
+    Elf_Scn *scn = NULL;
+    while (elf != NULL && (scn = elf_nextscn(elf, scn)) != NULL) {
+        GElf_Shdr sh;
+        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
+            continue;
+        }
+        Elf_Data *data = elf_getdata(scn, NULL);
+        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
+        for (size_t i = 0; data != NULL && i < n; i++) {
+            GElf_Sym sym;
+            if (gelf_getsym(data, (int)i, &sym) == NULL || sym.st_shndx == SHN_UNDEF ||
+                sym.st_shndx >= SHN_LORESERVE) {
+                continue;
+            }
+            const int type = GELF_ST_TYPE(sym.st_info);
+            bool code = type == STT_FUNC;
+            if (!code && type == STT_NOTYPE && GELF_ST_BIND(sym.st_info) != STB_LOCAL) {
+                Elf_Scn *in = elf_getscn(elf, sym.st_shndx);
+                GElf_Shdr ish;
+                code = in != NULL && gelf_getshdr(in, &ish) != NULL && (ish.sh_flags & SHF_EXECINSTR) != 0;
+            }
+            const char *s = code ? elf_strptr(elf, sh.sh_link, sym.st_name) : NULL;
+            if (s != NULL && s[0] != '\0') {
+                visit(s, (uint32_t)sym.st_value, (uint32_t)sym.st_size, user);
+            }
+        }
+    }
+    if (elf != NULL) {
+        elf_end(elf);
+    }
+    close(fd);
+    return true;
+}
+
 /* simavr's raw mode sleeps in real time while the AVR sleeps: not here */
 static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
 {
