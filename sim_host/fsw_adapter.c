@@ -13,6 +13,7 @@
 
 #include "fc/controller.h"
 #include "fsw_adapter.h"
+#include "pil_wire.h" /* platform/atmega/pil: the loop internals, the PIL wire */
 
 #ifndef FSW_BACKEND
 #error "FSW_BACKEND (float or fixed) must be defined"
@@ -52,17 +53,15 @@ static void scale(fc_real *field, double factor, int frac)
     }
 }
 
-static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, size_t err_len)
+/* The firmware's parameters for cfg: its defaults, then the overrides. A
+ * field overridden here must also be in the PIL wire's listing
+ * (platform/atmega/pil/pil_wire.c), which carries it to the ATmega image. */
+static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, char *err, size_t err_len)
 {
     if (cfg->airframe < 0 || cfg->airframe >= (int)FC_AIRFRAME_COUNT || cfg->variant < 0 ||
         cfg->variant >= (int)FC_ALT_VARIANT_COUNT || !(cfg->dt_s > 0.0)) {
         snprintf(err, err_len, "bad airframe, variant or step");
-        return NULL;
-    }
-    fc_controller *ctl = malloc(sizeof *ctl);
-    if (ctl == NULL) {
-        snprintf(err, err_len, "out of memory");
-        return NULL;
+        return false;
     }
     fc_controller_params p;
     fc_controller_default_params(&p, (fc_airframe)cfg->airframe, (fc_altitude_variant)cfg->variant,
@@ -99,31 +98,58 @@ static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, si
     override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
     override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
     override(&p.landing.confidence_start, cfg->landing_confidence_start, FC_UNIT_FRAC);
+    *out = p;
+    return true;
+}
 
-    const fc_init_result r = fc_controller_init(ctl, &p);
+static bool init_succeeded(fc_init_result r, char *err, size_t err_len)
+{
     if (r != FC_INIT_OK) {
         snprintf(err, err_len, "fc_controller_init failed (%s)",
                  r == FC_INIT_RANK_DEFICIENT ? "rank-deficient rotor geometry" : "a parameter out of range");
+    }
+    return r == FC_INIT_OK;
+}
+
+/* What the simulator is told of the configuration. */
+static void info_of(const fc_controller_params *params, fsw_info *info)
+{
+    if (info != NULL) {
+        info->mass_kg = FROM_FC(params->mass_kg, MASS);
+        info->theta0_kg = FROM_FC(params->altitude.theta0_kg, MASS);
+        /* the projection bounds of Theta (4.15): [m_min / k_g_max, m_max] */
+        info->theta_min_kg =
+            FROM_FC(params->altitude.mass_min_kg, MASS) / FROM_FC(params->altitude.ground_gain_max, RATIO);
+        info->theta_max_kg = FROM_FC(params->altitude.mass_max_kg, MASS);
+        info->thrust_min_n = FROM_FC(params->altitude.thrust_min_n, FORCE);
+        info->thrust_max_n = FROM_FC(params->altitude.thrust_max_n, FORCE);
+        info->ground_gain_max = FROM_FC(params->altitude.ground_gain_max, RATIO);
+        info->ref_tau_s = FROM_FC(params->reference.tau_s, TIME);
+        info->ref_offset_init_m = FROM_FC(params->reference.offset_init_m, LENGTH);
+        info->ref_bias_m = FROM_FC(params->reference.bias_m, LENGTH);
+        info->rho_n = FROM_FC(params->altitude.rho_n, FORCE);
+        info->gamma = FROM_FC(params->altitude.gamma, GAIN);
+        info->rotor_count = params->allocation.rotor_count;
+        info->state_bytes = sizeof(fc_controller);
+    }
+}
+
+static void *adapter_create(const fsw_config *cfg, fsw_info *info, char *err, size_t err_len)
+{
+    fc_controller_params p;
+    if (!params_of_config(cfg, &p, err, err_len)) {
+        return NULL;
+    }
+    fc_controller *ctl = malloc(sizeof *ctl);
+    if (ctl == NULL) {
+        snprintf(err, err_len, "out of memory");
+        return NULL;
+    }
+    if (!init_succeeded(fc_controller_init(ctl, &p), err, err_len)) {
         free(ctl);
         return NULL;
     }
-    if (info != NULL) {
-        info->mass_kg = FROM_FC(p.mass_kg, MASS);
-        info->theta0_kg = FROM_FC(p.altitude.theta0_kg, MASS);
-        /* the projection bounds of Theta (4.15): [m_min / k_g_max, m_max] */
-        info->theta_min_kg = FROM_FC(p.altitude.mass_min_kg, MASS) / FROM_FC(p.altitude.ground_gain_max, RATIO);
-        info->theta_max_kg = FROM_FC(p.altitude.mass_max_kg, MASS);
-        info->thrust_min_n = FROM_FC(p.altitude.thrust_min_n, FORCE);
-        info->thrust_max_n = FROM_FC(p.altitude.thrust_max_n, FORCE);
-        info->ground_gain_max = FROM_FC(p.altitude.ground_gain_max, RATIO);
-        info->ref_tau_s = FROM_FC(p.reference.tau_s, TIME);
-        info->ref_offset_init_m = FROM_FC(p.reference.offset_init_m, LENGTH);
-        info->ref_bias_m = FROM_FC(p.reference.bias_m, LENGTH);
-        info->rho_n = FROM_FC(p.altitude.rho_n, FORCE);
-        info->gamma = FROM_FC(p.altitude.gamma, GAIN);
-        info->rotor_count = p.allocation.rotor_count;
-        info->state_bytes = sizeof(fc_controller);
-    }
+    info_of(&p, info);
     return ctl;
 }
 
@@ -153,9 +179,8 @@ static void quat_from_fc(fc_quat q, double out[4])
     out[3] = FROM_FC(q.z, UNIT);
 }
 
-static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
+static fc_controller_inputs inputs_of(const fsw_inputs *in)
 {
-    fc_controller *ctl = handle;
     fc_controller_inputs fin;
     fin.imu.gyro_radps = vec_to_fc(in->gyro_radps, FC_RATE_FRAC);
     fin.imu.accel_mps2 = vec_to_fc(in->accel_mps2, FC_ACCEL_FRAC);
@@ -174,18 +199,22 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     fin.yaw_setpoint_rad = TO_FC(in->yaw_setpoint_rad, ANGLE);
     fin.command = (in->command >= 0 && in->command < (int)FC_COMMAND_COUNT) ? (fc_controller_command)in->command
                                                                            : FC_COMMAND_DISARM;
+    return fin;
+}
 
-    fc_controller_outputs fout;
-    out->status = fc_controller_step(ctl, &fin, &fout);
-
+/* The step's outputs and telemetry, and the loop internals the trace shows, as doubles. */
+static void outputs_of(fc_step_status status, const fc_controller_outputs *fo, const pil_internals *internals,
+                       fsw_outputs *out)
+{
+    out->status = status;
     for (int i = 0; i < FSW_MAX_ROTORS; i++) {
-        out->rotor_speed[i] = FROM_FC(fout.rotor_speed[i], UNIT);
+        out->rotor_speed[i] = FROM_FC(fo->rotor_speed[i], UNIT);
     }
-    out->rotor_count = fout.rotor_count;
-    out->motors_on = fout.motors_on ? 1 : 0;
-    out->thrust_n = FROM_FC(fout.thrust_n, FORCE);
-    vec_from_fc(fout.moment_nm, FC_MOMENT_FRAC, out->moment_nm);
-    const fc_controller_telemetry *tm = &fout.telemetry;
+    out->rotor_count = fo->rotor_count;
+    out->motors_on = fo->motors_on ? 1 : 0;
+    out->thrust_n = FROM_FC(fo->thrust_n, FORCE);
+    vec_from_fc(fo->moment_nm, FC_MOMENT_FRAC, out->moment_nm);
+    const fc_controller_telemetry *tm = &fo->telemetry;
     quat_from_fc(tm->attitude, out->attitude_q);
     quat_from_fc(tm->attitude_setpoint, out->attitude_setpoint_q);
     vec_from_fc(tm->rate_radps, FC_RATE_FRAC, out->rate_radps);
@@ -222,10 +251,94 @@ static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
     out->pad_accel_bound_mps2 = FROM_FC(tm->pad.accel_bound_mps2, ACCEL);
     out->pad_period_s = FROM_FC(tm->pad.dominant_period_s, TIME);
     out->gear_height_m = FROM_FC(tm->gear_height_m, LENGTH);
-    vec_from_fc(ctl->attitude.last_error_rad, FC_ANGLE_FRAC, out->attitude_error_rad);
-    vec_from_fc(ctl->attitude.integral_rad_s, FC_ANGLE_FRAC, out->attitude_integral_rad_s);
-    out->position_integral_mps2[0] = FROM_FC(ctl->position.integral_mps2.x, ACCEL);
-    out->position_integral_mps2[1] = FROM_FC(ctl->position.integral_mps2.y, ACCEL);
+    vec_from_fc(internals->attitude_error_rad, FC_ANGLE_FRAC, out->attitude_error_rad);
+    vec_from_fc(internals->attitude_integral_rad_s, FC_ANGLE_FRAC, out->attitude_integral_rad_s);
+    out->position_integral_mps2[0] = FROM_FC(internals->position_integral_mps2.x, ACCEL);
+    out->position_integral_mps2[1] = FROM_FC(internals->position_integral_mps2.y, ACCEL);
+}
+
+static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
+{
+    fc_controller *ctl = handle;
+    const fc_controller_inputs fin = inputs_of(in);
+    fc_controller_outputs fout;
+    const fc_step_status status = fc_controller_step(ctl, &fin, &fout);
+    const pil_internals internals = pil_internals_of(ctl);
+    outputs_of(status, &fout, &internals, out);
 }
 
 const fsw_backend FSW_TABLE = {FSW_STR(FSW_BACKEND), adapter_create, adapter_destroy, adapter_step};
+
+#if defined(FSW_PIL) && FSW_PIL
+/*
+ * Processor in the loop (compiled into the fixed copy only): the same
+ * parameters, inputs and outputs as above, but the step runs in the ATmega
+ * image named by cfg->target_image, in simavr (pil_avr.c), and what crosses is
+ * the PIL wire's words (pil_wire.h). The host computes nothing of the
+ * controller: it converts, packs and unpacks.
+ */
+#include "pil_avr.h"
+
+static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t err_len)
+{
+    fc_controller_params p;
+    if (!params_of_config(cfg, &p, err, err_len)) {
+        return NULL;
+    }
+    if (cfg->target_image == NULL) {
+        snprintf(err, err_len, "a PIL run needs the ATmega image (fc-sil --pil-image FILE)");
+        return NULL;
+    }
+    uint32_t airframe = (uint32_t)cfg->airframe, variant = (uint32_t)cfg->variant;
+    uint32_t params[PIL_PARAM_WORDS], out[PIL_OUTPUT_WORDS];
+    pil_wire wire = {params, PIL_PARAM_WORDS, 0u, true};
+    if (!pil_wire_params(&wire, &airframe, &variant, &p)) {
+        snprintf(err, err_len, "the PIL parameter listing does not fill PIL_PARAM_WORDS");
+        return NULL;
+    }
+    pil_avr *target = pil_avr_open(cfg->target_image, params, PIL_PARAM_WORDS, PIL_INPUT_WORDS, out,
+                                   PIL_OUTPUT_WORDS, err, err_len);
+    if (target == NULL) {
+        return NULL;
+    }
+    if (out[0] == UINT32_MAX || !init_succeeded((fc_init_result)out[0], err, err_len)) {
+        if (out[0] == UINT32_MAX) {
+            snprintf(err, err_len, "the ATmega image rejected the PIL parameters");
+        }
+        pil_avr_close(target);
+        return NULL;
+    }
+    info_of(&p, info);
+    return target;
+}
+
+static void pil_destroy(void *handle)
+{
+    const pil_avr_cycles c = pil_avr_step_cycles(handle);
+    fprintf(stderr, "pil: fc_controller_step on the ATmega2560 (simavr): %lu calls, cycles min %lu mean %.0f max %lu; "
+                    "stack peak %u B\n",
+            c.calls, (unsigned long)c.min, c.mean, (unsigned long)c.max, (unsigned)c.stack_peak_bytes);
+    pil_avr_close(handle);
+}
+
+static void pil_step(void *handle, const fsw_inputs *in, fsw_outputs *out)
+{
+    fc_controller_inputs fin = inputs_of(in);
+    uint32_t in_words[PIL_INPUT_WORDS], out_words[PIL_OUTPUT_WORDS];
+    pil_wire wire = {in_words, PIL_INPUT_WORDS, 0u, true};
+    char err[160] = "";
+    if (!pil_wire_inputs(&wire, &fin) || !pil_avr_step(handle, in_words, out_words, err, sizeof err)) {
+        /* the simulated core is gone: nothing sensible to fly on */
+        fprintf(stderr, "pil: %s\n", err[0] != '\0' ? err : "the input listing does not fill PIL_INPUT_WORDS");
+        exit(2);
+    }
+    fc_controller_outputs fout = {0};
+    pil_internals internals = {0};
+    uint32_t status = 0u;
+    wire = (pil_wire){out_words, PIL_OUTPUT_WORDS, 0u, false};
+    (void)pil_wire_outputs(&wire, &status, &fout, &internals);
+    outputs_of((fc_step_status)status, &fout, &internals, out);
+}
+
+const fsw_backend fsw_pil_backend = {"pil", pil_create, pil_destroy, pil_step};
+#endif

@@ -49,6 +49,8 @@ typedef struct fsw_config {
     double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
     /* the landing mission */
     double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
+    /* processor in the loop (fsw_pil_backend): the ATmega image that runs the step */
+    const char *target_image;
 } fsw_config;
 
 /* One step's inputs (world ENU, body FLU, SI units). */
@@ -113,6 +115,11 @@ typedef struct fsw_backend {
 
 extern const fsw_backend fsw_float_backend;
 extern const fsw_backend fsw_fixed_backend;
+#if defined(FSW_HAVE_PIL) && FSW_HAVE_PIL
+/* The fixed backend's step run by the ATmega image in simavr (pil_avr.h):
+ * processor in the loop. Built when libsimavr is there (sim_host/CMakeLists.txt). */
+extern const fsw_backend fsw_pil_backend;
+#endif
 
 /* A config with every override off. */
 void fsw_config_defaults(fsw_config *cfg);

@@ -29,7 +29,9 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: fc-sil [options]\n"
             "  --scenario NAME|FILE   a scenario of sim_host/scenarios (NAME) or an INI file (default seed-4.4)\n"
-            "  --numeric float|fixed|both  the firmware's numeric backend (a comma list too; default float)\n"
+            "  --numeric float|fixed|both|pil  the firmware's numeric backend (a comma list too; default float);\n"
+            "                         pil: the fixed step run by the ATmega image --pil-image in simavr\n"
+            "  --pil-image FILE       the ATmega PIL image (build/atmega-fixed/platform/atmega/fc-atmega-pil.elf)\n"
             "  --controller NAME[,NAME...]  altitude-law variant(s) (default: the scenario's); 'all' for every one\n"
             "  --json FILE            metrics as JSON (SPEC.md's names, with scenario, variant, backend)\n"
             "  --csv FILE             the run's trace as CSV (several runs: FILE-variant-backend.csv)\n"
@@ -96,6 +98,7 @@ static void progress_end(progress *p)
 
 typedef struct args {
     const char *scenario, *numeric, *controller, *json, *csv, *plot;
+    const char *pil_image;   /* --pil-image */
     double duration_s;       /* 0: the scenario's */
     long runs;
     bool runs_given;
@@ -133,6 +136,10 @@ static int parse_backends(const char *text, const fsw_backend *out[2])
             b = &fsw_float_backend;
         } else if (strcmp(tok, "fixed") == 0) {
             b = &fsw_fixed_backend;
+#if FSW_HAVE_PIL
+        } else if (strcmp(tok, "pil") == 0) {
+            b = &fsw_pil_backend;
+#endif
         } else {
             return -1;
         }
@@ -293,7 +300,7 @@ int main(int argc, char **argv)
     a.scenario = "seed-4.4";
     a.numeric = "float";
     a.runs = 1;
-    enum { OPT_LIST_CONTROLLERS = 256, OPT_LIST_SCENARIOS, OPT_COMPARE, OPT_BENCHMARK, OPT_QUIET };
+    enum { OPT_LIST_CONTROLLERS = 256, OPT_LIST_SCENARIOS, OPT_COMPARE, OPT_BENCHMARK, OPT_QUIET, OPT_PIL_IMAGE };
     static const struct option options[] = {
         {"scenario", required_argument, NULL, 's'},
         {"numeric", required_argument, NULL, 'n'},
@@ -309,6 +316,7 @@ int main(int argc, char **argv)
         {"list-controllers", no_argument, NULL, OPT_LIST_CONTROLLERS},
         {"list-scenarios", no_argument, NULL, OPT_LIST_SCENARIOS},
         {"quiet", no_argument, NULL, OPT_QUIET},
+        {"pil-image", required_argument, NULL, OPT_PIL_IMAGE},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -352,6 +360,7 @@ int main(int argc, char **argv)
         case OPT_COMPARE: a.compare = true; break;
         case OPT_BENCHMARK: a.benchmark = true; break;
         case OPT_QUIET: a.quiet = true; break;
+        case OPT_PIL_IMAGE: a.pil_image = optarg; break;
         case OPT_LIST_CONTROLLERS:
             for (int i = 0; i < FSW_VARIANT_COUNT; i++) {
                 printf("%s\n", sim_variant_names[i]);
@@ -373,7 +382,8 @@ int main(int argc, char **argv)
     const fsw_backend *backends[2];
     const int nb = parse_backends(a.numeric, backends);
     if (nb <= 0) {
-        fprintf(stderr, "fc-sil: --numeric must be float, fixed or both, not '%s'\n", a.numeric);
+        fprintf(stderr, "fc-sil: --numeric must be float, fixed, both%s, not '%s'\n",
+                FSW_HAVE_PIL ? " or pil" : " (pil: this fc-sil was built without libsimavr)", a.numeric);
         return 2;
     }
 
@@ -392,6 +402,7 @@ int main(int argc, char **argv)
     if (a.duration_s > 0.0) {
         sc.duration_s = a.duration_s;
     }
+    sc.fsw.target_image = a.pil_image;
     int variants[FSW_VARIANT_COUNT];
     int nv;
     if (a.controller != NULL) {

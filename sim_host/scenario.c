@@ -62,6 +62,7 @@ void fsw_config_defaults(fsw_config *c)
     c->rho_n = c->gamma = c->tau_av_s = c->l0_per_s = c->a_m_per_s = c->kappa_m_per_kg = (double)NAN;
     c->rho_scale = c->gamma_scale = c->kappa_m_scale = (double)NAN;
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
+    c->target_image = NULL;
 }
 
 /* ---------------------------------------------------------------------- */

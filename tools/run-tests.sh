@@ -3,8 +3,9 @@
 # tests every preset (host float/fixed, host under ASan+UBSan float/fixed,
 # the cross builds for the Crazyflie and the ATmega in both backends, whose
 # tests check the archives, and the libFuzzer harnesses with a bounded budget
-# in both backends: fuzz, fuzz-fixed), then the static analysis
-# (tools/static-analysis.sh). Prints one total line at the end.
+# in both backends: fuzz, fuzz-fixed), then the processor-in-the-loop runs
+# (tools/pil.sh) and the static analysis (tools/static-analysis.sh). Prints
+# one total line at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,6 +33,24 @@ for preset in "${presets[@]}"; do
   fi
   rm -f "$log"
 done
+
+# processor in the loop (tools/pil.sh): the ATmega image flies seed-4.4 (ssc,
+# ssc-adaptive) and cf2-pad in simavr and must match the host's fixed-point run
+# exactly; 20 s of each flight (cf2-pad lands and ends before), one test each
+echo "=== processor in the loop"
+pil_log=$(mktemp)
+tools/pil.sh --no-deps --duration 20 2>&1 | tee "$pil_log" || true
+pil_cases=$(sed -nE 's/^pil: ([0-9]+) cases, ([0-9]+) failed$/\1/p' "$pil_log")
+pil_failed=$(sed -nE 's/^pil: ([0-9]+) cases, ([0-9]+) failed$/\2/p' "$pil_log")
+if [ -z "$pil_cases" ]; then
+  failed=$((failed + 1))
+  failed_presets+=(pil)
+else
+  passed=$((passed + pil_cases - pil_failed))
+  failed=$((failed + pil_failed))
+  [ "$pil_failed" = 0 ] || failed_presets+=(pil)
+fi
+rm -f "$pil_log"
 
 # static analysis (tools/static-analysis.sh: cppcheck, MISRA C:2012, gcc
 # -fanalyzer, clang-tidy), counted as one test

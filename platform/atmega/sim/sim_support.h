@@ -19,8 +19,8 @@
 #include "sim_avr.h"
 #include "sim_elf.h"
 
-/* The value of symbol name in the ELF at path. */
-static bool elf_symbol(const char *path, const char *name, uint32_t *value)
+/* The value and size of symbol name in the ELF at path. */
+static inline bool elf_symbol_sized(const char *path, const char *name, uint32_t *value, uint32_t *size)
 {
     bool found = false;
     const int fd = open(path, O_RDONLY);
@@ -44,6 +44,7 @@ static bool elf_symbol(const char *path, const char *name, uint32_t *value)
             const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
             if (s != NULL && strcmp(s, name) == 0) {
                 *value = (uint32_t)sym.st_value;
+                *size = (uint32_t)sym.st_size;
                 found = true;
                 break;
             }
@@ -54,6 +55,13 @@ static bool elf_symbol(const char *path, const char *name, uint32_t *value)
     }
     close(fd);
     return found;
+}
+
+/* The value of symbol name in the ELF at path. */
+static inline bool elf_symbol(const char *path, const char *name, uint32_t *value)
+{
+    uint32_t size = 0;
+    return elf_symbol_sized(path, name, value, &size);
 }
 
 /* visit(name, address, size, user) for every code symbol of the ELF at path:
