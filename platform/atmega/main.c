@@ -59,14 +59,9 @@
 #endif
 
 /* Loop rate: what the worst iteration measured in simavr allows (README):
- * the fixed backend's step is about 4x slower than the float one on this
- * 8-bit core (int64 products and shifts are libgcc calls). */
+ * about 191k cycles fixed and 195k float of the 320k of a 50 Hz period. */
 #ifndef FC_ATMEGA_LOOP_HZ
-#if FC_NUMERIC_FIXED
-#define FC_ATMEGA_LOOP_HZ 20
-#else
 #define FC_ATMEGA_LOOP_HZ 50
-#endif
 #endif
 
 #ifndef FC_ATMEGA_AIRFRAME
