@@ -39,7 +39,8 @@ mkdir -p "$out"
 echo "built $image and $sil"
 
 # case name, scenario, altitude law
-cases=("seed-4.4-ssc seed-4.4 ssc" "seed-4.4-ssc-adaptive seed-4.4 ssc-adaptive" "cf2-pad cf2-pad ssc")
+cases=("seed-4.4-ssc seed-4.4 ssc" "seed-4.4-ssc-adaptive seed-4.4 ssc-adaptive" "cf2-pad cf2-pad ssc"
+       "hexa-deck hexa-deck ssc")
 
 fly() { # name scenario variant: the PIL flight and the host's, side by side (2 cores)
   local name=$1 scenario=$2 variant=$3

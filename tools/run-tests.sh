@@ -35,8 +35,9 @@ for preset in "${presets[@]}"; do
 done
 
 # processor in the loop (tools/pil.sh): the ATmega image flies seed-4.4 (ssc,
-# ssc-adaptive) and cf2-pad in simavr and must match the host's fixed-point run
-# exactly; 20 s of each flight (cf2-pad lands and ends before), one test each
+# ssc-adaptive), cf2-pad and hexa-deck in simavr and must match the host's
+# fixed-point run exactly; 20 s of each flight (cf2-pad lands and ends
+# before), one test each
 echo "=== processor in the loop"
 pil_log=$(mktemp)
 tools/pil.sh --no-deps --duration 20 2>&1 | tee "$pil_log" || true
