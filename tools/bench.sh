@@ -118,7 +118,7 @@ awk -v mods="${modules[*]}" '
   function ratio(a, b, m) { return mean[b, m] > 0 && mean[a, m] > 0 ? sprintf("%.2f", mean[b, m] / mean[a, m]) : "n/a" }
   END {
     k = split(mods, M, " ")
-    printf "Per call, %d calls each (2 rounds x 8 fixed input vectors, armed, hexa 4 kg, ssc-adaptive, dt 0.05 s)\n", n["atmega", "fc_controller_step"]
+    printf "Per call, %d calls each (2 rounds x 8 fixed input vectors, armed, hexa 4 kg, ssc-adaptive, dt 0.002 s)\n", n["atmega", "fc_controller_step"]
     printf "AVR: ATmega2560 cycles, exact (simavr). M4F ins: Cortex-M4F executed instructions, exact (QEMU TCG plugin);\n"
     printf "M4F est: cycles ESTIMATED from the Cortex-M4 instruction timings (no flash wait states; see insn_count.c).\n"
     printf "ratio: fixed/float, of the means.\n\n"
