@@ -45,20 +45,25 @@ cc -std=gnu11 -O2 "${warn[@]}" -shared -fPIC "$root/platform/cortex-m4-bench/ins
 fixed_of() { case $1 in *-fixed) echo 1 ;; *) echo 0 ;; esac; }
 
 # largest frame among the library's and the bench image's .su files: "bytes function"
-largest_frame() {
-  find "$root/build/$1/firmware" "$out/$1" -name '*.su' -print0 | xargs -0 cat |
+largest_frame() { # preset run
+  find "$root/build/$1/firmware" "$out/$2" -name '*.su' -print0 | xargs -0 cat |
     awk -F'\t' '{ n = split($1, a, ":"); print $2, a[n] }' | sort -rn | head -1
 }
 
 results=$out/results.txt
 : >"$results"
-for p in "${presets[@]}"; do
+# two workloads (bench_run.h): the hexa tracking the pad (results under the
+# preset's name) and the Crazyflie's landing mission (under <preset>-cf)
+for run in "${presets[@]}" "${presets[@]/%/-cf}"; do
+  p=${run%-cf}
+  cf=0
+  [ "$run" != "$p" ] && cf=1
   fx=$(fixed_of "$p")
-  mkdir -p "$out/$p"
-  cd "$out/$p"
+  mkdir -p "$out/$run"
+  cd "$out/$run"
   case $p in
   atmega*)
-    avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args "${common[@]}" -DFC_NUMERIC_FIXED="$fx" \
+    avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args "${common[@]}" -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf \
       -o bench.elf "$root/platform/atmega/bench/bench_avr.c" "$root/build/$p/firmware/libfc.a" -lm \
       -Wl,--gc-sections
     if [ "$fx" = 1 ]; then
@@ -72,28 +77,28 @@ for p in "${presets[@]}"; do
     targs=()
     for m in "${modules[@]}"; do targs+=(--time "$m"); done
     "$out/avr_bench" --elf bench.elf "${targs[@]}" --profile fc_controller_step >run.txt || { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
-    awk -v p="$p" '$1 == "CYCLES" { print p, "calls", $2, $3, $4, $5, $6 } $1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
+    awk -v p="$run" '$1 == "CYCLES" { print p, "calls", $2, $3, $4, $5, $6 } $1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
     read -r text data bss < <(avr-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
   cf2*)
     arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
-      -DFC_NUMERIC_FIXED="$fx" --specs=rdimon.specs -nostartfiles -T "$root/platform/cortex-m4-bench/stm32f405.ld" \
+      -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf --specs=rdimon.specs -nostartfiles -T "$root/platform/cortex-m4-bench/stm32f405.ld" \
       -Wl,--gc-sections -o bench.elf "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" \
       -lm -lrdimon
     sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
-    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$p/plugin.txt,profile=fc_controller_step"
+    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$run/plugin.txt,profile=fc_controller_step"
     for m in "${modules[@]}"; do pargs+=",fn=$m@$(sym "$m")"; done
     rm -f plugin.txt
     timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
       -semihosting-config enable=on,target=native -kernel bench.elf -plugin "$out/insn_count.so,$pargs" >run.txt ||
       { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
     grep -q ': done' run.txt || { cat run.txt >&2; echo "bench: $p did not finish" >&2; exit 1; }
-    awk -v p="$p" '$1 == "INSNS" { print p, "calls", $2, $3, $4, $5, $6 }
+    awk -v p="$run" '$1 == "INSNS" { print p, "calls", $2, $3, $4, $5, $6 }
                    $1 == "CYCEST" { print p "~est", "calls", $2, $3, $4, $5, $6 }' plugin.txt >>"$results"
-    awk -v p="$p" '$1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
+    awk -v p="$run" '$1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
     # the same image timing each step with DWT->CYCCNT, for a Crazyflie (not run here: CYCCNT reads 0 in QEMU)
     arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
-      -DFC_NUMERIC_FIXED="$fx" -DBENCH_DWT=1 --specs=rdimon.specs -nostartfiles \
+      -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf -DBENCH_DWT=1 --specs=rdimon.specs -nostartfiles \
       -T "$root/platform/cortex-m4-bench/stm32f405.ld" -Wl,--gc-sections -o bench-dwt.elf \
       "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" -lm -lrdimon
     read -r text data bss < <(arm-none-eabi-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
@@ -102,15 +107,17 @@ for p in "${presets[@]}"; do
   # worst-case stack of fc_controller_step in this image (call graph + -fstack-usage)
   case $p in atmega*) arch=avr; od=avr-objdump ;; *) arch=arm; od=arm-none-eabi-objdump ;; esac
   python3 "$root/tools/stack-depth.py" --arch "$arch" --objdump "$od" --elf bench.elf \
-    --su "$root/build/$p/firmware" --su "$out/$p" --target "$p" >stack-depth.txt ||
+    --su "$root/build/$p/firmware" --su "$out/$run" --target "$p" >stack-depth.txt ||
     { cat stack-depth.txt >&2; echo "bench: $p stack depth failed" >&2; exit 1; }
-  read -r fbytes fname < <(largest_frame "$p")
-  echo "$p size $((text + data)) $((data + bss)) $fbytes $fname" >>"$results"
+  read -r fbytes fname < <(largest_frame "$p" "$run")
+  echo "$run size $((text + data)) $((data + bss)) $fbytes $fname" >>"$results"
   cd "$root"
 done
 
-# ---- the table ----
-awk -v mods="${modules[*]}" '
+# ---- the tables ----
+# table SUFFIX TITLE [sizes]: the timing table of one workload (SUFFIX '' or -cf)
+table() {
+awk -v mods="${modules[*]}" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
   $2 == "calls" { mn[$1, $3] = $4; mx[$1, $3] = $5; mean[$1, $3] = $6; n[$1, $3] = $7 }
   $2 == "peak"  { peak[$1] = $3 }
   $2 == "size"  { flash[$1] = $3; ram[$1] = $4; fr[$1] = $5 " B " $6 }
@@ -118,7 +125,7 @@ awk -v mods="${modules[*]}" '
   function ratio(a, b, m) { return mean[b, m] > 0 && mean[a, m] > 0 ? sprintf("%.2f", mean[b, m] / mean[a, m]) : "n/a" }
   END {
     k = split(mods, M, " ")
-    printf "Per call, %d calls each (2 rounds x 8 fixed input vectors, armed, hexa 4 kg, ssc-adaptive, dt 0.002 s)\n", n["atmega", "fc_controller_step"]
+    printf "%s: per call, %d calls each (2 rounds x 8 fixed input vectors, armed, dt 0.002 s)\n", title, n["atmega" w, "fc_controller_step"]
     printf "AVR: ATmega2560 cycles, exact (simavr). M4F ins: Cortex-M4F executed instructions, exact (QEMU TCG plugin);\n"
     printf "M4F est: cycles ESTIMATED from the Cortex-M4 instruction timings (no flash wait states; see insn_count.c).\n"
     printf "ratio: fixed/float, of the means.\n\n"
@@ -126,8 +133,9 @@ awk -v mods="${modules[*]}" '
     printf "%-27s|%16s-|%16s-|%6s-|%14s-|%14s-|%6s-|%14s-|%14s\n", "---------------------------", "----------------", "----------------", "------", "--------------", "--------------", "------", "--------------", "--------------"
     for (i = 1; i <= k; i++) {
       m = M[i]
-      printf "%-27s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m, rng("atmega", m), rng("atmega-fixed", m), ratio("atmega", "atmega-fixed", m), rng("cf2", m), rng("cf2-fixed", m), ratio("cf2", "cf2-fixed", m), rng("cf2~est", m), rng("cf2-fixed~est", m)
+      printf "%-27s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m, rng("atmega" w, m), rng("atmega-fixed" w, m), ratio("atmega" w, "atmega-fixed" w, m), rng("cf2" w, m), rng("cf2-fixed" w, m), ratio("cf2" w, "cf2-fixed" w, m), rng("cf2" w "~est", m), rng("cf2-fixed" w "~est", m)
     }
+    if (!sizes) { printf "\n"; exit }
     printf "\n%-13s | %12s | %10s | %-40s | %s\n", "image", "flash bytes", "RAM bytes", "largest stack frame (-fstack-usage)", "stack peak, run"
     printf "%-13s-+-%12s-+-%10s-+-%-40s-+-%s\n", "-------------", "------------", "----------", "----------------------------------------", "---------------"
     split("atmega atmega-fixed cf2 cf2-fixed", P, " ")
@@ -140,19 +148,23 @@ awk -v mods="${modules[*]}" '
     printf "in simavr; M4F painted-stack high-water mark. Images and raw output: build/bench/<preset>/;\n"
     printf "bench-dwt.elf there times each step with DWT->CYCCNT on a real STM32F405 (Crazyflie).\n"
   }' "$results"
+}
+table "" "Hexa 4 kg, ssc-adaptive, tracking the pad (TRACK_PAD)"
+table -cf "Crazyflie 2.x, ssc, landing mission (LAND), a range sample on 2 of the 8 vectors"
+table "" "Hexa 4 kg (the images' sizes below are the same for both workloads)" 1 | sed -n '/^image/,$p'
 
 # ---- where fc_controller_step's AVR cycles go ----
 echo
 echo "Flat profile of fc_controller_step on the ATmega2560 (simavr, same run): exclusive cycles per step"
 echo "charged to the function holding the PC, calls per step, share; top 15 (all: build/bench/<preset>/run.txt)."
-for p in atmega-fixed atmega; do
+for p in atmega-fixed atmega atmega-fixed-cf; do
   echo "$p:"
   # (no "| head": under pipefail its early exit fails the pipeline)
   awk '$1 == "PROFILE" && ++n <= 15 { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt"
 done
 echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, same run): instructions and estimated"
 echo "cycles per step charged to the function holding the PC; top 15."
-for p in cf2 cf2-fixed; do
+for p in cf2 cf2-fixed cf2-cf; do
   echo "$p:"
   n=$(awk '$1 == "INSNS" && $2 == "fc_controller_step" { print $6 }' "$out/$p/plugin.txt")
   python3 "$root/tools/pc-profile.py" --nm arm-none-eabi-nm --elf "$out/$p/bench.elf" --calls "$n" --top 15 \
