@@ -133,6 +133,11 @@ pil_avr *pil_avr_open(const char *elf_path, const uint32_t *params, unsigned par
         return NULL;
     }
     elf_version(EV_CURRENT);
+    if (access(elf_path, R_OK) != 0) {
+        snprintf(err, err_len, "cannot read the PIL image %s", elf_path);
+        free(t);
+        return NULL;
+    }
     if (!elf_symbol(elf_path, "pil_exchange", &t->exchange_pc) ||
         !elf_symbol(elf_path, "fc_controller_step", &t->step_pc)) {
         snprintf(err, err_len, "%s: no pil_exchange or fc_controller_step (not a PIL image?)", elf_path);

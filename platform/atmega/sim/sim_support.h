@@ -19,42 +19,67 @@
 #include "sim_avr.h"
 #include "sim_elf.h"
 
-/* The value and size of symbol name in the ELF at path. */
-static inline bool elf_symbol_sized(const char *path, const char *name, uint32_t *value, uint32_t *size)
+/* visit(elf, sym, name, user) for every symbol of the ELF at path, until it
+ * returns true (then true: found); false also when the file cannot be read. */
+typedef bool (*sim_symbol_fn)(Elf *elf, const GElf_Sym *sym, const char *name, void *user);
+
+static inline bool sim_each_symbol(const char *path, sim_symbol_fn visit, void *user)
 {
-    bool found = false;
+    bool stopped = false;
     const int fd = open(path, O_RDONLY);
     if (fd < 0) {
         return false;
     }
     Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
     Elf_Scn *scn = NULL;
-    while (elf != NULL && !found && (scn = elf_nextscn(elf, scn)) != NULL) {
+    while (elf != NULL && !stopped && (scn = elf_nextscn(elf, scn)) != NULL) {
         GElf_Shdr sh;
         if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
             continue;
         }
         Elf_Data *data = elf_getdata(scn, NULL);
         const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
-        for (size_t i = 0; data != NULL && i < n; i++) {
+        for (size_t i = 0; data != NULL && !stopped && i < n; i++) {
             GElf_Sym sym;
-            if (gelf_getsym(data, (int)i, &sym) == NULL) {
-                continue;
-            }
-            const char *s = elf_strptr(elf, sh.sh_link, sym.st_name);
-            if (s != NULL && strcmp(s, name) == 0) {
-                *value = (uint32_t)sym.st_value;
-                *size = (uint32_t)sym.st_size;
-                found = true;
-                break;
-            }
+            const char *name = gelf_getsym(data, (int)i, &sym) != NULL ? elf_strptr(elf, sh.sh_link, sym.st_name)
+                                                                         : NULL;
+            stopped = name != NULL && visit(elf, &sym, name, user);
         }
     }
     if (elf != NULL) {
         elf_end(elf);
     }
     close(fd);
-    return found;
+    return stopped;
+}
+
+typedef struct sim_symbol_query {
+    const char *name;
+    uint32_t value, size;
+} sim_symbol_query;
+
+static inline bool sim_symbol_named(Elf *elf, const GElf_Sym *sym, const char *name, void *user)
+{
+    (void)elf;
+    sim_symbol_query *q = user;
+    if (strcmp(name, q->name) != 0) {
+        return false;
+    }
+    q->value = (uint32_t)sym->st_value;
+    q->size = (uint32_t)sym->st_size;
+    return true;
+}
+
+/* The value and size of symbol name in the ELF at path. */
+static inline bool elf_symbol_sized(const char *path, const char *name, uint32_t *value, uint32_t *size)
+{
+    sim_symbol_query q = {name, 0u, 0u};
+    if (!sim_each_symbol(path, sim_symbol_named, &q)) {
+        return false;
+    }
+    *value = q.value;
+    *size = q.size;
+    return true;
 }
 
 /* The value of symbol name in the ELF at path. */
@@ -70,44 +95,37 @@ static inline bool elf_symbol(const char *path, const char *name, uint32_t *valu
  * section). For the profilers of avr_loop_test and avr_bench. */
 typedef void (*sim_code_symbol_fn)(const char *name, uint32_t addr, uint32_t size, void *user);
 
-static inline bool sim_code_symbols(const char *path, sim_code_symbol_fn visit, void *user)
+typedef struct sim_code_visit {
+    sim_code_symbol_fn visit;
+    void *user;
+} sim_code_visit;
+
+static inline bool sim_code_symbol(Elf *elf, const GElf_Sym *sym, const char *name, void *user)
 {
-    const int fd = open(path, O_RDONLY);
-    if (fd < 0) {
+    const sim_code_visit *v = user;
+    if (sym->st_shndx == SHN_UNDEF || sym->st_shndx >= SHN_LORESERVE || name[0] == '\0') {
         return false;
     }
-    Elf *elf = elf_begin(fd, ELF_C_READ, NULL);
-    Elf_Scn *scn = NULL;
-    while (elf != NULL && (scn = elf_nextscn(elf, scn)) != NULL) {
-        GElf_Shdr sh;
-        if (gelf_getshdr(scn, &sh) == NULL || sh.sh_type != SHT_SYMTAB) {
-            continue;
-        }
-        Elf_Data *data = elf_getdata(scn, NULL);
-        const size_t n = sh.sh_entsize ? sh.sh_size / sh.sh_entsize : 0;
-        for (size_t i = 0; data != NULL && i < n; i++) {
-            GElf_Sym sym;
-            if (gelf_getsym(data, (int)i, &sym) == NULL || sym.st_shndx == SHN_UNDEF ||
-                sym.st_shndx >= SHN_LORESERVE) {
-                continue;
-            }
-            const int type = GELF_ST_TYPE(sym.st_info);
-            bool code = type == STT_FUNC;
-            if (!code && type == STT_NOTYPE && GELF_ST_BIND(sym.st_info) != STB_LOCAL) {
-                Elf_Scn *in = elf_getscn(elf, sym.st_shndx);
-                GElf_Shdr ish;
-                code = in != NULL && gelf_getshdr(in, &ish) != NULL && (ish.sh_flags & SHF_EXECINSTR) != 0;
-            }
-            const char *s = code ? elf_strptr(elf, sh.sh_link, sym.st_name) : NULL;
-            if (s != NULL && s[0] != '\0') {
-                visit(s, (uint32_t)sym.st_value, (uint32_t)sym.st_size, user);
-            }
-        }
+    const int type = GELF_ST_TYPE(sym->st_info);
+    bool code = type == STT_FUNC;
+    if (!code && type == STT_NOTYPE && GELF_ST_BIND(sym->st_info) != STB_LOCAL) {
+        Elf_Scn *in = elf_getscn(elf, sym->st_shndx);
+        GElf_Shdr ish;
+        code = in != NULL && gelf_getshdr(in, &ish) != NULL && (ish.sh_flags & SHF_EXECINSTR) != 0;
     }
-    if (elf != NULL) {
-        elf_end(elf);
+    if (code) {
+        v->visit(name, (uint32_t)sym->st_value, (uint32_t)sym->st_size, v->user);
     }
-    close(fd);
+    return false; /* every symbol */
+}
+
+static inline bool sim_code_symbols(const char *path, sim_code_symbol_fn visit, void *user)
+{
+    if (access(path, R_OK) != 0) {
+        return false;
+    }
+    sim_code_visit v = {visit, user};
+    (void)sim_each_symbol(path, sim_code_symbol, &v);
     return true;
 }
 
