@@ -420,7 +420,9 @@ static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
     tm->attitude_status = FC_STEP_OK;
     tm->allocation_status = FC_STEP_OK;
     tm->altitude = (fc_altitude_control_output){0};
-    tm->pad = (fc_pad_motion_estimate){0};
+    /* tm->pad: every field written by fc_pad_motion_step (observe_pad) on
+     * each step of a ready controller; zeroed only when not ready (a 64-byte
+     * memset per step saved) */
     tm->gear_height_m = ctl->gear_height_m;
     tm->landing_state = ctl->ready ? ctl->landing.state : FC_LANDING_IDLE;
     tm->landing_reason = ctl->ready ? ctl->landing.reason : FC_REASON_NONE;
@@ -612,6 +614,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     motors_off(ctl, out);
     default_telemetry(ctl, tm);
     if (!ctl->ready) {
+        tm->pad = (fc_pad_motion_estimate){0};
         return FC_STEP_NOT_READY;
     }
     fc_arith *ar = &ctl->ar;
