@@ -719,16 +719,6 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 
 #endif
 
-/* the comparison itself, on the squares (no root) */
-bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
-{
-    /* sqrt(s) <= limit  <=>  s <= limit^2 for limit >= 0, without the root;
-     * a NaN input or an overflowed s (inf) compares false as before, and a
-     * negative limit is false as before */
-    const fc_real sum = a * a + b * b + c * c;
-    return limit >= 0.0f && sum <= limit * limit;
-}
-
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad)
 {
     (void)ar;

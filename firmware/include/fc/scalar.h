@@ -737,7 +737,18 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
  * in fixed without the root: the rounded root R of S = a^2 + b^2 + c^2 is the
  * integer with R^2 - R < S <= R^2 + R, so R <= limit iff S <= limit^2 + limit,
  * compared in 64 bits (the norm clamps, whose vectors are mostly inside). */
+#if FC_NUMERIC_FIXED
 bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit);
+#else
+/* float: sqrt(S) <= limit iff S <= limit^2 for limit >= 0, no root; inline,
+ * a compare of squares (six norm clamps a step in position control). A NaN
+ * or an overflowed S (inf) compares false, as does a negative limit. */
+static inline bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
+{
+    const fc_real sum = a * a + b * b + c * c;
+    return limit >= 0.0f && sum <= limit * limit;
+}
+#endif
 
 /* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);
