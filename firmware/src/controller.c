@@ -419,10 +419,10 @@ static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
     tm->altitude_status = FC_STEP_OK;
     tm->attitude_status = FC_STEP_OK;
     tm->allocation_status = FC_STEP_OK;
-    tm->altitude = (fc_altitude_control_output){0};
     /* tm->pad: every field written by fc_pad_motion_step (observe_pad) on
-     * each step of a ready controller; zeroed only when not ready (a 64-byte
-     * memset per step saved) */
+     * each step of a ready controller, so zeroed only when not ready; likewise
+     * tm->altitude, written whole by fc_altitude_control_step and zeroed only on
+     * the paths that do not run it (a memset each per step saved) */
     tm->gear_height_m = ctl->gear_height_m;
     tm->landing_state = ctl->ready ? ctl->landing.state : FC_LANDING_IDLE;
     tm->landing_reason = ctl->ready ? ctl->landing.reason : FC_REASON_NONE;
@@ -614,6 +614,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     motors_off(ctl, out);
     default_telemetry(ctl, tm);
     if (!ctl->ready) {
+        tm->altitude = (fc_altitude_control_output){0};
         tm->pad = (fc_pad_motion_estimate){0};
         return FC_STEP_NOT_READY;
     }
@@ -659,6 +660,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
             status |= FC_STEP_DEGRADED;
         }
         ctl->last_command = FC_COMMAND_DISARM;
+        tm->altitude = (fc_altitude_control_output){0};
         landing_telemetry(ctl, tm, state_before, reason_before);
         return status;
     }
@@ -700,6 +702,9 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         level = !fly_reference;
     }
     landing_telemetry(ctl, tm, state_before, reason_before);
+    if (!motors_on || !fly_reference) {
+        tm->altitude = (fc_altitude_control_output){0};
+    }
     if (!motors_on) {
         reset_loops(ctl);
         return status;
