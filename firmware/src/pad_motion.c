@@ -105,6 +105,7 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
     pm->snapshots = 0u;
     pm->outliers_in_row = 0u;
     pm->learning = false;
+    pm->summary_stale = true;
 }
 
 fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params *p)
@@ -326,6 +327,7 @@ static void adapt_frequencies(fc_pad_motion *pm, const fc_real *amplitude_before
 static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
 {
     fc_arith *ar = &pm->ar;
+    pm->summary_stale = true; /* theta, w_k or the error mean change on every path below */
     if (!pm->learning) {
         restart_from(pm, height_m);
         return FC_STEP_OK;
@@ -381,35 +383,58 @@ static void renew_snapshots(fc_pad_motion *pm)
         if (pm->snapshots == 2u) {
             /* the check starts pessimistic: confidence rises as predictions come true */
             pm->error_mean_m = pm->p.tolerance_m;
+            pm->summary_stale = true;
         }
     }
+}
+
+/* What the estimate says of the fit itself: the bounds, the dominant mode and
+ * the confidence's error ratio. They change only with theta, w_k or the error
+ * mean, i.e. when a sample is taken or the estimate restarts, so they are
+ * worked out then (summary_stale) and not on every step. */
+static void summarise_fit(fc_pad_motion *pm)
+{
+    fc_arith *ar = &pm->ar;
+    fc_pad_motion_summary *f = &pm->summary;
+    const uint8_t saturated_before = ar->saturated;
+    ar->saturated = 0u;
+    f->heave_bound_m = FC_INT(0, LENGTH);
+    f->accel_bound_mps2 = FC_INT(0, ACCEL);
+    f->dominant_mode = 0u;
+    fc_real largest = FC_INT(-1, LENGTH);
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[1u + 2u * k]), fc_abs(ar, pm->theta[2u + 2u * k]));
+        f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
+        f->accel_bound_mps2 =
+            fc_add(ar, f->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+        if (size > largest) {
+            largest = size;
+            f->dominant_mode = (uint8_t)k;
+        }
+    }
+    f->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
+    f->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[f->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
+    /* mean / tolerance for the confidence 1 - mean / tolerance */
+    f->error_ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
+    /* a saturation here is reported on every step the summary stands for */
+    f->saturated = ar->saturated;
+    ar->saturated = saturated_before;
+    pm->summary_stale = false;
 }
 
 static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
 {
     fc_arith *ar = &pm->ar;
-    out->now = model_trajectory(pm, pm->phase_sin, pm->phase_cos);
-    fc_real sin_ahead[FC_PAD_MAX_MODES] = {0}, cos_ahead[FC_PAD_MAX_MODES] = {0};
-    out->heave_bound_m = FC_INT(0, LENGTH);
-    out->accel_bound_mps2 = FC_INT(0, ACCEL);
-    out->dominant_mode = 0u;
-    fc_real largest = FC_INT(-1, LENGTH);
-    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        sin_ahead[k] = pm->phase_sin[k];
-        cos_ahead[k] = pm->phase_cos[k];
-        rotate(ar, &sin_ahead[k], &cos_ahead[k], pm->ahead_cos[k], pm->ahead_sin[k]);
-        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[1u + 2u * k]), fc_abs(ar, pm->theta[2u + 2u * k]));
-        out->heave_bound_m = fc_add(ar, out->heave_bound_m, size);
-        out->accel_bound_mps2 =
-            fc_add(ar, out->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
-        if (size > largest) {
-            largest = size;
-            out->dominant_mode = (uint8_t)k;
-        }
+    if (pm->summary_stale) {
+        summarise_fit(pm);
     }
-    out->ahead = model_trajectory(pm, sin_ahead, cos_ahead);
-    out->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
-    out->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[out->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
+    const fc_pad_motion_summary *f = &pm->summary;
+    out->now = model_trajectory(pm, pm->phase_sin, pm->phase_cos);
+    out->heave_bound_m = f->heave_bound_m;
+    out->accel_bound_mps2 = f->accel_bound_mps2;
+    out->dominant_mode = f->dominant_mode;
+    out->dominant_amplitude_m = f->dominant_amplitude_m;
+    out->dominant_period_s = f->dominant_period_s;
     out->mean_m = pm->theta[0];
     out->prediction_error_m = pm->error_mean_m;
     out->observed_s = pm->observed_s;
@@ -417,10 +442,25 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
     out->confidence = FC_INT(0, UNIT);
     if (pm->learning && pm->snapshots >= 2u && pm->observed_s >= pm->p.observe_min_s) {
         /* 1 - mean / tolerance, clamped to [0, 1] */
-        const fc_real ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
-        out->confidence = fc_clamp(fc_sub(ar, FC_INT(1, UNIT), fc_min(ratio, FC_INT(1, UNIT))), FC_INT(0, UNIT),
-                                   FC_INT(1, UNIT));
+        out->confidence = fc_clamp(fc_sub(ar, FC_INT(1, UNIT), fc_min(f->error_ratio, FC_INT(1, UNIT))),
+                                   FC_INT(0, UNIT), FC_INT(1, UNIT));
     }
+    ar->saturated |= f->saturated;
+}
+
+void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahead)
+{
+    if (!pm->ready) {
+        *ahead = (fc_vertical_trajectory){0};
+        return;
+    }
+    fc_real sin_ahead[FC_PAD_MAX_MODES] = {0}, cos_ahead[FC_PAD_MAX_MODES] = {0};
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        sin_ahead[k] = pm->phase_sin[k];
+        cos_ahead[k] = pm->phase_cos[k];
+        rotate(&pm->ar, &sin_ahead[k], &cos_ahead[k], pm->ahead_cos[k], pm->ahead_sin[k]);
+    }
+    *ahead = model_trajectory(pm, sin_ahead, cos_ahead);
 }
 
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,

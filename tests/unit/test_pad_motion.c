@@ -89,12 +89,15 @@ static run_result fly(const fc_pad_motion_params *p, const heave *h, int sample_
         const fc_step_status st = fc_pad_motion_step(&pm, &s, &est);
         assert_true((st & (FC_STEP_NOT_READY | FC_STEP_ARITH_SATURATED)) == 0u);
         if (t >= check_from_s) {
+            /* the prediction is H after the next step's time */
             double za, vza, aza;
-            heave_eval(h, t + horizon_s, &za, &vza, &aza);
+            heave_eval(h, t + DT_S + horizon_s, &za, &vza, &aza);
+            fc_vertical_trajectory ahead;
+            fc_pad_motion_predict_ahead(&pm, &ahead);
             r.max_z_error_m = fmax(r.max_z_error_m, fabs(ts_val(est.now.z_m, FC_LENGTH_FRAC) - z));
             r.max_vz_error_mps = fmax(r.max_vz_error_mps, fabs(ts_val(est.now.vz_mps, FC_VEL_FRAC) - vz));
             r.max_az_error_mps2 = fmax(r.max_az_error_mps2, fabs(ts_val(est.now.az_mps2, FC_ACCEL_FRAC) - az));
-            r.max_ahead_error_m = fmax(r.max_ahead_error_m, fabs(ts_val(est.ahead.z_m, FC_LENGTH_FRAC) - za));
+            r.max_ahead_error_m = fmax(r.max_ahead_error_m, fabs(ts_val(ahead.z_m, FC_LENGTH_FRAC) - za));
             if (fabs(t - check_from_s) < 0.5 * DT_S) {
                 r.confidence_at_check = ts_val(est.confidence, FC_UNIT_FRAC);
             }
@@ -293,6 +296,9 @@ static void test_params_rejected(void **state)
     const fc_pad_motion_sample s = {FC_C(0.1f, LENGTH), true};
     assert_int_equal(fc_pad_motion_step(&pm, &s, &est), FC_STEP_NOT_READY);
     assert_true(ts_val(est.confidence, FC_UNIT_FRAC) == 0.0);
+    fc_vertical_trajectory ahead = {FC_INT(1, LENGTH), FC_INT(1, VEL), FC_INT(1, ACCEL)};
+    fc_pad_motion_predict_ahead(&pm, &ahead);
+    assert_true(ahead.z_m == FC_INT(0, LENGTH) && ahead.vz_mps == FC_INT(0, VEL) && ahead.az_mps2 == FC_INT(0, ACCEL));
 }
 
 int main(void)

@@ -35,7 +35,7 @@
  * per step and renormalised, so it never loses precision.
  * Derivatives are the model's:  z' = sum w_k (a_k cos - b_k sin),
  * z'' = -sum w_k^2 (a_k sin + b_k cos); the prediction at t + H rotates the
- * pairs by w_k H (H fixed at init).
+ * pairs by w_k H (H fixed at init), fc_pad_motion_predict_ahead.
  *
  * Confidence: the fit is checked against what it predicted. Two snapshots of
  * theta are kept, renewed alternately every H seconds; each new sample is
@@ -89,7 +89,6 @@ typedef struct fc_pad_motion_sample {
 
 typedef struct fc_pad_motion_estimate {
     fc_vertical_trajectory now;      /* the pad at this step: z, z', z'' */
-    fc_vertical_trajectory ahead;    /* the same predicted H ahead */
     fc_real mean_m;                  /* LENGTH: c, the level the pad moves about */
     fc_real heave_bound_m;           /* LENGTH: sum (|a_k| + |b_k|) >= the largest |z - c| */
     fc_real accel_bound_mps2;        /* ACCEL: sum w_k^2 (|a_k| + |b_k|) >= the largest |z''| */
@@ -101,6 +100,17 @@ typedef struct fc_pad_motion_estimate {
     fc_real dominant_amplitude_m;    /* LENGTH: its |a_k| + |b_k| */
     bool learning;                   /* at least one sample taken */
 } fc_pad_motion_estimate;
+
+/* The fit's figures that change only when a sample is taken (pad_motion.c, summarise_fit). */
+typedef struct fc_pad_motion_summary {
+    fc_real heave_bound_m;           /* LENGTH */
+    fc_real accel_bound_mps2;        /* ACCEL */
+    fc_real dominant_amplitude_m;    /* LENGTH */
+    fc_real dominant_period_s;       /* TIME */
+    fc_real error_ratio;             /* UNIT: error mean / tolerance (in fixed it saturates above 2) */
+    uint8_t dominant_mode;
+    uint8_t saturated;               /* its arithmetic saturated */
+} fc_pad_motion_summary;
 
 typedef struct fc_pad_motion {
     fc_pad_motion_params p;
@@ -124,6 +134,8 @@ typedef struct fc_pad_motion {
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
     fc_real s[FC_PAD_MAX_PARAMS][FC_PAD_MAX_PARAMS]; /* MAT: scaled covariance S */
     fc_real error_mean_m;                        /* LENGTH */
+    fc_pad_motion_summary summary;               /* of theta, w_k and the error mean */
+    bool summary_stale;                          /* they changed since it was made */
     fc_real observed_s;                          /* TIME */
     fc_real since_snapshot_s;                    /* TIME */
     fc_real step_s;                              /* TIME: dt */
@@ -144,5 +156,9 @@ void fc_pad_motion_reset(fc_pad_motion *pm);
  * is ignored (FC_STEP_BAD_INPUT). Not ready: a zero estimate with confidence 0. */
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
                                   fc_pad_motion_estimate *out);
+
+/* The model's trajectory H (horizon_s) after the next step's time, on demand:
+ * the landing does not use it, so the step does not work it out. Not ready: zero. */
+void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahead);
 
 #endif /* FC_PAD_MOTION_H */
