@@ -5,6 +5,35 @@
 /* parameters                                                              */
 /* ---------------------------------------------------------------------- */
 
+/* The outer group's step, dt_s outer_divider times; by additions, so that
+ * the defaults and init's check form the same value in both backends. */
+static fc_real outer_step_s(const fc_controller_params *p)
+{
+    fc_arith ar = {0u};
+    fc_real sum = FC_INT(0, DT);
+    for (unsigned i = 0u; i < p->outer_divider && i < FC_OUTER_DIVIDER_MAX; i++) {
+        sum = fc_add(&ar, sum, p->dt_s);
+    }
+    return sum;
+}
+
+/* The outer group at 100 Hz, or on every step if the step is slower: the
+ * most steps that fit in 10 ms (a hair over, for the rounding of dt). */
+static uint8_t default_outer_divider(fc_real dt_s)
+{
+    fc_arith ar = {0u};
+    uint8_t steps = 1u;
+    fc_real span_s = dt_s;
+    while (steps < FC_OUTER_DIVIDER_MAX) {
+        span_s = fc_add(&ar, span_s, dt_s);
+        if (span_s > FC_C(0.0101f, DT)) {
+            break;
+        }
+        steps++;
+    }
+    return steps;
+}
+
 /* Collective thrust range of a planar vehicle from its rotors: all at full
  * speed, and all at idle (T_max u_min^r). */
 static void thrust_range_n(const fc_allocation_params *a, fc_real *min_n, fc_real *max_n)
@@ -44,7 +73,7 @@ static void landing_common_defaults(fc_controller_params *p)
     fc_landing_params *l = &p->landing;
     fc_pad_motion_params *m = &p->pad_motion;
     l->dt_s = p->dt_s;
-    m->dt_s = p->dt_s;
+    m->dt_s = outer_step_s(p); /* minor frame 1 of the outer group */
     m->mode_count = 3u;
     m->covariance_init = FC_INT(10, MAT);
     m->covariance_trace_max = FC_INT(120, MAT);
@@ -213,6 +242,7 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
 {
     const fc_vec3 inertia = airframe_defaults(p, airframe);
     p->dt_s = dt_s;
+    p->outer_divider = default_outer_divider(dt_s);
     p->gravity_mps2 = FC_C(9.81f, ACCEL);
     p->use_external_attitude = false;
     fc_attitude_estimator_default_params(&p->estimator, dt_s);
@@ -233,7 +263,7 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
      * (position at 100 Hz, 5-11 ms old, its attitude loop at wn = 15):
      * wn = 2.5 rad/s, which halves the drift after a rotor's step loss */
     fc_position_control_params *h = &p->horizontal;
-    h->dt_s = dt_s;
+    h->dt_s = outer_step_s(p); /* minor frame 0 of the outer group */
     const bool cf2 = airframe == FC_AIRFRAME_CRAZYFLIE2;
     h->kp_per_s2 = cf2 ? FC_C(6.25f, RATIO) : FC_C(2.25f, RATIO);
     /* a slow integral for every airframe: the Crazyflie's weak-rotor moment is
@@ -287,6 +317,7 @@ static void reset_loops(fc_controller *ctl)
     fc_attitude_control_reset(&ctl->attitude);
     fc_allocation_reset(&ctl->allocation);
     fc_position_control_reset(&ctl->position);
+    ctl->have_attitude_setpoint = false; /* the next step runs the position loop */
     ctl->last_saturation = 0u;
     ctl->last_thrust_n = FC_INT(0, FORCE);
 }
@@ -311,6 +342,15 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     ctl->last_attitude = fc_quat_identity();
     ctl->last_thrust_n = FC_INT(0, FORCE);
     ctl->gear_height_m = FC_INT(0, LENGTH);
+    ctl->minor_frame = 0u;
+    ctl->held_attitude_setpoint = fc_quat_identity();
+    ctl->held_position_status = FC_STEP_OK;
+    ctl->have_attitude_setpoint = false;
+    ctl->pad_estimate = (fc_pad_motion_estimate){0};
+    ctl->pad_estimate_age_s = FC_INT(0, DT);
+    ctl->pending_pad_height_m = FC_INT(0, LENGTH);
+    ctl->pending_pad_age_s = FC_INT(0, DT);
+    ctl->pad_sample_pending = false;
     ctl->have_last_good = false;
     ctl->bad_input_s = FC_INT(0, TIME);
     clear_failsafe(ctl);
@@ -337,9 +377,12 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     }
     /* the step uses the allocation's speeds and saturation, not its forward model */
     fc_allocation_set_wrench_output(&ctl->allocation, false);
-    const bool same_step = p->estimator.dt_s == p->dt_s && p->attitude.dt_s == p->dt_s &&
+    /* the inner group on dt, the outer group on dt outer_divider */
+    const bool divider_ok = p->outer_divider >= 1u && p->outer_divider <= FC_OUTER_DIVIDER_MAX;
+    const fc_real outer_s = outer_step_s(p);
+    const bool same_step = divider_ok && p->estimator.dt_s == p->dt_s && p->attitude.dt_s == p->dt_s &&
                            p->reference.dt_s == p->dt_s && p->altitude.dt_s == p->dt_s &&
-                           p->horizontal.dt_s == p->dt_s && p->pad_motion.dt_s == p->dt_s &&
+                           p->horizontal.dt_s == outer_s && p->pad_motion.dt_s == outer_s &&
                            p->landing.dt_s == p->dt_s;
     if (result == FC_INIT_OK &&
         (!same_step || !failsafe_params_valid(&p->failsafe) || !fc_is_finite(p->mass_kg) ||
@@ -419,8 +462,8 @@ static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
     tm->altitude_status = FC_STEP_OK;
     tm->attitude_status = FC_STEP_OK;
     tm->allocation_status = FC_STEP_OK;
-    /* tm->pad: every field written by fc_pad_motion_step (observe_pad) on
-     * each step of a ready controller, so zeroed only when not ready; likewise
+    /* tm->pad: written whole by pad_step on each step of a ready controller,
+     * so zeroed only when not ready; likewise
      * tm->altitude, written whole by fc_altitude_control_step and zeroed only on
      * the paths that do not run it (a memset each per step saved) */
     tm->gear_height_m = ctl->gear_height_m;
@@ -433,25 +476,68 @@ static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
 }
 
 /* The pad as the range finder sees it: a sample of its surface height
- * z - range k_h (a level pad under the vehicle), and the gear's height above it. */
+ * z - range k_h (a level pad under the vehicle), and the gear's height above
+ * it. The sample waits for the pad model's minor frame (the newest one). */
 static fc_step_status observe_pad(fc_controller *ctl, const fc_controller_inputs *in, bool position_ok,
-                                  fc_real tilt_cos, fc_pad_motion_estimate *estimate, bool *range_fresh)
+                                  fc_real tilt_cos, bool *range_fresh)
 {
     fc_arith *ar = &ctl->ar;
     const bool range_ok = fc_within(in->range_m, FC_INT(100, LENGTH)) && in->range_m >= FC_INT(0, LENGTH);
     *range_fresh = in->range_fresh && range_ok;
-    fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
-    fc_step_status status = FC_STEP_OK;
-    if (in->range_fresh && !range_ok) {
-        status = FC_STEP_BAD_INPUT;
-    }
     if (*range_fresh) {
         const fc_real vertical_range = fc_mul(ar, in->range_m, tilt_cos, FC_SHIFT(LENGTH, RATIO, LENGTH));
         ctl->gear_height_m = fc_sub(ar, vertical_range, ctl->p.landing.gear_height_m);
-        sample.height_m = fc_sub(ar, in->position_m.z, vertical_range);
-        sample.fresh = position_ok;
+        if (position_ok) {
+            ctl->pending_pad_height_m = fc_sub(ar, in->position_m.z, vertical_range);
+            ctl->pending_pad_age_s = FC_INT(0, DT);
+            ctl->pad_sample_pending = true;
+        }
     }
-    return status | passed_on(fc_pad_motion_step(&ctl->pad_motion, &sample, estimate));
+    return in->range_fresh && !range_ok ? FC_STEP_BAD_INPUT : FC_STEP_OK;
+}
+
+/* z + z' t + z'' t^2 / 2, z' + z'' t, z'': the trajectory t later. */
+static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory now, fc_real t_s)
+{
+    /* the mean speed over t, z' + z'' t / 2, times t */
+    const fc_real speed_gain = fc_mul(ar, now.az_mps2, t_s, FC_SHIFT(ACCEL, DT, VEL));
+    const fc_real mean_speed = fc_add(ar, now.vz_mps, fc_mul(ar, speed_gain, FC_C(0.5f, UNIT), FC_SHIFT(VEL, UNIT, VEL)));
+    fc_vertical_trajectory later = now;
+    later.z_m = fc_add(ar, now.z_m, fc_mul(ar, mean_speed, t_s, FC_SHIFT(VEL, DT, LENGTH)));
+    later.vz_mps = fc_add(ar, now.vz_mps, speed_gain);
+    return later;
+}
+
+/* Minor frame 1 of the outer group (every step with outer_divider 1): the
+ * pad model takes the waiting sample, carried to this step along the model's
+ * vertical speed, and gives a new estimate. On the other steps the estimate
+ * is the last one with its trajectory extrapolated to this step. */
+static fc_step_status pad_step(fc_controller *ctl, bool pad_frame, fc_pad_motion_estimate *estimate)
+{
+    fc_arith *ar = &ctl->ar;
+    fc_step_status status = FC_STEP_OK;
+    if (pad_frame) {
+        fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
+        if (ctl->pad_sample_pending) {
+            const fc_real carried_m =
+                fc_mul(ar, ctl->pad_estimate.now.vz_mps, ctl->pending_pad_age_s, FC_SHIFT(VEL, DT, LENGTH));
+            sample.height_m = fc_add(ar, ctl->pending_pad_height_m, carried_m);
+            sample.fresh = true;
+            ctl->pad_sample_pending = false;
+        }
+        status = passed_on(fc_pad_motion_step(&ctl->pad_motion, &sample, &ctl->pad_estimate));
+        ctl->pad_estimate_age_s = FC_INT(0, DT);
+    }
+    *estimate = ctl->pad_estimate;
+    if (ctl->pad_estimate_age_s != FC_INT(0, DT)) {
+        estimate->now = extrapolated(ar, ctl->pad_estimate.now, ctl->pad_estimate_age_s);
+    }
+    /* one step older (bounded: the pad frame comes every outer_divider steps) */
+    ctl->pad_estimate_age_s = fc_min(fc_add(ar, ctl->pad_estimate_age_s, ctl->p.dt_s), FC_C(1.0f, DT));
+    if (ctl->pad_sample_pending) {
+        ctl->pending_pad_age_s = fc_min(fc_add(ar, ctl->pending_pad_age_s, ctl->p.dt_s), FC_C(1.0f, DT));
+    }
+    return status;
 }
 
 /* The heading's (cos, sin), recomputed only when the setpoint changes. */
@@ -464,17 +550,24 @@ static void update_heading(fc_controller *ctl, fc_real yaw_rad)
     }
 }
 
-/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h). */
-static fc_step_status horizontal_step(fc_controller *ctl, const fc_controller_inputs *in, fc_quat *attitude_sp)
+/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h),
+ * in minor frame 0 of the outer group (or on the first step of the loop after
+ * a reset or a level phase); held, with its status, for the major frame. */
+static fc_step_status horizontal_step(fc_controller *ctl, const fc_controller_inputs *in, bool position_frame,
+                                      fc_quat *attitude_sp)
 {
-    update_heading(ctl, in->yaw_setpoint_rad);
-    const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
-                                           fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
-                                           ctl->heading_cos,   ctl->heading_sin};
-    fc_position_control_output pout;
-    const fc_step_status status = fc_position_control_step(&ctl->position, &pin, &pout);
-    *attitude_sp = pout.attitude_sp;
-    return passed_on(status);
+    if (position_frame || !ctl->have_attitude_setpoint) {
+        update_heading(ctl, in->yaw_setpoint_rad);
+        const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
+                                               fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
+                                               ctl->heading_cos,   ctl->heading_sin};
+        fc_position_control_output pout;
+        ctl->held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
+        ctl->held_attitude_setpoint = pout.attitude_sp;
+        ctl->have_attitude_setpoint = true;
+    }
+    *attitude_sp = ctl->held_attitude_setpoint;
+    return ctl->held_position_status;
 }
 
 /* Level at the heading: the shortest rotation about z, [cos psi/2, 0, 0, sin psi/2]
@@ -621,6 +714,11 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     fc_arith *ar = &ctl->ar;
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
+    /* the minor frame: the outer group's parts each in their own (header) */
+    const uint8_t frame = ctl->minor_frame;
+    ctl->minor_frame = (uint8_t)(frame + 1u < ctl->p.outer_divider ? frame + 1u : 0u);
+    const bool position_frame = frame == 0u;
+    const bool pad_frame = frame == (ctl->p.outer_divider > 1u ? 1u : 0u);
     const fc_landing_state state_before = ctl->landing.state;
     const fc_landing_reason reason_before = ctl->landing.reason;
 
@@ -642,9 +740,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     }
     const fc_controller_inputs *in = inputs_to_use(ctl, in_raw, inputs_ok, command_valid);
 
-    /* the pad, learnt on every step from the range finder */
+    /* the pad, learnt from the range finder in its minor frame */
     bool range_fresh = false;
-    status |= observe_pad(ctl, in_raw, inputs_ok, tm->tilt_cos, &tm->pad, &range_fresh);
+    status |= observe_pad(ctl, in_raw, inputs_ok, tm->tilt_cos, &range_fresh);
+    status |= pad_step(ctl, pad_frame, &tm->pad);
     tm->gear_height_m = ctl->gear_height_m;
 
     if (!command_valid || (ctl->failsafe && ctl->failsafe_landed)) {
@@ -720,8 +819,9 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     /* attitude: setpoint from the horizontal loop (level in the failsafe and the ramp), then the moments */
     if (level) {
         tm->attitude_setpoint = level_attitude(ctl, in->yaw_setpoint_rad);
+        ctl->have_attitude_setpoint = false; /* the loop starts afresh after a level phase */
     } else {
-        status |= horizontal_step(ctl, in, &tm->attitude_setpoint);
+        status |= horizontal_step(ctl, in, position_frame, &tm->attitude_setpoint);
     }
     /* on the pad (contact being confirmed, the thrust ramp) the feet and not
      * the moments hold the attitude: the integrals hold their trim */

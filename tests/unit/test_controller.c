@@ -274,6 +274,103 @@ static void test_hexa_tracks_the_4_4_reference(void **state)
     assert_true(fabs(b.p[0]) < 0.02 && fabs(b.p[1]) < 0.02);
 }
 
+/* ---- rate groups ------------------------------------------------------ */
+
+/* The outer group's major frame: 10 ms or one step, whichever is longer; its
+ * modules' steps are dt times it, and init holds the parameters to that. */
+static void test_outer_group_divider(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    const struct { double dt_s; int divider; } cases[] = {{0.001, 10}, {0.002, 5}, {0.0025, 4}, {0.004, 2},
+                                                          {0.01, 1}, {0.02, 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        fc_controller_params p;
+        fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(cases[i].dt_s, DT));
+        assert_int_equal(p.outer_divider, cases[i].divider);
+        assert_true(fabs(D(p.horizontal.dt_s, DT) - cases[i].divider * cases[i].dt_s) < 1e-6);
+        assert_true(p.pad_motion.dt_s == p.horizontal.dt_s);
+        assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    }
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.outer_divider = 0u;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+    p.outer_divider = FC_OUTER_DIVIDER_MAX + 1u;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+    p.outer_divider = 4u; /* the modules' steps no longer dt times it */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.pad_motion.dt_s = p.dt_s;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_BAD_PARAM);
+}
+
+static bool quat_equal(fc_quat a, fc_quat b)
+{
+    return a.w == b.w && a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+/* The position loop runs in minor frame 0 and its setpoint is held for the
+ * major frame; the first armed step runs it whatever the frame. */
+static void test_position_loop_once_a_major_frame(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(0.5);
+    fc_controller_outputs out;
+    in.command = FC_COMMAND_DISARM;
+    (void)fc_controller_step(&ctl, &in, &out); /* frame 0 disarmed: the loop does not run */
+    in.command = FC_COMMAND_TRACK_PAD;
+    fc_quat previous = fc_quat_identity();
+    int changes = 0;
+    for (int k = 1; k <= 30; k++) {
+        /* a position error that grows every step: every run of the loop tilts further */
+        in.position_m.x = F(0.01 * k, LENGTH);
+        (void)fc_controller_step(&ctl, &in, &out);
+        const fc_quat sp = out.telemetry.attitude_setpoint;
+        if (k == 1) {
+            assert_false(quat_equal(sp, fc_quat_identity())); /* the first armed step ran it (frame 1) */
+        } else if (!quat_equal(sp, previous)) {
+            changes++;
+            assert_int_equal(k % 5, 0); /* only in minor frame 0 */
+        }
+        previous = sp;
+    }
+    assert_int_equal(changes, 6); /* steps 5, 10, ..., 30 */
+}
+
+/* The pad model runs in minor frame 1: a range sample taken in frame 2 waits
+ * for the next frame 1; between the model's runs its trajectory is extrapolated
+ * (here the pad stands still, so it stays put and the level is the sample). */
+static void test_pad_model_in_its_minor_frame(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(0.5);
+    in.command = FC_COMMAND_HOLD;
+    fc_controller_outputs out;
+    for (int k = 0; k < 12; k++) {
+        in.range_m = F(0.4, LENGTH); /* the pad's surface 0.1 m up */
+        in.range_fresh = k == 2;      /* minor frame 2 */
+        (void)fc_controller_step(&ctl, &in, &out);
+        const bool learnt = out.telemetry.pad.learning;
+        assert_true(learnt == (k >= 6)); /* taken in frame 1 of the next major frame */
+        if (learnt) {
+            assert_true(fabs(D(out.telemetry.pad.now.z_m, LENGTH) - 0.1) < 1e-5);
+            assert_true(fabs(D(out.telemetry.pad.mean_m, LENGTH) - 0.1) < 1e-5);
+        }
+        if (k == 2) {
+            assert_true(fabs(D(out.telemetry.gear_height_m, LENGTH) - (0.4 - 0.02)) < 1e-5); /* at once */
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -283,6 +380,9 @@ int main(void)
         cmocka_unit_test(test_bad_input_is_safe),
         cmocka_unit_test(test_failsafe_when_inputs_stay_bad),
         cmocka_unit_test(test_hexa_tracks_the_4_4_reference),
+        cmocka_unit_test(test_outer_group_divider),
+        cmocka_unit_test(test_position_loop_once_a_major_frame),
+        cmocka_unit_test(test_pad_model_in_its_minor_frame),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

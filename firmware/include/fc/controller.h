@@ -7,16 +7,29 @@
  * One step (at the dt fixed at init):
  *   attitude   complementary filter on the IMU (2.5), or the platform's own estimate
  *   pad        the pad's height from the range finder (z - range k_h) learnt and
- *              predicted (fc/pad_motion.h)
+ *              predicted (fc/pad_motion.h); outer group, see below
  *   mission    TRACK_PAD: z_r (3.6) around the pad trajectory the platform gives
  *              (the 4.4 task); HOLD / LAND: the landing manager (fc/landing.h)
  *              chooses the reference, the thrust ramp and when the motors stop
  *   altitude   the altitude law (SSC or a baseline) -> body thrust, tilt compensated
  *   horizontal position PID -> wanted acceleration -> F = m (a_des - g) (2.11),
  *              its direction and the heading give the attitude setpoint
- *              (fc/position_control.h, no trigonometry per step)
+ *              (fc/position_control.h, no trigonometry per step); outer group
  *   attitude   quaternion attitude control (2.9) -> body moments
  *   allocation thrust and moments -> normalised rotor speeds (2.2)-(2.6)
+ * Rate groups. The inner group (attitude estimate and control, allocation, the
+ * altitude law and its reference, the landing manager) runs on every step. The
+ * outer group runs once every outer_divider steps (a major frame), each part
+ * in a minor frame of its own so that the two never add up in one step:
+ *   minor frame 0  the horizontal position loop, at dt outer_divider; its
+ *                  attitude setpoint is held for the major frame
+ *   minor frame 1  the pad model, at dt outer_divider; a range sample waits for
+ *                  it (the newest one) and is carried to that step along the
+ *                  model's own vertical speed; between its runs the pad's
+ *                  trajectory is extrapolated, z + z' t + z'' t^2 / 2
+ * (with outer_divider 1 both run on every step, as one group). The default
+ * puts the outer group at 100 Hz or the step rate if that is slower, the
+ * Crazyflie firmware's position rate; the position input rarely comes faster.
  * Bad input: position, velocity, setpoints (and the pad trajectory when
  * tracking it) that are not numbers inside the physical range are replaced by
  * the last good ones for failsafe.bad_input_hold_s; beyond that the step
@@ -62,8 +75,12 @@ typedef struct fc_failsafe_params {
     fc_real max_s;              /* TIME: motors off after this long in failsafe, (0, 600] */
 } fc_failsafe_params;
 
+#define FC_OUTER_DIVIDER_MAX 10u        /* the outer group's longest major frame, in steps */
+
 typedef struct fc_controller_params {
-    fc_real dt_s;                       /* DT: the fixed step of everything below */
+    fc_real dt_s;                       /* DT: the fixed step of the inner group */
+    uint8_t outer_divider;              /* steps per major frame, [1, FC_OUTER_DIVIDER_MAX]:
+                                         * horizontal.dt_s and pad_motion.dt_s are dt_s times it */
     fc_real mass_kg;                    /* MASS: nominal */
     fc_real gravity_mps2;               /* ACCEL */
     bool use_external_attitude;         /* the platform's estimate instead of the filter */
@@ -134,6 +151,16 @@ typedef struct fc_controller {
     fc_quat last_attitude;
     fc_real last_thrust_n;              /* FORCE */
     fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
+    /* rate groups (see the top of this file) */
+    uint8_t minor_frame;                /* this step's place in the major frame, 0..outer_divider - 1 */
+    fc_quat held_attitude_setpoint;     /* the position loop's, held for the major frame */
+    fc_step_status held_position_status; /* its status bits, reported while it is held */
+    bool have_attitude_setpoint;        /* held_attitude_setpoint is the running loop's */
+    fc_pad_motion_estimate pad_estimate; /* the pad model's newest output */
+    fc_real pad_estimate_age_s;         /* DT: since the pad model made it */
+    fc_real pending_pad_height_m;       /* LENGTH: the newest range sample as pad height, waiting */
+    fc_real pending_pad_age_s;          /* DT: since it was taken */
+    bool pad_sample_pending;
     /* bad input */
     fc_controller_inputs last_good;     /* the newest inputs that were usable */
     bool have_last_good;
