@@ -112,7 +112,7 @@ void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real d
 
 static bool rate_valid(fc_vec3 r)
 {
-    return vec_in(r, -MAX_RATE_RADPS, MAX_RATE_RADPS);
+    return fc_vec3_within(r, MAX_RATE_RADPS);
 }
 
 /* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. */

@@ -164,22 +164,16 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
 
 /* ---- the step ---------------------------------------------------------- */
 
-static bool vec3_within(fc_arith *ar, fc_vec3 v, fc_real range)
+static bool gyro_valid(const fc_attitude_estimator *est, fc_vec3 gyro)
 {
-    const fc_real lo = fc_neg(ar, range);
-    return v.x >= lo && v.x <= range && v.y >= lo && v.y <= range && v.z >= lo && v.z <= range;
-}
-
-static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
-{
-    return fc_vec3_is_finite(gyro) && vec3_within(&est->ar, gyro, est->p.gyro_range_radps);
+    return fc_vec3_within(gyro, est->p.gyro_range_radps);
 }
 
 /* A valid accelerometer sample also gives its length (ACCEL). */
 static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_real *norm_mps2)
 {
     *norm_mps2 = FC_INT(0, ACCEL);
-    if (!fc_vec3_is_finite(accel) || !vec3_within(&est->ar, accel, est->p.accel_range_mps2)) {
+    if (!fc_vec3_within(accel, est->p.accel_range_mps2)) {
         return false;
     }
     /* the one square root of the step */

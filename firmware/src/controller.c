@@ -422,11 +422,6 @@ static fc_real tilt_cos_of(fc_arith *ar, fc_quat q)
     return fc_sub(ar, FC_INT(1, RATIO), fc_add(ar, xx_yy, xx_yy));
 }
 
-static bool vec3_within(fc_vec3 v, fc_real limit)
-{
-    return fc_within(v.x, limit) && fc_within(v.y, limit) && fc_within(v.z, limit);
-}
-
 /* The inputs are numbers inside the physical range (fc/status.h): beyond it
  * a finite value is as bad as a NaN. The pad trajectory counts when tracking it. */
 static bool controller_inputs_usable(const fc_controller_inputs *in)
@@ -437,8 +432,8 @@ static bool controller_inputs_usable(const fc_controller_inputs *in)
     const bool pad_ok = in->command != FC_COMMAND_TRACK_PAD ||
                         (fc_within(in->pad.z_m, length) && fc_within(in->pad.vz_mps, speed) &&
                          fc_within(in->pad.az_mps2, accel));
-    return vec3_within(in->position_m, length) && vec3_within(in->velocity_mps, speed) &&
-           vec3_within(in->position_setpoint_m, length) && fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
+    return fc_vec3_within(in->position_m, length) && fc_vec3_within(in->velocity_mps, speed) &&
+           fc_vec3_within(in->position_setpoint_m, length) && fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
            pad_ok;
 }
 
@@ -631,7 +626,12 @@ static const fc_controller_inputs *inputs_to_use(fc_controller *ctl, const fc_co
 {
     fc_arith *ar = &ctl->ar;
     if (inputs_ok) {
-        ctl->last_good = *in;
+        /* what a bad step flies on; the rest it takes from its own inputs (below) */
+        ctl->last_good.position_m = in->position_m;
+        ctl->last_good.velocity_mps = in->velocity_mps;
+        ctl->last_good.pad = in->pad;
+        ctl->last_good.position_setpoint_m = in->position_setpoint_m;
+        ctl->last_good.yaw_setpoint_rad = in->yaw_setpoint_rad;
         ctl->have_last_good = true;
         ctl->bad_input_s = FC_INT(0, TIME);
         if (ctl->failsafe) {
@@ -653,7 +653,7 @@ static const fc_controller_inputs *inputs_to_use(fc_controller *ctl, const fc_co
         fc_landing_force(&ctl->landing, FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST);
     }
     if (ctl->have_last_good) {
-        /* the sensors' values from the last good step; the command and IMU of this one */
+        /* the sensors' values from the last good step; the command, IMU and range of this one */
         ctl->last_good.imu = in->imu;
         ctl->last_good.attitude_external = in->attitude_external;
         ctl->last_good.range_m = in->range_m;

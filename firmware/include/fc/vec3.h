@@ -93,4 +93,10 @@ FC_VEC3_INLINE bool fc_vec3_is_finite(fc_vec3 v)
     return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
 }
 
+/* Every component a number with |v_i| <= limit (fc_within). */
+FC_VEC3_INLINE bool fc_vec3_within(fc_vec3 v, fc_real limit)
+{
+    return fc_within(v.x, limit) && fc_within(v.y, limit) && fc_within(v.z, limit);
+}
+
 #endif /* FC_VEC3_H */
