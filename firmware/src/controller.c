@@ -505,13 +505,19 @@ static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory 
 
 /* Minor frame 1 of the outer group (every step with outer_divider 1): the
  * pad model takes the waiting sample, carried to this step along the model's
- * vertical speed, and gives a new estimate. On the other steps the estimate
- * is the last one with its trajectory extrapolated to this step. */
-static fc_step_status pad_step(fc_controller *ctl, bool pad_frame, fc_pad_motion_estimate *estimate)
+ * vertical speed, and gives a new estimate; minor frame 2 (outer_divider 3 or
+ * more) updates its covariance, which the next step of the model would do
+ * first otherwise. On the other steps the estimate is the last one with its
+ * trajectory extrapolated to this step. */
+static fc_step_status pad_step(fc_controller *ctl, uint8_t frame, fc_pad_motion_estimate *estimate)
 {
     fc_arith *ar = &ctl->ar;
     fc_step_status status = FC_STEP_OK;
-    if (pad_frame) {
+    const uint8_t divider = ctl->p.outer_divider;
+    if (divider >= 3u && frame == 2u) {
+        status = passed_on(fc_pad_motion_finish_sample(&ctl->pad_motion));
+    }
+    if (frame == (divider > 1u ? 1u : 0u)) {
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
         if (ctl->pad_sample_pending) {
             const fc_real carried_m =
@@ -520,7 +526,7 @@ static fc_step_status pad_step(fc_controller *ctl, bool pad_frame, fc_pad_motion
             sample.fresh = true;
             ctl->pad_sample_pending = false;
         }
-        status = passed_on(fc_pad_motion_step(&ctl->pad_motion, &sample, &ctl->pad_estimate));
+        status |= passed_on(fc_pad_motion_step(&ctl->pad_motion, &sample, &ctl->pad_estimate));
         ctl->pad_estimate_age_s = FC_INT(0, DT);
     }
     *estimate = ctl->pad_estimate;
@@ -718,7 +724,6 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     const uint8_t frame = ctl->minor_frame;
     ctl->minor_frame = (uint8_t)(frame + 1u < ctl->p.outer_divider ? frame + 1u : 0u);
     const bool position_frame = frame == 0u;
-    const bool pad_frame = frame == (ctl->p.outer_divider > 1u ? 1u : 0u);
     const fc_landing_state state_before = ctl->landing.state;
     const fc_landing_reason reason_before = ctl->landing.reason;
 
@@ -743,7 +748,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     /* the pad, learnt from the range finder in its minor frame */
     bool range_fresh = false;
     status |= observe_pad(ctl, in_raw, inputs_ok, tm->tilt_cos, &range_fresh);
-    status |= pad_step(ctl, pad_frame, &tm->pad);
+    status |= pad_step(ctl, frame, &tm->pad);
     tm->gear_height_m = ctl->gear_height_m;
 
     if (!command_valid || (ctl->failsafe && ctl->failsafe_landed)) {

@@ -66,7 +66,8 @@ static fc_real geometric_mean_s(fc_arith *ar, fc_real a_s, fc_real b_s)
     return fc_sqrt(ar, fc_mul(ar, a_s, b_s, FC_SHIFT(TIME, TIME, TIME)), FC_TIME_FRAC);
 }
 
-/* w_k and what follows from it: w_k^2, the rotation by w_k dt per step and by w_k H ahead. */
+/* w_k and what follows from it: w_k^2 and the rotation by w_k dt per step
+ * (the rotation by w_k H is formed when a prediction is asked for). */
 static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radps)
 {
     fc_arith *ar = &pm->ar;
@@ -75,9 +76,6 @@ static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radp
     const fc_real step_angle = fc_mul(ar, omega_radps, pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
     pm->step_cos[k] = fc_cos(ar, step_angle);
     pm->step_sin[k] = fc_sin(ar, step_angle);
-    const fc_real ahead_angle = wrapped_angle(ar, fc_mul(ar, omega_radps, pm->p.horizon_s, FC_SHIFT(RATE, TIME, GAIN)));
-    pm->ahead_cos[k] = fc_cos(ar, ahead_angle);
-    pm->ahead_sin[k] = fc_sin(ar, ahead_angle);
 }
 
 /* S = s0 I over the n parameters in use. */
@@ -106,6 +104,7 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
     pm->outliers_in_row = 0u;
     pm->learning = false;
     pm->summary_stale = true;
+    pm->covariance_pending = false; /* S starts again from s0 I */
 }
 
 fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params *p)
@@ -248,12 +247,14 @@ static bool covariance_usable(const fc_pad_motion *pm)
     return true;
 }
 
-/* The RLS update of theta and S with the a-priori residual e (see the header). */
+/* The RLS update of theta with the a-priori residual e (see the header); the
+ * update of S that goes with it is left pending (update_covariance), with the
+ * gain g and S phi it needs. */
 static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m)
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = pm->n;
-    fc_real s_phi[FC_PAD_MAX_PARAMS]; /* MAT: S phi (= (phi' S)' as S is symmetric) */
+    fc_real *s_phi = pm->pending_s_phi; /* MAT: S phi (= (phi' S)' as S is symmetric) */
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
         fc_acc acc = fc_acc_zero();
@@ -270,15 +271,30 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
         fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
                fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
     const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
-    fc_real gain[FC_PAD_MAX_PARAMS]; /* MAT */
+    fc_real *gain = pm->pending_gain; /* MAT */
     for (unsigned i = 0u; i < n; i++) {
         gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
         pm->theta[i] =
             fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
     }
-    /* S = (S - g phi' S) / lambda, the upper triangle mirrored (2 n (n + 1) / 2
-     * = 56 products for 3 modes, on every sample); no inflation
-     * while trace(S) is above its bound (a scratch sum: past the format is past the bound) */
+    pm->covariance_pending = true;
+}
+
+/* The pending S = (S - g phi' S) / lambda of the newest sample, the upper
+ * triangle mirrored (2 n (n + 1) / 2 = 56 products for 3 modes); no inflation
+ * while trace(S) is above its bound (a scratch sum: past the format is past
+ * the bound). S is next used by the next sample, so this may wait for a minor
+ * frame of its own (fc_pad_motion_finish_sample). */
+static fc_step_status update_covariance(fc_pad_motion *pm)
+{
+    if (!pm->covariance_pending) {
+        return FC_STEP_OK;
+    }
+    pm->covariance_pending = false;
+    fc_arith *ar = &pm->ar;
+    const unsigned n = pm->n;
+    const fc_real *gain = pm->pending_gain;
+    const fc_real *s_phi = pm->pending_s_phi;
     fc_arith scratch = {0u};
     fc_real trace = FC_INT(0, MAT);
     for (unsigned i = 0u; i < n; i++) {
@@ -295,6 +311,11 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
             pm->s[j][i] = sij;
         }
     }
+    if (!covariance_usable(pm)) {
+        covariance_restart(pm);
+        return FC_STEP_DEGRADED;
+    }
+    return FC_STEP_OK;
 }
 
 /* w_k += kappa d_arg / T_sample, d_arg = (a_prev b - b_prev a) / |C|^2 (the header). */
@@ -358,10 +379,6 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     rls_update(pm, phi, residual);
     adapt_frequencies(pm, amplitude_before);
     pm->since_sample_s = FC_INT(0, TIME);
-    if (!covariance_usable(pm)) {
-        covariance_restart(pm);
-        return FC_STEP_DEGRADED;
-    }
     return FC_STEP_OK;
 }
 
@@ -448,17 +465,34 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
     ar->saturated |= f->saturated;
 }
 
+fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm)
+{
+    if (!pm->ready) {
+        return FC_STEP_NOT_READY;
+    }
+    pm->ar.saturated = 0u;
+    fc_step_status status = update_covariance(pm);
+    if (pm->ar.saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
+
 void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahead)
 {
     if (!pm->ready) {
         *ahead = (fc_vertical_trajectory){0};
         return;
     }
+    fc_arith *ar = &pm->ar;
     fc_real sin_ahead[FC_PAD_MAX_MODES] = {0}, cos_ahead[FC_PAD_MAX_MODES] = {0};
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        /* the phases turned by w_k H */
+        const fc_real ahead_rad =
+            wrapped_angle(ar, fc_mul(ar, pm->omega_radps[k], pm->p.horizon_s, FC_SHIFT(RATE, TIME, GAIN)));
         sin_ahead[k] = pm->phase_sin[k];
         cos_ahead[k] = pm->phase_cos[k];
-        rotate(&pm->ar, &sin_ahead[k], &cos_ahead[k], pm->ahead_cos[k], pm->ahead_sin[k]);
+        rotate(ar, &sin_ahead[k], &cos_ahead[k], fc_cos(ar, ahead_rad), fc_sin(ar, ahead_rad));
     }
     *ahead = model_trajectory(pm, sin_ahead, cos_ahead);
 }
@@ -472,7 +506,8 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     }
     fc_arith *ar = &pm->ar;
     ar->saturated = 0u;
-    fc_step_status status = FC_STEP_OK;
+    /* the previous sample's covariance update, if no minor frame did it */
+    fc_step_status status = update_covariance(pm);
     if (sample->fresh) {
         if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
             status |= take_sample(pm, sample->height_m);

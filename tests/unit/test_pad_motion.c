@@ -3,6 +3,8 @@
  * backends: the heave of a pad off the frequency grid, a sum of three
  * sinusoids, a pad that stops, outliers, bad samples and parameters.
  */
+#include <string.h>
+
 #include "test_support.h"
 
 #include "fc/pad_motion.h"
@@ -269,6 +271,41 @@ static void test_bad_samples(void **state)
     assert_true(fabs(ts_val(est.now.z_m, FC_LENGTH_FRAC) - 0.1) < 0.001);
 }
 
+/* The covariance update done between two steps (fc_pad_motion_finish_sample,
+ * a minor frame of its own in the controller) gives the same estimates, bit
+ * for bit, as leaving it to the next step. */
+static void test_covariance_update_between_steps(void **state)
+{
+    (void)state;
+    const fc_pad_motion_params p = params(2.5, 4.5, 8.0);
+    fc_pad_motion inline_model, split_model;
+    assert_int_equal(fc_pad_motion_init(&inline_model, &p), FC_INIT_OK);
+    assert_int_equal(fc_pad_motion_init(&split_model, &p), FC_INIT_OK);
+    assert_int_equal(fc_pad_motion_finish_sample(&split_model), FC_STEP_OK); /* nothing pending */
+    const heave h = {1, {0.05}, {2.0 * TS_PI / 3.1}, {0.4}, 0.3};
+    uint32_t rng = 99u;
+    int finished = 0;
+    for (long k = 0; k < lround(30.0 / DT_S); k++) {
+        double z, vz, az;
+        heave_eval(&h, (double)k * DT_S, &z, &vz, &az);
+        const fc_pad_motion_sample s = {fc_from_float((float)(z + noise(&rng, 0.002)), FC_LENGTH_FRAC), k % 5 == 0};
+        fc_pad_motion_estimate a, b;
+        memset(&a, 0, sizeof a); /* the padding, compared below */
+        memset(&b, 0, sizeof b);
+        const fc_step_status sa = fc_pad_motion_step(&inline_model, &s, &a);
+        const fc_step_status sb = fc_pad_motion_step(&split_model, &s, &b);
+        assert_int_equal(sa, sb);
+        assert_memory_equal(&a, &b, sizeof a);
+        if (split_model.covariance_pending) {
+            finished++;
+        }
+        assert_int_equal(fc_pad_motion_finish_sample(&split_model), FC_STEP_OK);
+        assert_false(split_model.covariance_pending);
+    }
+    assert_memory_equal(inline_model.s, split_model.s, sizeof inline_model.s);
+    assert_int_equal(finished, lround(30.0 / DT_S) / 5 - 1); /* every sample but the first (which restarts) */
+}
+
 static void test_params_rejected(void **state)
 {
     (void)state;
@@ -295,6 +332,7 @@ static void test_params_rejected(void **state)
     assert_int_equal(fc_pad_motion_init(&pm, &p), FC_INIT_BAD_PARAM);
     const fc_pad_motion_sample s = {FC_C(0.1f, LENGTH), true};
     assert_int_equal(fc_pad_motion_step(&pm, &s, &est), FC_STEP_NOT_READY);
+    assert_int_equal(fc_pad_motion_finish_sample(&pm), FC_STEP_NOT_READY);
     assert_true(ts_val(est.confidence, FC_UNIT_FRAC) == 0.0);
     fc_vertical_trajectory ahead = {FC_INT(1, LENGTH), FC_INT(1, VEL), FC_INT(1, ACCEL)};
     fc_pad_motion_predict_ahead(&pm, &ahead);
@@ -311,6 +349,7 @@ int main(void)
         cmocka_unit_test(test_no_confidence_before_observing),
         cmocka_unit_test(test_outliers),
         cmocka_unit_test(test_bad_samples),
+        cmocka_unit_test(test_covariance_update_between_steps),
         cmocka_unit_test(test_params_rejected),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "pad_motion (fixed)" : "pad_motion (float)", tests, NULL,

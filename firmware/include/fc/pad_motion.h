@@ -119,8 +119,6 @@ typedef struct fc_pad_motion {
     fc_real omega_sq[FC_PAD_MAX_MODES];          /* RATIO: w_k^2 */
     fc_real step_cos[FC_PAD_MAX_MODES];          /* UNIT: cos w_k dt */
     fc_real step_sin[FC_PAD_MAX_MODES];          /* UNIT: sin w_k dt */
-    fc_real ahead_cos[FC_PAD_MAX_MODES];         /* UNIT: cos w_k H */
-    fc_real ahead_sin[FC_PAD_MAX_MODES];         /* UNIT: sin w_k H */
     fc_real omega_min_radps[FC_PAD_MAX_MODES];   /* RATE: the band of each mode */
     fc_real omega_max_radps[FC_PAD_MAX_MODES];   /* RATE */
     fc_real amplitude_min_sq;                    /* RATIO: adapt_amplitude_min^2 */
@@ -133,6 +131,9 @@ typedef struct fc_pad_motion {
     fc_real theta_old[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot H..2H old */
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
     fc_real s[FC_PAD_MAX_PARAMS][FC_PAD_MAX_PARAMS]; /* MAT: scaled covariance S */
+    fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: g of the newest sample, for S's update */
+    fc_real pending_s_phi[FC_PAD_MAX_PARAMS];    /* MAT: its S phi */
+    bool covariance_pending;                     /* S's update of the newest sample not yet done */
     fc_real error_mean_m;                        /* LENGTH */
     fc_pad_motion_summary summary;               /* of theta, w_k and the error mean */
     bool summary_stale;                          /* they changed since it was made */
@@ -156,6 +157,13 @@ void fc_pad_motion_reset(fc_pad_motion *pm);
  * is ignored (FC_STEP_BAD_INPUT). Not ready: a zero estimate with confidence 0. */
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
                                   fc_pad_motion_estimate *out);
+
+/* The second half of taking a sample: the update of S (56 products for 3
+ * modes), which only the next sample needs. A caller with a spare minor frame
+ * calls this there, between two steps; otherwise the next fc_pad_motion_step
+ * does it first. The same values either way; FC_STEP_DEGRADED if S had to
+ * restart (see covariance_usable). Nothing pending: FC_STEP_OK. */
+fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm);
 
 /* The model's trajectory H (horizon_s) after the next step's time, on demand:
  * the landing does not use it, so the step does not work it out. Not ready: zero. */
