@@ -494,12 +494,13 @@ static fc_step_status observe_pad(fc_controller *ctl, const fc_controller_inputs
 /* z + z' t + z'' t^2 / 2, z' + z'' t, z'': the trajectory t later. */
 static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory now, fc_real t_s)
 {
-    /* the mean speed over t, z' + z'' t / 2, times t */
-    const fc_real speed_gain = fc_mul(ar, now.az_mps2, t_s, FC_SHIFT(ACCEL, DT, VEL));
-    const fc_real mean_speed = fc_add(ar, now.vz_mps, fc_mul(ar, speed_gain, FC_C(0.5f, UNIT), FC_SHIFT(VEL, UNIT, VEL)));
+    /* z'' t, and the mean speed over t, z' + z'' t / 2, times t */
+    const fc_real speed_change_mps = fc_mul(ar, now.az_mps2, t_s, FC_SHIFT(ACCEL, DT, VEL));
+    const fc_real mean_speed_mps =
+        fc_add(ar, now.vz_mps, fc_mul(ar, speed_change_mps, FC_C(0.5f, UNIT), FC_SHIFT(VEL, UNIT, VEL)));
     fc_vertical_trajectory later = now;
-    later.z_m = fc_add(ar, now.z_m, fc_mul(ar, mean_speed, t_s, FC_SHIFT(VEL, DT, LENGTH)));
-    later.vz_mps = fc_add(ar, now.vz_mps, speed_gain);
+    later.z_m = fc_add(ar, now.z_m, fc_mul(ar, mean_speed_mps, t_s, FC_SHIFT(VEL, DT, LENGTH)));
+    later.vz_mps = fc_add(ar, now.vz_mps, speed_change_mps);
     return later;
 }
 

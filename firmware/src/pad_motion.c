@@ -66,16 +66,29 @@ static fc_real geometric_mean_s(fc_arith *ar, fc_real a_s, fc_real b_s)
     return fc_sqrt(ar, fc_mul(ar, a_s, b_s, FC_SHIFT(TIME, TIME, TIME)), FC_TIME_FRAC);
 }
 
-/* w_k and what follows from it: w_k^2 and the rotation by w_k dt per step
- * (the rotation by w_k H is formed when a prediction is asked for). */
+/* w_k and w_k^2; the rotation by w_k dt per step follows before the phases
+ * next turn (update_rotations), the rotation by w_k H when a prediction is
+ * asked for. */
 static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radps)
 {
-    fc_arith *ar = &pm->ar;
     pm->omega_radps[k] = omega_radps;
-    pm->omega_sq[k] = fc_mul(ar, omega_radps, omega_radps, FC_SHIFT(RATE, RATE, RATIO));
-    const fc_real step_angle = fc_mul(ar, omega_radps, pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
-    pm->step_cos[k] = fc_cos(ar, step_angle);
-    pm->step_sin[k] = fc_sin(ar, step_angle);
+    pm->omega_sq[k] = fc_mul(&pm->ar, omega_radps, omega_radps, FC_SHIFT(RATE, RATE, RATIO));
+    pm->rotation_stale = (uint8_t)(pm->rotation_stale | (1u << k));
+}
+
+/* cos and sin of w_k dt for the modes whose w_k changed: the sine and cosine
+ * of the step, out of the sample's step (fc_pad_motion_finish_sample). */
+static void update_rotations(fc_pad_motion *pm)
+{
+    fc_arith *ar = &pm->ar;
+    for (unsigned k = 0u; k < pm->p.mode_count && pm->rotation_stale != 0u; k++) {
+        if ((pm->rotation_stale & (1u << k)) != 0u) {
+            const fc_real step_angle = fc_mul(ar, pm->omega_radps[k], pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
+            pm->step_cos[k] = fc_cos(ar, step_angle);
+            pm->step_sin[k] = fc_sin(ar, step_angle);
+        }
+    }
+    pm->rotation_stale = 0u;
 }
 
 /* S = s0 I over the n parameters in use. */
@@ -112,6 +125,8 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
     pm->ready = false;
     pm->ar.saturated = 0u;
     pm->n = 1u;
+    pm->rotation_stale = 0u;
+    pm->phases_behind = false;
     for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
         /* phases start at t = 0: sin 0, cos 0 */
         pm->phase_sin[k] = FC_INT(0, UNIT);
@@ -212,6 +227,7 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 static void advance_phases(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
+    update_rotations(pm);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         rotate(ar, &pm->phase_sin[k], &pm->phase_cos[k], pm->step_cos[k], pm->step_sin[k]);
         const fc_real norm_sq = fc_dot2(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k],
@@ -472,6 +488,7 @@ fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm)
     }
     pm->ar.saturated = 0u;
     fc_step_status status = update_covariance(pm);
+    update_rotations(pm);
     if (pm->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }
@@ -508,6 +525,11 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     ar->saturated = 0u;
     /* the previous sample's covariance update, if no minor frame did it */
     fc_step_status status = update_covariance(pm);
+    /* the phases from the previous step's time to this one's (with the
+     * rotation of the frequencies the previous sample left) */
+    if (pm->phases_behind) {
+        advance_phases(pm);
+    }
     if (sample->fresh) {
         if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
             status |= take_sample(pm, sample->height_m);
@@ -516,8 +538,9 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
         }
     }
     fill_estimate(pm, out);
-    /* then to the next step */
-    advance_phases(pm);
+    /* the phases turn to the next step's time when it comes: what its sample
+     * changes in between (the rotations) can wait for a minor frame */
+    pm->phases_behind = true;
     if (pm->learning) {
         pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
         pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));

@@ -91,9 +91,9 @@ static run_result fly(const fc_pad_motion_params *p, const heave *h, int sample_
         const fc_step_status st = fc_pad_motion_step(&pm, &s, &est);
         assert_true((st & (FC_STEP_NOT_READY | FC_STEP_ARITH_SATURATED)) == 0u);
         if (t >= check_from_s) {
-            /* the prediction is H after the next step's time */
+            /* the prediction is H after this step's time */
             double za, vza, aza;
-            heave_eval(h, t + DT_S + horizon_s, &za, &vza, &aza);
+            heave_eval(h, t + horizon_s, &za, &vza, &aza);
             fc_vertical_trajectory ahead;
             fc_pad_motion_predict_ahead(&pm, &ahead);
             r.max_z_error_m = fmax(r.max_z_error_m, fabs(ts_val(est.now.z_m, FC_LENGTH_FRAC) - z));

@@ -32,7 +32,8 @@
  * inflation by 1/lambda beyond trace_max): no covariance wind-up.
  *
  * phi(t) is propagated without t: each (sin, cos) pair is rotated by w_k dt
- * per step and renormalised, so it never loses precision.
+ * per step and renormalised, so it never loses precision (at the start of the
+ * next step, so that the rotation of a changed w_k can be formed between).
  * Derivatives are the model's:  z' = sum w_k (a_k cos - b_k sin),
  * z'' = -sum w_k^2 (a_k sin + b_k cos); the prediction at t + H rotates the
  * pairs by w_k H (H fixed at init), fc_pad_motion_predict_ahead.
@@ -119,6 +120,8 @@ typedef struct fc_pad_motion {
     fc_real omega_sq[FC_PAD_MAX_MODES];          /* RATIO: w_k^2 */
     fc_real step_cos[FC_PAD_MAX_MODES];          /* UNIT: cos w_k dt */
     fc_real step_sin[FC_PAD_MAX_MODES];          /* UNIT: sin w_k dt */
+    uint8_t rotation_stale;                      /* bit k: step_cos/sin of mode k to form again */
+    bool phases_behind;                          /* the phases are the previous step's: turn them first */
     fc_real omega_min_radps[FC_PAD_MAX_MODES];   /* RATE: the band of each mode */
     fc_real omega_max_radps[FC_PAD_MAX_MODES];   /* RATE */
     fc_real amplitude_min_sq;                    /* RATIO: adapt_amplitude_min^2 */
@@ -159,13 +162,15 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
                                   fc_pad_motion_estimate *out);
 
 /* The second half of taking a sample: the update of S (56 products for 3
- * modes), which only the next sample needs. A caller with a spare minor frame
- * calls this there, between two steps; otherwise the next fc_pad_motion_step
- * does it first. The same values either way; FC_STEP_DEGRADED if S had to
- * restart (see covariance_usable). Nothing pending: FC_STEP_OK. */
+ * modes), which only the next sample needs, and the sine and cosine of the
+ * step of each adapted frequency, which only the next step needs. A caller
+ * with a spare minor frame calls this there, between two steps; otherwise the
+ * next fc_pad_motion_step does it first. The same values either way;
+ * FC_STEP_DEGRADED if S had to restart (see covariance_usable). Nothing
+ * pending: FC_STEP_OK. */
 fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm);
 
-/* The model's trajectory H (horizon_s) after the next step's time, on demand:
+/* The model's trajectory H (horizon_s) after the newest step's time, on demand:
  * the landing does not use it, so the step does not work it out. Not ready: zero. */
 void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahead);
 
