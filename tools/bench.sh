@@ -137,7 +137,7 @@ awk -v mods="${modules[*]}" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
     }
     m = "fc_controller_step"
     printf "%-27s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m " mean", sprintf("%d", mean["atmega" w, m]), sprintf("%d", mean["atmega-fixed" w, m]), "", sprintf("%d", mean["cf2" w, m]), sprintf("%d", mean["cf2-fixed" w, m]), "", sprintf("%d", mean["cf2" w "~est", m]), sprintf("%d", mean["cf2-fixed" w "~est", m])
-    printf "(the mean is the load of the rate groups: the outer group runs in one minor frame of every 5 steps each)\n"
+    printf "(mean over the 16 calls, the load per step: each part of the outer group runs in one minor frame of every 5 steps)\n"
     if (!sizes) { printf "\n"; exit }
     printf "\n%-13s | %12s | %10s | %-40s | %s\n", "image", "flash bytes", "RAM bytes", "largest stack frame (-fstack-usage)", "stack peak, run"
     printf "%-13s-+-%12s-+-%10s-+-%-40s-+-%s\n", "-------------", "------------", "----------", "----------------------------------------", "---------------"
