@@ -427,10 +427,9 @@ static void renew_snapshots(fc_pad_motion *pm)
  * worked out then (summary_stale) and not on every step. */
 static void summarise_fit(fc_pad_motion *pm)
 {
-    fc_arith *ar = &pm->ar;
+    fc_arith summary_ar = {0u}; /* its own record: a saturation here stands for every step until the next */
+    fc_arith *ar = &summary_ar;
     fc_pad_motion_summary *f = &pm->summary;
-    const uint8_t saturated_before = ar->saturated;
-    ar->saturated = 0u;
     f->heave_bound_m = FC_INT(0, LENGTH);
     f->accel_bound_mps2 = FC_INT(0, ACCEL);
     f->dominant_mode = 0u;
@@ -449,9 +448,7 @@ static void summarise_fit(fc_pad_motion *pm)
     f->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[f->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
     /* mean / tolerance for the confidence 1 - mean / tolerance */
     f->error_ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
-    /* a saturation here is reported on every step the summary stands for */
-    f->saturated = ar->saturated;
-    ar->saturated = saturated_before;
+    f->saturated = summary_ar.saturated; /* reported on every step the summary stands for */
     pm->summary_stale = false;
 }
 
