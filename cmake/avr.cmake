@@ -11,7 +11,7 @@ set(FC_AVR_MCU atmega2560)
 set(FC_AVR_F_CPU 16000000UL)
 # -maccumulate-args: outgoing arguments (structs passed by value) get their
 # space once in the prologue, so every stack frame is static (-fstack-usage)
-set(CMAKE_C_FLAGS_INIT "-mmcu=${FC_AVR_MCU} -DF_CPU=${FC_AVR_F_CPU} -maccumulate-args -mcall-prologues")
+set(CMAKE_C_FLAGS_INIT "-mmcu=${FC_AVR_MCU} -DF_CPU=${FC_AVR_F_CPU} -maccumulate-args -mcall-prologues -mrelax")
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)

@@ -188,6 +188,8 @@ static fc_controller_inputs inputs_of(const fsw_inputs *in)
     fin.attitude_external.x = TO_FC(in->attitude_q[1], UNIT);
     fin.attitude_external.y = TO_FC(in->attitude_q[2], UNIT);
     fin.attitude_external.z = TO_FC(in->attitude_q[3], UNIT);
+    fin.heading_rad = TO_FC(in->heading_rad, ANGLE);
+    fin.heading_fresh = in->heading_fresh != 0;
     fin.position_m = vec_to_fc(in->position_m, FC_LENGTH_FRAC);
     fin.velocity_mps = vec_to_fc(in->velocity_mps, FC_VEL_FRAC);
     fin.pad.z_m = TO_FC(in->pad_z_m, LENGTH);

@@ -58,6 +58,8 @@ typedef struct fsw_inputs {
     double gyro_radps[3];    /* body rate, as the gyro reads it */
     double accel_mps2[3];    /* specific force, body: level at rest (0, 0, +g) */
     double attitude_q[4];    /* w, x, y, z: body -> world (used with external attitude) */
+    double heading_rad;      /* a measured yaw for the flight software's attitude filter */
+    int heading_fresh;       /* a new heading sample this step */
     double position_m[3];
     double velocity_mps[3];
     double pad_z_m, pad_vz_mps, pad_az_mps2; /* the pad trajectory for TRACK_PAD */

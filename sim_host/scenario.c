@@ -130,6 +130,8 @@ typedef struct raw {
     position_params position;
     altitude_params altitude;
     attitude_sensor_params attitude;
+    int heading_enabled;
+    heading_sensor_params heading;
     double noise_scale;
     /* [metrics] */
     metric_params metrics;
@@ -321,6 +323,12 @@ static const key_def keys[] = {
     {"attitude_sensor", "delay_s", K_DOUBLE, R(attitude.delay_s), 0.0, 10.0, NULL, 0},
     {"attitude_sensor", "noise_rad", K_DOUBLE, R(attitude.noise_rad), 0.0, 1.0, NULL, 0},
 
+    {"heading_sensor", "enabled", K_BOOL, R(heading_enabled), 0, 0, NULL, 0},
+    {"heading_sensor", "rate_hz", K_DOUBLE, R(heading.rate_hz), 0.0, 100000.0, NULL, 0},
+    {"heading_sensor", "delay_s", K_DOUBLE, R(heading.delay_s), 0.0, 10.0, NULL, 0},
+    {"heading_sensor", "noise_rad", K_DOUBLE, R(heading.noise_rad), 0.0, 1.0, NULL, 0},
+    {"heading_sensor", "bias_rad", K_DOUBLE, R(heading.bias_rad), -3.2, 3.2, NULL, 0},
+
     {"metrics", "transient_s", K_DOUBLE, R(metrics.transient_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"metrics", "mass_step_window_s", K_DOUBLE, R(metrics.mass_step_window_s), 0.0, 36000.0, NULL, OPEN_LO},
     {"metrics", "bounce_height_m", K_DOUBLE, R(metrics.bounce_height_m), 0.0, 10.0, NULL, OPEN_LO},
@@ -353,10 +361,12 @@ static const key_def keys[] = {
 };
 #define KEY_COUNT ((int)(sizeof keys / sizeof keys[0]))
 
-static const char *const sections[] = {"scenario", "controller", "vehicle", "mass", "ground_effect",
-                                       "gear", "contact", "pad", "initial", "mission", "sensors", "imu",
-                                       "position_sensor", "altitude_sensor", "attitude_sensor", "metrics",
-                                       "montecarlo", "wind", "fault", NULL};
+static const char *const sections[] = {"scenario",        "controller",      "vehicle",         "mass",
+                                       "ground_effect",   "gear",            "contact",         "pad",
+                                       "initial",         "mission",         "sensors",         "imu",
+                                       "position_sensor", "altitude_sensor", "attitude_sensor", "heading_sensor",
+                                       "metrics",         "montecarlo",      "wind",            "fault",
+                                       NULL};
 
 static void raw_defaults(raw *r)
 {
@@ -977,6 +987,8 @@ static bool build(parse_ctx *c, scenario *sc)
     s->position = r->position;
     s->altitude = r->altitude;
     s->attitude = r->attitude;
+    s->heading = r->heading;
+    s->heading.enabled = r->heading_enabled != 0;
     s->noise_scale = r->noise_scale;
     why = sensors_check(s, f->dt_s);
     if (why != NULL) {
@@ -1247,6 +1259,7 @@ void scenario_perturb(scenario *sc, uint64_t seed)
     const int extra_steps = mc->delay_steps_max > 0 ? (int)(rng_uniform(&r) * (mc->delay_steps_max + 1)) : 0;
     sc->sensors.position.delay_s += extra_steps * sc->fsw.dt_s;
     sc->sensors.altitude.delay_s += extra_steps * sc->fsw.dt_s;
+    sc->sensors.heading.delay_s += extra_steps * sc->fsw.dt_s;
     const double tau = 1.0 + rng_range(&r, -mc->motor_tau_rel, mc->motor_tau_rel);
     for (int i = 0; i < p->rotor_count; i++) {
         p->rotor[i].tau_s *= tau;

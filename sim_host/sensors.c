@@ -5,7 +5,7 @@
 #include <string.h>
 
 /* Stream numbers of the channels (the run seed's streams 0..99 are the sensors'). */
-enum { STREAM_IMU = 1, STREAM_POSITION = 2, STREAM_ALTITUDE = 3, STREAM_ATTITUDE = 4 };
+enum { STREAM_IMU = 1, STREAM_POSITION = 2, STREAM_ALTITUDE = 3, STREAM_ATTITUDE = 4, STREAM_HEADING = 5 };
 
 /* Half a plant step is far below any sample period: times closer than this are equal. */
 #define TIME_EPS 1e-9
@@ -17,9 +17,11 @@ static double period_of(double rate_hz, double controller_dt_s)
 
 const char *sensors_check(const sensor_params *p, double controller_dt_s)
 {
-    const double rates[] = {p->imu.rate_hz, p->position.rate_hz, p->altitude.rate_hz, p->attitude.rate_hz};
-    const double delays[] = {p->imu.delay_s, p->position.delay_s, p->altitude.delay_s, p->attitude.delay_s};
-    for (int i = 0; i < 4; i++) {
+    const double rates[] = {p->imu.rate_hz, p->position.rate_hz, p->altitude.rate_hz, p->attitude.rate_hz,
+                            p->heading.rate_hz};
+    const double delays[] = {p->imu.delay_s, p->position.delay_s, p->altitude.delay_s, p->attitude.delay_s,
+                             p->heading.delay_s};
+    for (int i = 0; i < 5; i++) {
         if (!(rates[i] >= 0.0) || !(delays[i] >= 0.0)) {
             return "sensor rates and delays must be non-negative";
         }
@@ -96,10 +98,12 @@ void sensors_init(sensors *s, const sensor_params *p, double controller_dt_s, ui
     channel_init(&s->position, 6, period_of(p->position.rate_hz, controller_dt_s), p->position.delay_s);
     channel_init(&s->altitude, 1, period_of(p->altitude.rate_hz, controller_dt_s), p->altitude.delay_s);
     channel_init(&s->attitude, 4, period_of(p->attitude.rate_hz, controller_dt_s), p->attitude.delay_s);
+    channel_init(&s->heading, 1, period_of(p->heading.rate_hz, controller_dt_s), p->heading.delay_s);
     rng_seed(&s->r_imu, seed, STREAM_IMU);
     rng_seed(&s->r_position, seed, STREAM_POSITION);
     rng_seed(&s->r_altitude, seed, STREAM_ALTITUDE);
     rng_seed(&s->r_attitude, seed, STREAM_ATTITUDE);
+    rng_seed(&s->r_heading, seed, STREAM_HEADING);
     /* the random part of the biases, drawn once per run */
     const double gb = p->imu.gyro_bias_std_radps, ab = p->imu.accel_bias_std_mps2;
     s->gyro_bias = v3_add(p->imu.gyro_bias_radps,
@@ -173,6 +177,14 @@ void sensors_sample(sensors *s, const plant *pl, double t)
         const double v[4] = {q.w, q.x, q.y, q.z};
         channel_push(&s->attitude, t, v);
     }
+    if (s->p.heading.enabled && channel_due(&s->heading, t)) {
+        const quat q = pl->s.q;
+        /* the yaw of the body x axis: atan2 of the first column of R(q) */
+        const double yaw = atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+        const double measured = yaw + s->p.heading.bias_rad + scale * s->p.heading.noise_rad * rng_normal(&s->r_heading);
+        const double wrapped = atan2(sin(measured), cos(measured));
+        channel_push(&s->heading, t, &wrapped);
+    }
 }
 
 void sensors_read(const sensors *s, double t, sensor_readout *out)
@@ -190,4 +202,8 @@ void sensors_read(const sensors *s, double t, sensor_readout *out)
                                                                           : (double)NAN;
     const double *att = channel_read(&s->attitude, t);
     out->attitude = quat_make(att[0], att[1], att[2], att[3]);
+    out->has_heading = s->p.heading.enabled && s->heading.count > 0 &&
+                       s->heading.t[channel_index(&s->heading, t)] + s->heading.delay_s <= t + TIME_EPS;
+    out->heading_rad = out->has_heading ? channel_read(&s->heading, t)[0] : 0.0;
+    out->heading_sample_t = out->has_heading ? s->heading.t[channel_index(&s->heading, t)] : (double)NAN;
 }

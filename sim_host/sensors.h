@@ -4,7 +4,9 @@
  * Channels: IMU (gyro and accelerometer, body frame), position and velocity
  * (world, like a motion-capture system or an onboard estimator), altitude
  * (absolute, or range to the pad along body -z), attitude (for the platforms
- * that hand the firmware their own estimate). Each channel samples the plant at
+ * that hand the firmware their own estimate), heading (a measured yaw, as a
+ * motion-capture system, a lighthouse deck or a compass gives it; off unless
+ * enabled). Each channel samples the plant at
  * its own rate (0: the controller's rate), adds bias and white noise, quantises
  * to its LSB, and is delivered delay_s after it was taken (a ring of samples).
  * Noise is drawn from per-channel seeded streams: a run is reproducible from
@@ -54,11 +56,19 @@ typedef struct attitude_sensor_params {
     double noise_rad;          /* std of a small random rotation per axis */
 } attitude_sensor_params;
 
+typedef struct heading_sensor_params {
+    bool enabled;
+    double rate_hz, delay_s;
+    double noise_rad;          /* std per sample */
+    double bias_rad;           /* a constant offset (a compass's declination error) */
+} heading_sensor_params;
+
 typedef struct sensor_params {
     imu_params imu;
     position_params position;
     altitude_params altitude;
     attitude_sensor_params attitude;
+    heading_sensor_params heading;
     double noise_scale;        /* multiplies every noise std (Monte-Carlo) */
 } sensor_params;
 
@@ -75,8 +85,8 @@ typedef struct sensor_channel {
 
 typedef struct sensors {
     sensor_params p;
-    sensor_channel imu, position, altitude, attitude;
-    rng r_imu, r_position, r_altitude, r_attitude;
+    sensor_channel imu, position, altitude, attitude, heading;
+    rng r_imu, r_position, r_altitude, r_attitude, r_heading;
     v3 gyro_bias, accel_bias;  /* fixed + drawn */
 } sensors;
 
@@ -88,6 +98,9 @@ typedef struct sensor_readout {
     bool has_altitude;         /* a separate altitude channel exists */
     double altitude_sample_t;  /* when the altitude sample read was taken (a new one: a fresh sample) */
     quat attitude;
+    bool has_heading;          /* the heading channel is enabled */
+    double heading_rad;        /* yaw in [-pi, pi] */
+    double heading_sample_t;   /* when the heading sample read was taken (a new one: a fresh sample) */
 } sensor_readout;
 
 /* NULL if the parameters are usable, else a reason. */

@@ -189,6 +189,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     /* the landing mission: range freshness, wind, the fault (timed from the first DESCEND) */
     const bool land = mission->command == MISSION_LAND;
     double last_range_t = (double)NAN;
+    double last_heading_t = (double)NAN;
     double fault_at = (double)INFINITY;
     rng wind_rng;
     rng_seed(&wind_rng, sc->seed, 200);
@@ -220,6 +221,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.attitude_q[1] = sr.attitude.x;
         in.attitude_q[2] = sr.attitude.y;
         in.attitude_q[3] = sr.attitude.z;
+        in.heading_rad = sr.heading_rad;
+        in.heading_fresh = sr.has_heading && sr.heading_sample_t != last_heading_t;
+        last_heading_t = sr.has_heading ? sr.heading_sample_t : last_heading_t;
         in.position_m[0] = sr.position_m.x;
         in.position_m[1] = sr.position_m.y;
         in.position_m[2] = sr.position_m.z;

@@ -16,16 +16,20 @@
  *   v_a, v_hat UNIT   unit vectors
  *   e, w e     UNIT   |e| = sin(tilt error) <= 1
  *   Kp w e     RATE   <= 20 rad/s
- *   gyro - b + Kp w e  RATE  <= 100 + 0.8 + 20 < 128; times dt <= 2.6 rad per
+ *   gyro - b + Kp w e  RATE  <= 100 + 0.8 + 20 < 128 (with the heading's Kp w_h e_h
+ *              the init bounds gyro_range + bias_limit + 2 Kp by 127); times dt <= 2.6 rad per
  *              component (ANGLE, < 8) inside fc_quat_integrate_body_rate
  *   b, Ki dt   UNIT   Q30 holding rad/s: |b| <= 0.8, Ki dt = w_c (w_c dt) <= 1, so
- *              |b - Ki dt w e| <= 1.8 < 2
+ *              |b - Ki dt w e| <= 1.8 < 2 (the heading's step is taken after the
+ *              clamp: the same bound)
  *   weight     RATIO  in [0, 1]
  *   alignment  ACCEL x UNIT products summed in fc_acc (64 bits in fixed), mean in ACCEL
  */
 #include "fc/attitude_estimator.h"
 
 #include <stddef.h>
+
+#include "attitude_heading.h"
 
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
@@ -49,6 +53,8 @@ void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_re
     p->gyro_range_radps = FC_C(35.0f, RATE);              /* 2000 deg/s */
     p->accel_range_mps2 = FC_C(16.0f * 9.80665f, ACCEL); /* 16 g */
     p->alignment_samples = 100u;
+    p->heading_weight = FC_INT(1, RATIO);
+    p->heading_hold_s = FC_C(0.1f, DT);
 }
 
 static bool in_range(fc_real x, fc_real lo, fc_real hi)
@@ -102,6 +108,10 @@ static void reset_state(fc_attitude_estimator *est)
     est->alignment_sum[1] = fc_acc_zero();
     est->alignment_sum[2] = fc_acc_zero();
     est->accel_weight = FC_INT(0, RATIO);
+    est->heading_cos = FC_INT(1, UNIT);
+    est->heading_sin = FC_INT(0, UNIT);
+    est->heading_rad = FC_INT(0, ANGLE);
+    est->heading_steps_left = 0u;
     est->alignment_count = 0u;
     est->aligned = false;
 }
@@ -119,6 +129,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->inv_band_s2pm = FC_INT(0, RATIO);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
+    est->heading_hold_steps = 0u;
     if (p == NULL || !params_in_range(p)) {
         return FC_INIT_BAD_PARAM;
     }
@@ -141,6 +152,10 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
      * rad/s per unit of |e| */
     const fc_real ki = fc_mul(&ar, p->crossover_radps, p->crossover_radps, FC_SHIFT(RATE, RATE, RATE));
     const fc_real ki_dt = fc_mul(&ar, ki, p->dt_s, FC_SHIFT(RATE, DT, UNIT));
+    uint16_t heading_hold_steps = 0u;
+    if (!fc_attitude_heading_params_ok(p, kp, &heading_hold_steps)) {
+        return FC_INIT_BAD_PARAM;
+    }
     /* 1/band <= 100 (band >= 0.01 m/s2) */
     const fc_real inv_band =
         fc_div(&ar, FC_INT(1, RATIO), p->accel_trust_band_mps2, FC_DIV_SHIFT(RATIO, ACCEL, RATIO));
@@ -158,6 +173,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->inv_band_s2pm = inv_band;
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
+    est->heading_hold_steps = heading_hold_steps;
     est->ready = true;
     return FC_INIT_OK;
 }
@@ -205,12 +221,6 @@ static fc_vec3 estimated_up_body(fc_arith *ar, fc_quat q)
                         fc_sub(ar, FC_INT(1, UNIT), fc_add(ar, half_xx_yy, half_xx_yy)));
 }
 
-static fc_vec3 clamp_vec3(fc_arith *ar, fc_vec3 v, fc_real limit)
-{
-    const fc_real lo = fc_neg(ar, limit);
-    return fc_vec3_make(fc_clamp(v.x, lo, limit), fc_clamp(v.y, lo, limit), fc_clamp(v.z, lo, limit));
-}
-
 /* Alignment: accumulate a / N; after N valid samples, roll and pitch of the
  * mean. The products a_i (1/N) enter the accumulators unrounded: each is at
  * most max |a| / N, so the sum of N of them stays below max |a| and cannot
@@ -234,7 +244,8 @@ static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
                                    fc_acc_result(ar, est->alignment_sum[2], mean_shift));
     const fc_real roll = fc_atan2(ar, m.y, m.z);
     const fc_real pitch = fc_atan2(ar, fc_neg(ar, m.x), fc_hypot3(ar, m.y, m.z, FC_INT(0, ACCEL)));
-    est->attitude = fc_quat_from_rpy(ar, roll, pitch, FC_INT(0, ANGLE));
+    const fc_real yaw = est->heading_steps_left > 0u ? est->heading_rad : FC_INT(0, ANGLE);
+    est->attitude = fc_quat_from_rpy(ar, roll, pitch, yaw);
     est->aligned = true;
 }
 
@@ -263,8 +274,12 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         rate = fc_vec3_add(ar, rate, proportional);
         /* integral action: b' = -Ki w e, forward Euler, clamped per component */
         const fc_vec3 bias_step = fc_vec3_scale(ar, we, est->ki_dt_fine, UNIT_X_UNIT);
-        est->gyro_bias_fine = clamp_vec3(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step),
-                                         est->gyro_bias_limit_fine);
+        est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step),
+                                                 est->gyro_bias_limit_fine);
+    }
+    if (est->heading_steps_left > 0u) {
+        /* the same actions for the heading's w_h e_h (attitude_heading.c) */
+        fc_attitude_heading_correct(est, &rate);
     }
     /* q <- q (x) exp(rate dt / 2), renormalised inside */
     est->attitude = fc_quat_integrate_body_rate(ar, est->attitude, rate, est->p.dt_s);
@@ -328,6 +343,9 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
         status |= FC_STEP_DEGRADED; /* attitude held */
     }
     est->accel_weight = weight;
+    if (est->heading_steps_left > 0u) {
+        est->heading_steps_left--; /* one step older */
+    }
 
     if (out != NULL) {
         write_output(est, ar, out);

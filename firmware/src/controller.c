@@ -730,7 +730,9 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
 
     /* attitude: the filter runs on every step, armed or not, to stay aligned */
     fc_attitude_estimate estimate;
-    tm->estimator_status = fc_attitude_estimator_step(&ctl->estimator, &in_raw->imu, &estimate);
+    const fc_step_status heading_status =
+        in_raw->heading_fresh ? fc_attitude_estimator_take_heading(&ctl->estimator, in_raw->heading_rad) : FC_STEP_OK;
+    tm->estimator_status = fc_attitude_estimator_step(&ctl->estimator, &in_raw->imu, &estimate) | heading_status;
     status |= passed_on(tm->estimator_status);
     const fc_quat attitude = attitude_in_use(ctl, in_raw, &estimate, &status);
     ctl->last_attitude = attitude;

@@ -238,6 +238,9 @@ void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tu
     in->imu.accel_mps2 = fc_vec3_make(F(cf_mps2_from_g(s->acc_g[0]), ACCEL), F(cf_mps2_from_g(s->acc_g[1]), ACCEL),
                                       F(cf_mps2_from_g(s->acc_g[2]), ACCEL));
     in->attitude_external = cf_quat_from_xyzw(s->quat_xyzw[0], s->quat_xyzw[1], s->quat_xyzw[2], s->quat_xyzw[3]);
+    /* the app flies on the firmware's attitude (use_external_attitude): no heading for the library's filter */
+    in->heading_rad = FC_INT(0, ANGLE);
+    in->heading_fresh = false;
     in->position_m = fc_vec3_make(F(s->pos_m[0], LENGTH), F(s->pos_m[1], LENGTH), F(s->pos_m[2], LENGTH));
     in->velocity_mps = fc_vec3_make(F(s->vel_mps[0], VEL), F(s->vel_mps[1], VEL), F(s->vel_mps[2], VEL));
     in->pad = cf_pad_trajectory(ss, t);

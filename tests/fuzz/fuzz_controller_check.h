@@ -72,6 +72,8 @@ static inline void fuzz_controller_bools(fc_controller_inputs *in)
     unsigned char raw;
     memcpy(&raw, &in->range_fresh, 1);
     in->range_fresh = (raw & 1u) != 0u;
+    memcpy(&raw, &in->heading_fresh, 1);
+    in->heading_fresh = (raw & 1u) != 0u;
 }
 
 #endif /* FC_FUZZ_CONTROLLER_CHECK_H */

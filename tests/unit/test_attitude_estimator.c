@@ -228,12 +228,20 @@ MUTATION(accel_range_below_g, p->accel_range_mps2 = FC_C(5.0f, ACCEL))
 MUTATION(no_alignment_samples, p->alignment_samples = 0u)
 /* consistency: w_c dt = 0.5 (the loop would not be slow against the step) */
 MUTATION(crossover_against_dt, p->dt_s = FC_C(0.05f, DT); p->crossover_radps = FC_C(10.0f, RATE))
+MUTATION(heading_weight_negative, p->heading_weight = FC_C(-0.1f, RATIO))
+MUTATION(heading_weight_above_1, p->heading_weight = FC_C(1.5f, RATIO))
+MUTATION(heading_hold_below_dt, p->heading_hold_s = FC_C(0.001f, DT))
+MUTATION(heading_hold_above_1_s, p->heading_hold_s = FC_C(1.5f, DT))
+/* with a heading loop: gyro_range + bias_limit + 2 Kp = 100 + 0.2 + 40 > 127 rad/s */
+MUTATION(heading_rate_bound, p->dt_s = FC_C(0.005f, DT); p->crossover_radps = FC_C(10.0f, RATE);
+         p->damping = FC_C(1.0f, RATIO); p->gyro_range_radps = FC_C(100.0f, RATE))
 #if !FC_NUMERIC_FIXED
 MUTATION(dt_nan, p->dt_s = NAN)
 MUTATION(crossover_inf, p->crossover_radps = INFINITY)
 MUTATION(gravity_nan, p->gravity_mps2 = NAN)
 MUTATION(band_inf, p->accel_trust_band_mps2 = INFINITY)
 MUTATION(damping_nan, p->damping = NAN)
+MUTATION(heading_weight_nan, p->heading_weight = NAN)
 #endif
 
 static void assert_not_ready(fc_attitude_estimator *est)
@@ -258,8 +266,10 @@ static void test_bad_params_rejected(void **state)
         damping_zero, damping_negative, bias_limit_negative, gravity_zero, gravity_negative,
         band_negative, band_zero, band_beyond_g, gyro_range_negative, gyro_range_zero,
         accel_range_negative, accel_range_below_g, no_alignment_samples, crossover_against_dt,
+        heading_weight_negative, heading_weight_above_1, heading_hold_below_dt, heading_hold_above_1_s,
+        heading_rate_bound,
 #if !FC_NUMERIC_FIXED
-        dt_nan, crossover_inf, gravity_nan, band_inf, damping_nan,
+        dt_nan, crossover_inf, gravity_nan, band_inf, damping_nan, heading_weight_nan,
 #endif
     };
     const size_t n = sizeof mutations / sizeof mutations[0];
@@ -781,6 +791,187 @@ static void test_null_sample_then_recovery(void **state)
     assert_int_equal(fc_attitude_estimator_step(&f.est, &s, NULL), FC_STEP_OK);
 }
 
+/* ---- heading -------------------------------------------------------------- */
+
+static double wrapped(double angle_rad)
+{
+    return atan2(sin(angle_rad), cos(angle_rad));
+}
+
+static double yaw_of(fc_quat q)
+{
+    double r, pt, y;
+    dq_to_rpy(dq_from_fc(q), &r, &pt, &y);
+    return y;
+}
+
+/* Level at rest with a gyro z bias; a heading sample of the true yaw every
+ * `heading_every` steps (0: none). Returns the last estimate after `steps`. */
+static fc_attitude_estimate fly_level_with_z_bias(fc_attitude_estimator *est, double bias_z_radps,
+                                                  double true_yaw_rad, unsigned heading_every, unsigned steps)
+{
+    const fc_imu_sample s = sample(0, 0, bias_z_radps, 0, 0, G_MPS2);
+    fc_attitude_estimate out;
+    memset(&out, 0, sizeof out);
+    for (unsigned k = 0; k < steps; k++) {
+        if (heading_every != 0u && k % heading_every == 0u) {
+            assert_int_equal(fc_attitude_estimator_take_heading(est, to_fc(true_yaw_rad, FC_ANGLE_FRAC)),
+                             FC_STEP_OK);
+        }
+        assert_int_equal(fc_attitude_estimator_step(est, &s, &out), FC_STEP_OK);
+    }
+    return out;
+}
+
+/* Without a heading the yaw follows the gyro's z bias and the bias about the
+ * up axis is not estimated (the header's unobservable direction). */
+static void test_yaw_drifts_without_heading(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, (dquat){1, 0, 0, 0});
+    const fc_attitude_estimate out = fly_level_with_z_bias(&est, 0.01, 0.0, 0u, 15000u); /* 30 s */
+    const double yaw = yaw_of(out.attitude);
+    print_message("[%s] no heading, 0.01 rad/s z bias for 30 s: yaw %.4f rad, bias z %.2e rad/s\n", BACKEND,
+                  yaw, from_fc(out.gyro_bias_radps.z, FC_RATE_FRAC));
+    assert_true(fabs(yaw - 0.3) < 1e-3);
+    assert_true(fabs(from_fc(out.gyro_bias_radps.z, FC_RATE_FRAC)) < 1e-6);
+}
+
+/* Heading samples at 100 Hz: the yaw holds and the z bias is learnt. With
+ * w_h = 1 the heading loop is the tilt loop's, w_c = 1 rad/s, zeta 0.707: after
+ * 20 s (20 time constants) the bias estimate is within 1 % of the truth. */
+static void test_heading_estimates_the_z_bias(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, (dquat){1, 0, 0, 0});
+    const double truth_yaw = 0.0;
+    const fc_attitude_estimate out = fly_level_with_z_bias(&est, 0.01, truth_yaw, 5u, 10000u);
+    const double yaw_error = wrapped(yaw_of(out.attitude) - truth_yaw);
+    const double bias_z = from_fc(out.gyro_bias_radps.z, FC_RATE_FRAC);
+    print_message("[%s] heading at 100 Hz, 0.01 rad/s z bias, 20 s: yaw error %.2e rad, bias z %.5f rad/s\n",
+                  BACKEND, yaw_error, bias_z);
+    assert_true(fabs(yaw_error) < 1e-4);
+    assert_true(fabs(bias_z - 0.01) < 1e-4);
+    assert_true(fabs(from_fc(out.rate_radps.z, FC_RATE_FRAC)) < 1e-4);
+}
+
+/* A heading half a turn away (the sign branch beyond 90 deg) and one across
+ * the +-pi seam: both end within 1e-3 rad of the sample. */
+static void test_heading_far_off_converges(void **state)
+{
+    (void)state;
+    const double targets[] = {3.1, -3.1, 2.0 * 3.14159265358979323846 + 0.5, -2.5};
+    for (size_t i = 0; i < sizeof targets / sizeof targets[0]; i++) {
+        fc_attitude_estimator est;
+        const fc_attitude_estimator_params p = default_params();
+        assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+        align_at(&est, (dquat){1, 0, 0, 0});
+        const fc_attitude_estimate out = fly_level_with_z_bias(&est, 0.0, targets[i], 1u, 10000u);
+        const double error = wrapped(yaw_of(out.attitude) - targets[i]);
+        print_message("[%s] heading %.2f rad from yaw 0: error after 20 s %.2e rad\n", BACKEND, targets[i], error);
+        assert_true(fabs(error) < 1e-3);
+        assert_estimate_finite(&out);
+    }
+}
+
+/* A sample given before the alignment's end gives the initial yaw. */
+static void test_alignment_takes_the_heading(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    const dquat tilt = dq_from_rpy(0.1, -0.05, 0.0);
+    double up[3];
+    up_in_body(tilt, up);
+    const fc_imu_sample s = sample(0, 0, 0, G_MPS2 * up[0], G_MPS2 * up[1], G_MPS2 * up[2]);
+    fc_attitude_estimate out;
+    for (unsigned i = 0; i < p.alignment_samples; i++) {
+        if (i + 10u == p.alignment_samples) {
+            assert_int_equal(fc_attitude_estimator_take_heading(&est, to_fc(1.2, FC_ANGLE_FRAC)), FC_STEP_OK);
+        }
+        assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+    }
+    assert_true(out.aligned);
+    double r, pt, y;
+    dq_to_rpy(dq_from_fc(out.attitude), &r, &pt, &y);
+    print_message("[%s] aligned with a heading of 1.2 rad: yaw %.7f, roll %.7f, pitch %.7f\n", BACKEND, y, r, pt);
+    assert_true(fabs(y - 1.2) < 1e-5);
+    assert_true(fabs(r - 0.1) < 1e-5 && fabs(pt + 0.05) < 1e-5);
+}
+
+/* One sample corrects for heading_hold_s and then no more; w_h = 0 ignores
+ * every sample. */
+static void test_heading_hold_and_weight(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    fc_attitude_estimator_params p = default_params();
+    p.heading_hold_s = FC_C(0.02f, DT); /* 10 steps */
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, (dquat){1, 0, 0, 0});
+    assert_int_equal(fc_attitude_estimator_take_heading(&est, to_fc(0.5, FC_ANGLE_FRAC)), FC_STEP_OK);
+    const fc_imu_sample s = sample(0, 0, 0, 0, 0, G_MPS2);
+    fc_attitude_estimate out;
+    double yaw_before = 0.0;
+    for (int k = 0; k < 20; k++) {
+        assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+        const double yaw = yaw_of(out.attitude);
+        /* what the bias estimate alone turns in a step: -b_z dt */
+        const double bias_turn = -from_fc(out.gyro_bias_radps.z, FC_RATE_FRAC) * DT_S;
+        if (k < 10) {
+            /* towards the sample, by Kp s dt = 1.4 mrad, far more than the bias */
+            assert_true(yaw - yaw_before > 1e-3);
+        } else {
+            /* held: only the bias learnt in those 10 steps turns it on */
+            assert_true(fabs(yaw - yaw_before - bias_turn) < 1e-7);
+        }
+        yaw_before = yaw;
+    }
+    /* w_h = 0: the same sample changes nothing */
+    p.heading_weight = FC_INT(0, RATIO);
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, (dquat){1, 0, 0, 0});
+    assert_int_equal(fc_attitude_estimator_take_heading(&est, to_fc(0.5, FC_ANGLE_FRAC)), FC_STEP_OK);
+    for (int k = 0; k < 20; k++) {
+        assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+    }
+    assert_true(fabs(yaw_of(out.attitude)) < 1e-6);
+}
+
+/* Bad headings are refused and leave the filter as it was. */
+static void test_bad_heading_ignored(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_take_heading(NULL, FC_INT(0, ANGLE)), FC_STEP_NOT_READY);
+    memset(&est, 0, sizeof est);
+    assert_int_equal(fc_attitude_estimator_take_heading(&est, FC_INT(0, ANGLE)), FC_STEP_NOT_READY);
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, (dquat){1, 0, 0, 0});
+    const fc_real bad[] = {
+        FC_C(7.5f, ANGLE), FC_C(-7.5f, ANGLE), FC_REAL_MAX,
+#if !FC_NUMERIC_FIXED
+        NAN, INFINITY, -INFINITY,
+#endif
+    };
+    const fc_imu_sample s = sample(0, 0, 0, 0, 0, G_MPS2);
+    fc_attitude_estimate out;
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(fc_attitude_estimator_take_heading(&est, bad[i]), FC_STEP_BAD_INPUT);
+        assert_int_equal(est.heading_steps_left, 0u);
+        assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+        assert_true(fabs(yaw_of(out.attitude)) < 1e-6);
+    }
+}
+
 /* ---- the formats: nothing saturates at the ends of the sensor ranges ------ */
 
 static void run_extremes(const fc_attitude_estimator_params *p, double gyro_radps, double accel_mps2,
@@ -811,6 +1002,11 @@ static void run_extremes(const fc_attitude_estimator_params *p, double gyro_radp
             s = sample(sx * gyro_radps, 0, 0, 0, 1e-4, 0);
             break;
         }
+        if (p->heading_weight > FC_INT(0, RATIO) && k % 7 == 0) {
+            /* headings over the whole accepted range, most of them far off */
+            const double yaw = 7.0 * (2.0 * rng_uniform(&r) - 1.0);
+            assert_int_equal(fc_attitude_estimator_take_heading(&est, to_fc(yaw, FC_ANGLE_FRAC)), FC_STEP_OK);
+        }
         const fc_step_status st = fc_attitude_estimator_step(&est, &s, &out);
         assert_true((st & (FC_STEP_ARITH_SATURATED | FC_STEP_BAD_INPUT | FC_STEP_NOT_READY)) == 0u);
         assert_estimate_finite(&out);
@@ -822,7 +1018,7 @@ static void test_no_saturation_at_range_limits(void **state)
 {
     (void)state;
     fc_attitude_estimator_params p = default_params();
-    run_extremes(&p, 35.0, 16.0 * 9.80665, "defaults, 35 rad/s and 16 g on every axis");
+    run_extremes(&p, 35.0, 16.0 * 9.80665, "defaults, 35 rad/s and 16 g on every axis, headings at w_h 1");
     /* the widest parameters: w_c = 10, Kp = 20, bias limit 0.8, ranges 100 rad/s and 256 m/s2 */
     p.dt_s = FC_C(0.005f, DT);
     p.crossover_radps = FC_C(10.0f, RATE);
@@ -831,7 +1027,15 @@ static void test_no_saturation_at_range_limits(void **state)
     p.accel_trust_band_mps2 = FC_C(9.8f, ACCEL);
     p.gyro_range_radps = FC_C(100.0f, RATE);
     p.accel_range_mps2 = FC_C(256.0f, ACCEL);
+    /* 100 + 0.8 + 2 x 20 > 127 rad/s: no heading loop at these gains */
+    p.heading_weight = FC_INT(0, RATIO);
     run_extremes(&p, 100.0, 256.0, "w_c 10 rad/s, Kp 20 rad/s, 100 rad/s and 256 m/s2 on every axis");
+    /* the widest with a heading loop: 86 + 0.8 + 2 x 20 <= 127 */
+    p.heading_weight = FC_INT(1, RATIO);
+    p.gyro_range_radps = FC_C(86.0f, RATE);
+    run_extremes(&p, 86.0, 256.0, "the same at 86 rad/s with headings at w_h 1");
+    p.gyro_range_radps = FC_C(100.0f, RATE);
+    p.heading_weight = FC_INT(0, RATIO);
     /* the longest step for that gyro range: 1.9 rad per step and axis, Ki dt = 0.475 */
     p.dt_s = FC_C(0.019f, DT);
     p.crossover_radps = FC_C(5.0f, RATE);
@@ -861,6 +1065,12 @@ int main(void)
         cmocka_unit_test(test_bad_accel_zero),
         cmocka_unit_test(test_bad_accel_beyond_range),
         cmocka_unit_test(test_null_sample_then_recovery),
+        cmocka_unit_test(test_yaw_drifts_without_heading),
+        cmocka_unit_test(test_heading_estimates_the_z_bias),
+        cmocka_unit_test(test_heading_far_off_converges),
+        cmocka_unit_test(test_alignment_takes_the_heading),
+        cmocka_unit_test(test_heading_hold_and_weight),
+        cmocka_unit_test(test_bad_heading_ignored),
         cmocka_unit_test(test_no_saturation_at_range_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

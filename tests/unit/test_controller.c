@@ -371,6 +371,39 @@ static void test_pad_model_in_its_minor_frame(void **state)
     }
 }
 
+/* The heading input reaches the filter: after the alignment a heading of
+ * 0.4 rad turns the estimate to it (the controller flies on it); a bad one is
+ * reported as bad input by the estimator and the step, and ignored. */
+static void test_heading_input_reaches_the_filter(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    assert_false(p.use_external_attitude);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(0.5);
+    in.command = FC_COMMAND_DISARM; /* the filter runs disarmed too */
+    fc_controller_outputs out;
+    for (int k = 0; k < 5000; k++) { /* 10 s: the alignment, then 10 time constants */
+        in.heading_rad = F(0.4, ANGLE);
+        in.heading_fresh = k % 5 == 0;
+        const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+        assert_int_equal(st & FC_STEP_BAD_INPUT, 0u);
+    }
+    const double w = D(out.telemetry.attitude.w, UNIT), z = D(out.telemetry.attitude.z, UNIT);
+    const double yaw = 2.0 * atan2(z, w);
+    print_message("heading 0.4 rad at 100 Hz for 10 s: estimated yaw %.5f rad\n", yaw);
+    assert_true(fabs(yaw - 0.4) < 1e-3);
+    in.heading_rad = F(7.5, ANGLE);
+    in.heading_fresh = true;
+    const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+    assert_true((st & FC_STEP_BAD_INPUT) != 0u);
+    assert_true((out.telemetry.estimator_status & FC_STEP_BAD_INPUT) != 0u);
+    assert_true(fabs(2.0 * atan2(D(out.telemetry.attitude.z, UNIT), D(out.telemetry.attitude.w, UNIT)) - yaw) <
+                1e-4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -383,6 +416,7 @@ int main(void)
         cmocka_unit_test(test_outer_group_divider),
         cmocka_unit_test(test_position_loop_once_a_major_frame),
         cmocka_unit_test(test_pad_model_in_its_minor_frame),
+        cmocka_unit_test(test_heading_input_reaches_the_filter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

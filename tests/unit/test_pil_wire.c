@@ -57,6 +57,8 @@ static fc_controller_inputs inputs_at(unsigned k)
     in.imu.gyro_radps = fc_vec3_make(F(0.3, RATE), F(-0.2, RATE), F(0.1, RATE));
     in.imu.accel_mps2 = fc_vec3_make(F(0.4, ACCEL), F(-0.3, ACCEL), F(9.7, ACCEL));
     in.attitude_external = fc_quat_identity();
+    in.heading_rad = F(0.3 - 0.2 * t, ANGLE);
+    in.heading_fresh = k % 5u == 2u;
     in.position_m = fc_vec3_make(F(0.05, LENGTH), F(-0.04, LENGTH), F(0.4 - 0.1 * t, LENGTH));
     in.velocity_mps = fc_vec3_make(F(0.1, VEL), F(0.05, VEL), F(-0.1, VEL));
     in.range_m = F(0.38 - 0.1 * t, LENGTH);

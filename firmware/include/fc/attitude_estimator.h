@@ -20,6 +20,23 @@
  * perpendicular to the up direction; the heading is not observable from
  * gravity, so neither is the bias about the up axis).
  *
+ * Heading: gravity says nothing of the yaw, which follows the gyro's bias
+ * about the up axis unless something else measures it (a motion-capture or
+ * lighthouse yaw, a compass). fc_attitude_estimator_take_heading gives the
+ * filter such a sample, psi_m; for heading_hold_s after it each step adds the
+ * heading error as a second direction error, about the estimated up axis:
+ *
+ *   h     = (R(q) e_x)_xy               the body x axis's horizontal part, world
+ *   s     = h x (cos psi_m, sin psi_m)  = |h| sin(psi_m - psi); +-1 beyond 90 deg
+ *   e_h   = s v_hat                     the rotation about the up axis, body frame
+ *   q    <- ... + Kp w_h e_h,  b <- clamp(b - Ki dt w_h e_h)  after the tilt's
+ *
+ * e_h is perpendicular to e, so the two loops do not mix: with heading_weight
+ * w_h the heading error is the same second-order system as the tilt's, of
+ * natural frequency sqrt(w_h) w_c and damping sqrt(w_h) zeta, and the bias
+ * about the up axis becomes observable and is estimated. A sample held at the
+ * end of the alignment gives its initial yaw (0 without one).
+ *
  * Alignment: the first alignment_samples valid accelerometer samples are
  * averaged; roll and pitch come from the mean (yaw 0). Until then the output
  * attitude is the identity and `aligned` is false (status FC_STEP_OK).
@@ -42,6 +59,8 @@
  *   gyro_range_radps       (0, 100] rad/s, and gyro_range * dt <= 2 rad
  *   accel_range_mps2       (gravity, 256] m/s2
  *   alignment_samples      [1, 32767]
+ *   heading_weight         [0, 1]; above 0 also gyro_range + bias_limit + 2 Kp <= 127 rad/s
+ *   heading_hold_s         [dt_s, 1] s
  */
 #ifndef FC_ATTITUDE_ESTIMATOR_H
 #define FC_ATTITUDE_ESTIMATOR_H
@@ -64,6 +83,9 @@ typedef struct fc_attitude_estimator_params {
     fc_real gyro_range_radps;      /* RATE: a gyro component beyond this is bad input */
     fc_real accel_range_mps2;      /* ACCEL: an accel component beyond this is bad input */
     uint16_t alignment_samples;    /* valid accel samples averaged for the initial attitude */
+    fc_real heading_weight;        /* RATIO: w_h, the heading loop's gains relative to the tilt
+                                    * loop's; 0 ignores heading samples */
+    fc_real heading_hold_s;        /* DT: how long a heading sample keeps correcting */
 } fc_attitude_estimator_params;
 
 typedef struct fc_imu_sample {
@@ -97,6 +119,10 @@ typedef struct fc_attitude_estimator {
                                         * a_i / alignment_samples, rounded once at the end
                                         * (bounded by max |a| whatever the sample count) */
     fc_real accel_weight;              /* RATIO: trust of the last step */
+    fc_real heading_cos, heading_sin;  /* UNIT: of the newest heading sample */
+    fc_real heading_rad;               /* ANGLE: the newest heading sample, for the alignment */
+    uint16_t heading_hold_steps;       /* heading_hold_s in steps, round(hold / dt) >= 1 */
+    uint16_t heading_steps_left;       /* steps the newest sample still corrects (0: none) */
     uint16_t alignment_count;          /* valid samples averaged so far */
     bool aligned;                      /* the alignment is complete */
     bool ready;                        /* init succeeded */
@@ -105,7 +131,8 @@ typedef struct fc_attitude_estimator {
 /* Sensible defaults for a step of dt_s (DT): w_c = 1 rad/s, zeta = 0.7071
  * (Kp = 1.414 rad/s, Ki = 1 s^-2), bias limit 0.2 rad/s, g = 9.81 m/s2, trust
  * band 2 m/s2, gyro range 35 rad/s (2000 deg/s), accel range 16 g, 100
- * alignment samples. */
+ * alignment samples, heading weight 1 (the tilt's gains), held 0.1 s (a sample
+ * at 10 Hz or faster corrects all the time). */
 void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_real dt_s);
 
 /* Validates p (ranges above), computes Kp, Ki dt, 1/band and 1/alignment_samples,
@@ -113,6 +140,12 @@ void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_re
  * reports FC_STEP_NOT_READY with the identity attitude. */
 fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
                                           const fc_attitude_estimator_params *p);
+
+/* A heading measurement (ANGLE, yaw about the world's up axis, |yaw| <= 7 rad)
+ * for the steps of the next heading_hold_s; give it before the step of its
+ * time. FC_STEP_BAD_INPUT (the sample ignored) for a non-finite or larger
+ * value, FC_STEP_NOT_READY before a successful init. */
+fc_step_status fc_attitude_estimator_take_heading(fc_attitude_estimator *est, fc_real yaw_rad);
 
 /* One step of dt_s with one IMU sample; out is always written and finite. */
 fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,

@@ -100,6 +100,9 @@ typedef struct fc_controller_params {
 typedef struct fc_controller_inputs {
     fc_imu_sample imu;                  /* body gyro (RATE) and specific force (ACCEL) */
     fc_quat attitude_external;          /* used with use_external_attitude */
+    fc_real heading_rad;                /* ANGLE: a measured yaw (motion capture, compass) for the
+                                         * filter's heading (fc/attitude_estimator.h) */
+    bool heading_fresh;                 /* heading_rad is a new sample this step */
     fc_vec3 position_m;                 /* LENGTH: world ENU, centre of mass */
     fc_vec3 velocity_mps;               /* VEL: world */
     fc_vertical_trajectory pad;         /* TRACK_PAD: the pad's height and its derivatives */

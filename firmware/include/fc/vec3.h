@@ -41,6 +41,13 @@ FC_VEC3_INLINE fc_vec3 fc_vec3_scale(fc_arith *ar, fc_vec3 v, fc_real k, int shi
                         fc_mul(ar, v.z, k, shift));
 }
 
+/* Each component clamped to [-limit, limit] (limit >= 0, v's format). */
+FC_VEC3_INLINE fc_vec3 fc_vec3_clamp_each(fc_arith *ar, fc_vec3 v, fc_real limit)
+{
+    const fc_real lo = fc_neg(ar, limit);
+    return fc_vec3_make(fc_clamp(v.x, lo, limit), fc_clamp(v.y, lo, limit), fc_clamp(v.z, lo, limit));
+}
+
 /* Component-wise product (a diagonal matrix times a vector). */
 FC_VEC3_INLINE fc_vec3 fc_vec3_mul_elementwise(fc_arith *ar, fc_vec3 a, fc_vec3 b, int shift)
 {

@@ -118,6 +118,8 @@ bool pil_wire_inputs(pil_wire *w, fc_controller_inputs *in)
     vec3(w, &in->imu.gyro_radps);
     vec3(w, &in->imu.accel_mps2);
     quat(w, &in->attitude_external);
+    real(w, &in->heading_rad);
+    flag(w, &in->heading_fresh);
     vec3(w, &in->position_m);
     vec3(w, &in->velocity_mps);
     trajectory(w, &in->pad);
