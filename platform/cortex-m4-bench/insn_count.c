@@ -22,12 +22,17 @@
  * "CYCEST name min max mean calls": a cycle estimate from the Cortex-M4
  * instruction timings (ARM DDI 0439B, table 3-1), each instruction costed
  * from its disassembly (m4_cost below), with P = 2 cycles of pipeline refill
- * for a taken branch (the manual gives 1 to 3). It leaves out: flash wait
- * states and the ART accelerator's misses (the STM32F405 at 168 MHz has 5),
- * the pipelining of neighbouring loads/stores (each counted 2 cycles, so an
- * over-estimate there), the IT instruction's folding (counted 1), data-
- * dependent divides (UDIV/SDIV counted 12, their worst case) and bus
- * contention. Real cycles: bench-dwt.elf on the chip (DWT->CYCCNT).
+ * for a taken branch (the manual gives 1 to 3), and the load/store
+ * pipelining of its section 3.3.2 (lsu_cost below): a STR with an immediate
+ * offset takes 1 cycle, an LDR 2, or 1 straight after a single LDR whose
+ * destination is not in its address. It leaves out: flash wait states and
+ * the ART accelerator's misses (the STM32F405 at 168 MHz has 5), the
+ * pipelining of FPU loads/stores (VLDR, VSTR counted 2), the IT
+ * instruction's folding (counted 1), data-dependent divides (UDIV/SDIV
+ * counted 12, their worst case), store-buffer stalls and bus contention.
+ * Real cycles: bench-dwt.elf on the chip (DWT->CYCCNT).
+ * "CYCEST2 name min max mean calls" is the same estimate with every LDR/STR
+ * at 2 cycles (no pipelining), an upper side of the load/store timing.
  * A function reached by a tail call (B, not BL) never sees its return
  * address and reports 0 calls.
  */
@@ -73,6 +78,7 @@ typedef struct counted_fn {
     uint64_t start, ret, cstart;
     uint64_t min, max, sum;
     uint64_t cmin, cmax, csum; /* cycle estimate */
+    uint64_t fstart, fmin, fmax, fsum; /* the estimate with LDR/STR at 2 cycles */
     unsigned n;
 } counted_fn;
 
@@ -82,6 +88,8 @@ static uint64_t begin_addr = UINT64_MAX, end_addr = UINT64_MAX;
 static int phase; /* 0 before begin, 1 timed, 2 after end */
 static uint64_t count, prev_next, cycles;
 static bool prev_branch;
+static uint64_t cycles_flat;    /* the estimate with every LDR/STR at 2 cycles */
+static int prev_load_dest = -1; /* register loaded by the previous instruction, a single LDR; -1: none */
 #define REFILL 2u /* P: pipeline refill after a taken branch */
 static char out_path[512];
 static char profile_name[64];
@@ -96,8 +104,13 @@ static pc_slot *pcprof;
 /* one per translated instruction: its address and the address after it */
 typedef struct insn_info {
     uint64_t pc, next;
-    uint32_t cost;  /* cycles when it does not branch */
+    uint32_t cost;  /* cycles when it does not branch (an LDR: when not pipelined) */
+    uint32_t cost_flat; /* the same with a single LDR/STR at 2 cycles */
     bool branch;    /* may change the flow: a taken one costs REFILL more */
+    uint32_t cost_lsu; /* a single LDR/STR's cost by lsu_cost (0: not one) */
+    bool load;      /* a single LDR (B/H/SB/SH), not LDRD/LDM, not into pc */
+    int8_t dest;    /* a load's destination register */
+    int8_t base, index; /* a load's or store's address registers (-1: none) */
 } insn_info;
 
 static bool is_cond(const char *c)
@@ -137,8 +150,62 @@ static unsigned reg_list(const char *ops, bool *has_pc)
     return n > 0 ? n : 1;
 }
 
+/* r0..r15 of a register name (capstone's: r0..r12, sb, sl, fp, ip, sp, lr, pc); -1 if not one */
+static int reg_id(const char *c)
+{
+    static const char *const alias[] = {"sb", "sl", "fp", "ip", "sp", "lr", "pc"};
+    if (c[0] == 'r' && c[1] >= '0' && c[1] <= '9') {
+        return c[2] >= '0' && c[2] <= '9' ? 10 * (c[1] - '0') + (c[2] - '0') : c[1] - '0';
+    }
+    for (int k = 0; k < 7; k++) {
+        if (c[0] == alias[k][0] && c[1] == alias[k][1]) {
+            return 9 + k;
+        }
+    }
+    return -1;
+}
+
+/* The load/store pipelining of ARM DDI 0439B 3.3.2 for the single LDR/STR
+ * forms (mnemonic m without its suffix, operands ops): whether it is a load,
+ * its destination and address registers, and its cost when not pipelined
+ * after a load: a STR with an immediate offset (or none) 1 cycle, with a
+ * register offset 2; an LDR 2. Returns 0 for anything else. */
+static uint32_t lsu_cost(const char *m, const char *ops, insn_info *ii)
+{
+    const bool load = !strcmp(m, "ldr") || !strcmp(m, "ldrb") || !strcmp(m, "ldrh") || !strcmp(m, "ldrsb") ||
+                      !strcmp(m, "ldrsh");
+    const bool store = !strcmp(m, "str") || !strcmp(m, "strb") || !strcmp(m, "strh");
+    if (!load && !store) {
+        return 0;
+    }
+    while (*ops == ' ') {
+        ops++;
+    }
+    const int dest = reg_id(ops);
+    const char *bracket = strchr(ops, '[');
+    if (dest < 0 || dest == 15 || bracket == NULL) {
+        return 0; /* a load into pc, or a form not understood: the flat cost */
+    }
+    const int base = reg_id(bracket + 1);
+    const char *comma = strchr(bracket, ',');
+    const char *close = strchr(bracket, ']');
+    int index = -1;
+    if (comma != NULL && close != NULL && comma < close) {
+        const char *o = comma + 1;
+        while (*o == ' ') {
+            o++;
+        }
+        index = reg_id(o);
+    }
+    ii->load = load;
+    ii->dest = (int8_t)dest;
+    ii->base = (int8_t)base;
+    ii->index = (int8_t)index;
+    return load || index >= 0 ? 2u : 1u;
+}
+
 /* Cortex-M4 cycles of one instruction from its disassembly ("mnemonic ops") */
-static uint32_t m4_cost(const char *dis, bool *branch)
+static uint32_t m4_cost(const char *dis, bool *branch, insn_info *ii)
 {
     char m[32];
     size_t k = 0;
@@ -172,6 +239,9 @@ static uint32_t m4_cost(const char *dis, bool *branch)
     }
     if (!strcmp(m, "ldrd") || !strcmp(m, "strd")) {
         return 3;
+    }
+    if (!*branch) {
+        ii->cost_lsu = lsu_cost(m, ops, ii);
     }
     if (!strncmp(m, "ldr", 3) || !strncmp(m, "str", 3) || !strcmp(m, "vldr") || !strcmp(m, "vstr")) {
         return 2;
@@ -207,6 +277,14 @@ static void on_insn(unsigned int vcpu, void *udata)
     if (prev_branch && pc != prev_next) {
         cycles += REFILL;
     }
+    /* an LDR right after a single LDR whose result it does not address with: pipelined, 1 cycle */
+    uint32_t cost = ii->cost;
+    if (ii->load && prev_load_dest >= 0 && ii->base != prev_load_dest && ii->index != prev_load_dest) {
+        cost = 1u;
+    }
+    if (prev_branch && pc != prev_next) {
+        cycles_flat += REFILL;
+    }
     if (pc == begin_addr) {
         phase = 1;
     } else if (pc == end_addr) {
@@ -218,6 +296,7 @@ static void on_insn(unsigned int vcpu, void *udata)
             f->in_call = true;
             f->start = count;
             f->cstart = cycles;
+            f->fstart = cycles_flat;
             f->ret = prev_next;
         } else if (f->in_call && pc == f->ret) {
             const uint64_t c = count - f->start;
@@ -229,6 +308,10 @@ static void on_insn(unsigned int vcpu, void *udata)
             f->cmin = cc < f->cmin ? cc : f->cmin;
             f->cmax = cc > f->cmax ? cc : f->cmax;
             f->csum += cc;
+            const uint64_t fc = cycles_flat - f->fstart;
+            f->fmin = fc < f->fmin ? fc : f->fmin;
+            f->fmax = fc > f->fmax ? fc : f->fmax;
+            f->fsum += fc;
             f->n++;
         }
     }
@@ -240,12 +323,14 @@ static void on_insn(unsigned int vcpu, void *udata)
         pcprof[h].pc = pc + 1u; /* 0 marks a free slot */
         pcprof[h].insns++;
         /* the refill of a taken branch into pc was charged above, to cycles */
-        pcprof[h].cycles += ii->cost + (prev_branch && pc != prev_next ? REFILL : 0u);
+        pcprof[h].cycles += cost + (prev_branch && pc != prev_next ? REFILL : 0u);
     }
     count++;
-    cycles += ii->cost;
+    cycles += cost;
+    cycles_flat += ii->cost_flat;
     prev_next = ii->next;
     prev_branch = ii->branch;
+    prev_load_dest = ii->load ? ii->dest : -1;
 }
 
 static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
@@ -260,8 +345,12 @@ static void on_tb_trans(qemu_plugin_id_t id, struct qemu_plugin_tb *tb)
         }
         ii->pc = qemu_plugin_insn_vaddr(insn);
         ii->next = ii->pc + qemu_plugin_insn_size(insn);
+        ii->load = false;
+        ii->dest = ii->base = ii->index = -1;
+        ii->cost_lsu = 0u;
         char *dis = qemu_plugin_insn_disas(insn);
-        ii->cost = m4_cost(dis != NULL ? dis : "", &ii->branch);
+        ii->cost_flat = m4_cost(dis != NULL ? dis : "", &ii->branch, ii);
+        ii->cost = ii->cost_lsu != 0u ? ii->cost_lsu : ii->cost_flat;
         free(dis);
         qemu_plugin_register_vcpu_insn_exec_cb(insn, on_insn, QEMU_PLUGIN_CB_NO_REGS, ii);
     }
@@ -284,6 +373,11 @@ static void plugin_exit(qemu_plugin_id_t id, void *udata)
         const counted_fn *c = &fns[k];
         fprintf(f, "CYCEST %s %llu %llu %.0f %u\n", c->name, (unsigned long long)(c->n ? c->cmin : 0),
                 (unsigned long long)c->cmax, c->n ? (double)c->csum / c->n : 0.0, c->n);
+    }
+    for (unsigned k = 0; k < nfns; k++) {
+        const counted_fn *c = &fns[k];
+        fprintf(f, "CYCEST2 %s %llu %llu %.0f %u\n", c->name, (unsigned long long)(c->n ? c->fmin : 0),
+                (unsigned long long)c->fmax, c->n ? (double)c->fsum / c->n : 0.0, c->n);
     }
     fprintf(f, "INSNS_TOTAL %llu\n", (unsigned long long)count);
     for (uint32_t h = 0; pcprof != NULL && h < PCPROF_SLOTS; h++) {
@@ -322,6 +416,7 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qem
             f->addr = strtoull(at + 1, NULL, 0) & ~1ull;
             f->min = UINT64_MAX;
             f->cmin = UINT64_MAX;
+            f->fmin = UINT64_MAX;
         } else {
             fprintf(stderr, "insn_count: unknown argument %s\n", a);
             return -1;
