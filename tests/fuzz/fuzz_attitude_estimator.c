@@ -2,8 +2,9 @@
  * fuzz_attitude_estimator: fc_attitude_estimator_step on raw fc_imu_sample bit
  * patterns. Byte 0: bit 0 picks dt (500 Hz or 100 Hz), bit 1 an alignment of
  * 1 sample instead of the default 100 (so that the aligned path is reached
- * within a few steps), bit 2 a level, at-rest sample before the fuzzed ones.
- * Then up to FUZZ_MAX_STEPS samples, then FUZZ_CLEAN_STEPS at rest.
+ * within a few steps), bit 2 a level, at-rest sample before the fuzzed ones,
+ * bit 3 a heading sample (raw bits) before each step. Then up to
+ * FUZZ_MAX_STEPS samples, then FUZZ_CLEAN_STEPS at rest.
  * Checks: attitude a unit quaternion, rate, bias and weight finite, the bias
  * inside the bias limit, the weight in [0, 1].
  */
@@ -44,7 +45,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         check(&est, &out);
     }
     fc_imu_sample imu;
+    fc_real heading_rad;
     for (int k = 0; k < FUZZ_MAX_STEPS && fuzz_take(&b, &imu, sizeof imu); k++) {
+        if ((cfg & 8u) && fuzz_take(&b, &heading_rad, sizeof heading_rad)) {
+            (void)fc_attitude_estimator_take_heading(&est, heading_rad);
+        }
         (void)fc_attitude_estimator_step(&est, &imu, &out);
         check(&est, &out);
     }
