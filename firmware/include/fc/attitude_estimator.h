@@ -84,7 +84,8 @@ typedef struct fc_attitude_estimator_params {
     fc_real accel_range_mps2;      /* ACCEL: an accel component beyond this is bad input */
     uint16_t alignment_samples;    /* valid accel samples averaged for the initial attitude */
     fc_real heading_weight;        /* RATIO: w_h, the heading loop's gains relative to the tilt
-                                    * loop's; 0 ignores heading samples */
+                                    * loop's; 0: no heading correction (a sample still gives
+                                    * the alignment its yaw) */
     fc_real heading_hold_s;        /* DT: how long a heading sample keeps correcting */
 } fc_attitude_estimator_params;
 
