@@ -204,6 +204,60 @@ static void test_range_altitude(void **state)
     assert_true(fabs(r.altitude_m - (10.0 - 2.0) / cos(30.0 * 3.14159265358979323846 / 180.0)) < 1e-9);
 }
 
+/* The heading channel: off unless enabled; on, the yaw of the sample taken at
+ * or before t - delay on its grid, plus the bias, wrapped to [-pi, pi]. The
+ * plant spins at 0.5 rad/s about z, so over 8 s the yaw passes the seam. */
+static void test_heading_channel(void **state)
+{
+    (void)state;
+    const double pi = 3.14159265358979323846;
+    sensor_params sp;
+    memset(&sp, 0, sizeof sp);
+    sp.noise_scale = 1.0;
+    plant pl;
+    moving_plant(&pl);
+    sensors s;
+    sensors_init(&s, &sp, 0.002, 1);
+    sensors_sample(&s, &pl, 0.0);
+    sensor_readout r;
+    sensors_read(&s, 0.0, &r);
+    assert_false(r.has_heading);
+
+    sp.heading.enabled = true;
+    sp.heading.rate_hz = 100.0;
+    sp.heading.delay_s = 0.01;
+    sp.heading.bias_rad = 0.1;
+    moving_plant(&pl);
+    sensors_init(&s, &sp, 0.002, 1);
+    const double dt = 0.002, h = 0.0005;
+    double last_taken = -1.0;
+    int fresh = 0, wrapped = 0;
+    for (int k = 0; k < 4000; k++) {
+        const double t = k * dt;
+        for (int j = 0; j < 4; j++) {
+            sensors_sample(&s, &pl, t + j * h);
+            if (j == 0) {
+                sensors_read(&s, t, &r);
+                const double taken = floor((t - 0.01 + 1e-9) / 0.01) * 0.01;
+                assert_true(r.has_heading == (taken >= 0.0));
+                if (r.has_heading) {
+                    assert_true(fabs(r.heading_sample_t - taken) < 1e-9);
+                    const double truth = 0.5 * taken + 0.1;
+                    const double expected = atan2(sin(truth), cos(truth));
+                    assert_true(fabs(r.heading_rad - expected) < 1e-6);
+                    assert_true(r.heading_rad >= -pi && r.heading_rad <= pi);
+                    fresh += r.heading_sample_t != last_taken;
+                    wrapped += truth > pi;
+                    last_taken = r.heading_sample_t;
+                }
+            }
+            plant_step(&pl, h);
+        }
+    }
+    assert_int_equal(fresh, 799); /* 8 s at 100 Hz, the first 10 ms still in flight */
+    assert_true(wrapped > 0);
+}
+
 int main(int argc, char **argv)
 {
     /* one case by name (ctest runs them one by one), or all */
@@ -216,6 +270,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_quantised),
         cmocka_unit_test(test_rate_and_delay),
         cmocka_unit_test(test_range_altitude),
+        cmocka_unit_test(test_heading_channel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
