@@ -266,16 +266,9 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         const fc_vec3 up_measured =
             fc_vec3_scale(ar, accel_mps2, inv_norm, FC_SHIFT(ACCEL, RATIO, UNIT));
         const fc_vec3 up_estimated = estimated_up_body(ar, est->attitude);
-        /* e = v_a x v_hat, weighted by the trust */
+        /* e = v_a x v_hat; the PI action of w e, weighted by the trust */
         const fc_vec3 e = fc_vec3_cross(ar, up_measured, up_estimated, UNIT_X_UNIT);
-        const fc_vec3 we = fc_vec3_scale(ar, e, weight, FC_SHIFT(UNIT, RATIO, UNIT));
-        /* proportional action: Kp w e joins the rate that is integrated */
-        const fc_vec3 proportional = fc_vec3_scale(ar, we, est->kp_radps, FC_SHIFT(UNIT, RATE, RATE));
-        rate = fc_vec3_add(ar, rate, proportional);
-        /* integral action: b' = -Ki w e, forward Euler, clamped per component */
-        const fc_vec3 bias_step = fc_vec3_scale(ar, we, est->ki_dt_fine, UNIT_X_UNIT);
-        est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step),
-                                                 est->gyro_bias_limit_fine);
+        fc_attitude_correct_by(est, &rate, fc_vec3_scale(ar, e, weight, FC_SHIFT(UNIT, RATIO, UNIT)));
     }
     if (est->heading_steps_left > 0u) {
         /* the same actions for the heading's w_h e_h (attitude_heading.c) */

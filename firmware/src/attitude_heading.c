@@ -86,12 +86,7 @@ void fc_attitude_heading_correct(fc_attitude_estimator *est, fc_vec3 *rate_radps
     /* w_h e_h = (w_h s) v_hat, |w_h s| <= 1 */
     const fc_real weight = fc_mul(ar, heading_error(est, up_estimated), est->p.heading_weight,
                                   FC_SHIFT(UNIT, RATIO, UNIT));
-    const fc_vec3 we = fc_vec3_scale(ar, up_estimated, weight, UNIT_X_UNIT);
-    /* proportional action: Kp w_h e_h <= 20 rad/s joins the rate (the init's bound) */
-    const fc_vec3 proportional = fc_vec3_scale(ar, we, est->kp_radps, FC_SHIFT(UNIT, RATE, RATE));
-    *rate_radps = fc_vec3_add(ar, *rate_radps, proportional);
-    /* integral action: b' = -Ki w_h e_h; |b| <= 0.8 and Ki dt <= 1 keep it in UNIT */
-    const fc_vec3 bias_step = fc_vec3_scale(ar, we, est->ki_dt_fine, UNIT_X_UNIT);
-    est->gyro_bias_fine =
-        fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step), est->gyro_bias_limit_fine);
+    /* Kp w_h e_h <= 20 rad/s (the init's rate bound); |b| <= 0.8 and Ki dt <= 1
+     * keep the bias step in UNIT */
+    fc_attitude_correct_by(est, rate_radps, fc_vec3_scale(ar, up_estimated, weight, UNIT_X_UNIT));
 }

@@ -35,6 +35,14 @@ static fc_controller_inputs level_at_rest(double z_m)
     return in;
 }
 
+/* The defaults of an airframe and variant at 500 Hz, initialised. */
+static void init_at_500_hz(fc_controller *ctl, fc_controller_params *p, fc_airframe airframe,
+                           fc_altitude_variant variant)
+{
+    fc_controller_default_params(p, airframe, variant, F(0.002, DT));
+    assert_int_equal(fc_controller_init(ctl, p), FC_INIT_OK);
+}
+
 static void test_every_airframe_and_variant_inits(void **state)
 {
     (void)state;
@@ -57,8 +65,7 @@ static void test_disarmed_motors_off(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, F(0.002, DT));
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE);
     fc_controller_inputs in = level_at_rest(1.0);
     in.command = FC_COMMAND_DISARM;
     fc_controller_outputs out;
@@ -106,8 +113,7 @@ static void test_bad_input_is_safe(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, F(0.002, DT));
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE);
     fc_controller_inputs in = level_at_rest(1.0);
     fc_controller_outputs out;
     (void)fc_controller_step(&ctl, &in, &out);
@@ -143,8 +149,7 @@ static void test_failsafe_when_inputs_stay_bad(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC, F(0.002, DT));
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC);
     fc_controller_inputs in = level_at_rest(1.0);
     fc_controller_outputs out;
     for (int k = 0; k < 500; k++) {
@@ -317,8 +322,7 @@ static void test_position_loop_once_a_major_frame(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
     fc_controller_inputs in = level_at_rest(0.5);
     fc_controller_outputs out;
     in.command = FC_COMMAND_DISARM;
@@ -350,8 +354,7 @@ static void test_pad_model_in_its_minor_frame(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
     fc_controller_inputs in = level_at_rest(0.5);
     in.command = FC_COMMAND_HOLD;
     fc_controller_outputs out;
@@ -379,9 +382,8 @@ static void test_heading_input_reaches_the_filter(void **state)
     (void)state;
     static fc_controller ctl;
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
     assert_false(p.use_external_attitude);
-    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
     fc_controller_inputs in = level_at_rest(0.5);
     in.command = FC_COMMAND_DISARM; /* the filter runs disarmed too */
     fc_controller_outputs out;
