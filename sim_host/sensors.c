@@ -202,8 +202,10 @@ void sensors_read(const sensors *s, double t, sensor_readout *out)
                                                                           : (double)NAN;
     const double *att = channel_read(&s->attitude, t);
     out->attitude = quat_make(att[0], att[1], att[2], att[3]);
+    /* the newest heading sample delivered by t, if one is */
+    const int heading = channel_index(&s->heading, t);
     out->has_heading = s->p.heading.enabled && s->heading.count > 0 &&
-                       s->heading.t[channel_index(&s->heading, t)] + s->heading.delay_s <= t + TIME_EPS;
-    out->heading_rad = out->has_heading ? channel_read(&s->heading, t)[0] : 0.0;
-    out->heading_sample_t = out->has_heading ? s->heading.t[channel_index(&s->heading, t)] : (double)NAN;
+                       s->heading.t[heading] + s->heading.delay_s <= t + TIME_EPS;
+    out->heading_rad = out->has_heading ? s->heading.value[heading][0] : 0.0;
+    out->heading_sample_t = out->has_heading ? s->heading.t[heading] : (double)NAN;
 }
