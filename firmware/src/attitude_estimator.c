@@ -297,6 +297,19 @@ static void write_safe_output(fc_attitude_estimate *out)
     out->aligned = false;
 }
 
+/* A valid gyro sample, corrected by the bias of the previous step, becomes
+ * the rate; returns whether it was valid. */
+static bool take_rate(fc_attitude_estimator *est, const fc_imu_sample *imu)
+{
+    if (imu == NULL || !gyro_valid(est, imu->gyro_radps)) {
+        return false;
+    }
+    fc_arith *ar = &est->ar;
+    const fc_vec3 bias = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+    est->rate_radps = fc_vec3_sub(ar, imu->gyro_radps, bias);
+    return true;
+}
+
 fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
                                           fc_attitude_estimate *out)
 {
@@ -311,15 +324,10 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     fc_step_status status = FC_STEP_OK;
 
     fc_real norm_mps2 = FC_INT(0, ACCEL);
-    const bool gyro_ok = imu != NULL && gyro_valid(est, imu->gyro_radps);
+    const bool gyro_ok = take_rate(est, imu);
     const bool accel_ok = imu != NULL && accel_valid(est, imu->accel_mps2, &norm_mps2);
     if (!gyro_ok || !accel_ok) {
         status |= FC_STEP_BAD_INPUT;
-    }
-    if (gyro_ok) {
-        /* the bias of the previous step corrects this sample */
-        const fc_vec3 bias = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
-        est->rate_radps = fc_vec3_sub(ar, imu->gyro_radps, bias);
     }
 
     fc_real weight = FC_INT(0, RATIO);
@@ -340,6 +348,34 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
         est->heading_steps_left--; /* one step older */
     }
 
+    if (out != NULL) {
+        write_output(est, ar, out);
+    }
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
+
+fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
+                                               fc_attitude_estimate *out)
+{
+    if (est == NULL || !est->ready) {
+        if (out != NULL) {
+            write_safe_output(out);
+        }
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &est->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+    fc_real norm_mps2 = FC_INT(0, ACCEL);
+    const bool gyro_ok = take_rate(est, imu);
+    const bool accel_ok = imu != NULL && accel_valid(est, imu->accel_mps2, &norm_mps2);
+    if (!gyro_ok || !accel_ok) {
+        status |= FC_STEP_BAD_INPUT;
+    }
+    est->accel_weight = FC_INT(0, RATIO);
     if (out != NULL) {
         write_output(est, ar, out);
     }

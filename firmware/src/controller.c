@@ -399,6 +399,19 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
 /* one step                                                                */
 /* ---------------------------------------------------------------------- */
 
+/* The filter runs on every step, armed or not, to stay aligned; with the
+ * platform's attitude in use it only checks the IMU and forms the rate
+ * (fc_attitude_estimator_rate_step), and the heading input goes unused. */
+static fc_step_status estimator_step(fc_controller *ctl, const fc_controller_inputs *in, fc_attitude_estimate *est)
+{
+    if (ctl->p.use_external_attitude) {
+        return fc_attitude_estimator_rate_step(&ctl->estimator, &in->imu, est);
+    }
+    const fc_step_status heading_status =
+        in->heading_fresh ? fc_attitude_estimator_take_heading(&ctl->estimator, in->heading_rad) : FC_STEP_OK;
+    return fc_attitude_estimator_step(&ctl->estimator, &in->imu, est) | heading_status;
+}
+
 /* The attitude in use: the filter's, or the platform's if it is a usable quaternion. */
 static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *in, const fc_attitude_estimate *est,
                                fc_step_status *status)
@@ -728,11 +741,8 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     const fc_landing_state state_before = ctl->landing.state;
     const fc_landing_reason reason_before = ctl->landing.reason;
 
-    /* attitude: the filter runs on every step, armed or not, to stay aligned */
     fc_attitude_estimate estimate;
-    const fc_step_status heading_status =
-        in_raw->heading_fresh ? fc_attitude_estimator_take_heading(&ctl->estimator, in_raw->heading_rad) : FC_STEP_OK;
-    tm->estimator_status = fc_attitude_estimator_step(&ctl->estimator, &in_raw->imu, &estimate) | heading_status;
+    tm->estimator_status = estimator_step(ctl, in_raw, &estimate);
     status |= passed_on(tm->estimator_status);
     const fc_quat attitude = attitude_in_use(ctl, in_raw, &estimate, &status);
     ctl->last_attitude = attitude;

@@ -791,6 +791,67 @@ static void test_null_sample_then_recovery(void **state)
     assert_int_equal(fc_attitude_estimator_step(&f.est, &s, NULL), FC_STEP_OK);
 }
 
+/* ---- the rate step (the platform's attitude in use) ------------------------ */
+
+/* The rate step forms gyro - b without aligning, correcting or integrating:
+ * the attitude stays the identity of the unaligned filter however long it
+ * runs on a tilted, turning sample, the rate is the gyro's (b = 0 from init)
+ * and the bias does not move. */
+static void test_rate_step_forms_the_rate_only(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    const fc_imu_sample s = sample(0.3, -0.2, 0.1, 2.0, -1.0, 9.5);
+    fc_attitude_estimate out;
+    for (unsigned k = 0; k < 2u * p.alignment_samples; k++) {
+        assert_int_equal(fc_attitude_estimator_rate_step(&est, &s, &out), FC_STEP_OK);
+    }
+    assert_false(out.aligned);
+    assert_true(quat_equal(out.attitude, fc_quat_identity()));
+    assert_true(fabs(from_fc(out.rate_radps.x, FC_RATE_FRAC) - from_fc(s.gyro_radps.x, FC_RATE_FRAC)) == 0.0);
+    assert_true(fabs(from_fc(out.rate_radps.y, FC_RATE_FRAC) - from_fc(s.gyro_radps.y, FC_RATE_FRAC)) == 0.0);
+    assert_true(fabs(from_fc(out.rate_radps.z, FC_RATE_FRAC) - from_fc(s.gyro_radps.z, FC_RATE_FRAC)) == 0.0);
+    assert_true(from_fc(out.gyro_bias_radps.x, FC_RATE_FRAC) == 0.0 &&
+                from_fc(out.gyro_bias_radps.y, FC_RATE_FRAC) == 0.0 &&
+                from_fc(out.gyro_bias_radps.z, FC_RATE_FRAC) == 0.0);
+    assert_true(from_fc(out.accel_weight, FC_RATIO_FRAC) == 0.0);
+    assert_estimate_finite(&out);
+}
+
+/* It checks the sample as the full step does: a bad gyro keeps the last good
+ * rate, a bad accelerometer or no sample is reported, nothing degrades. */
+static void test_rate_step_checks_the_sample(void **state)
+{
+    (void)state;
+    fc_attitude_estimator est;
+    const fc_attitude_estimator_params p = default_params();
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    fc_attitude_estimate out;
+    const fc_imu_sample good = sample(0.5, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &good, &out), FC_STEP_OK);
+    const fc_imu_sample fast_gyro = sample(40.0, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &fast_gyro, &out), FC_STEP_BAD_INPUT);
+    assert_true(fabs(from_fc(out.rate_radps.x, FC_RATE_FRAC) - 0.5) < RATE_TOL);
+    const fc_imu_sample zero_accel = sample(-0.25, 0, 0, 0, 0, 0);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &zero_accel, &out), FC_STEP_BAD_INPUT);
+    assert_true(fabs(from_fc(out.rate_radps.x, FC_RATE_FRAC) + 0.25) < RATE_TOL); /* the gyro was good */
+    const fc_imu_sample far_accel = sample(0, 0, 0, 0, 0, 170.0);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &far_accel, &out), FC_STEP_BAD_INPUT);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, NULL, &out), FC_STEP_BAD_INPUT);
+    assert_true(fabs(from_fc(out.rate_radps.x, FC_RATE_FRAC)) < RATE_TOL);
+    assert_estimate_finite(&out);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &good, NULL), FC_STEP_OK);
+    /* before a successful init: not ready, the safe output */
+    fc_attitude_estimator_params bad = p;
+    bad.dt_s = FC_INT(0, DT);
+    assert_int_equal(fc_attitude_estimator_init(&est, &bad), FC_INIT_BAD_PARAM);
+    assert_int_equal(fc_attitude_estimator_rate_step(&est, &good, &out), FC_STEP_NOT_READY);
+    assert_true(quat_equal(out.attitude, fc_quat_identity()));
+    assert_true(from_fc(out.rate_radps.x, FC_RATE_FRAC) == 0.0);
+}
+
 /* ---- heading -------------------------------------------------------------- */
 
 static double wrapped(double angle_rad)
@@ -1065,6 +1126,8 @@ int main(void)
         cmocka_unit_test(test_bad_accel_zero),
         cmocka_unit_test(test_bad_accel_beyond_range),
         cmocka_unit_test(test_null_sample_then_recovery),
+        cmocka_unit_test(test_rate_step_forms_the_rate_only),
+        cmocka_unit_test(test_rate_step_checks_the_sample),
         cmocka_unit_test(test_yaw_drifts_without_heading),
         cmocka_unit_test(test_heading_estimates_the_z_bias),
         cmocka_unit_test(test_heading_far_off_converges),

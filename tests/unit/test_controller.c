@@ -406,6 +406,40 @@ static void test_heading_input_reaches_the_filter(void **state)
                 1e-4);
 }
 
+/* With the platform's attitude in use the filter only forms the rate: the
+ * attitude is the external one from the first step (no alignment), the rate
+ * is the gyro's, the heading input goes unused (a bad one is no bad input),
+ * and a bad gyro still is. */
+static void test_external_attitude_skips_the_filter(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.use_external_attitude = true;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    fc_controller_inputs in = level_at_rest(0.5);
+    in.command = FC_COMMAND_DISARM;
+    const double half_roll = 0.05; /* 0.1 rad of roll */
+    in.attitude_external = fc_quat_make(F(cos(half_roll), UNIT), F(sin(half_roll), UNIT), F(0, UNIT), F(0, UNIT));
+    in.imu.gyro_radps = fc_vec3_make(F(0.2, RATE), F(-0.1, RATE), F(0.05, RATE));
+    in.heading_rad = F(7.5, ANGLE);
+    in.heading_fresh = true;
+    fc_controller_outputs out;
+    const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+    assert_int_equal(st & FC_STEP_BAD_INPUT, 0u);
+    assert_int_equal(out.telemetry.estimator_status, FC_STEP_OK);
+    assert_true(fabs(D(out.telemetry.attitude.x, UNIT) - sin(half_roll)) < 1e-6);
+    assert_true(fabs(D(out.telemetry.rate_radps.x, RATE) - 0.2) < 1e-6);
+    assert_true(fabs(D(out.telemetry.rate_radps.y, RATE) + 0.1) < 1e-6);
+    assert_true(fabs(D(out.telemetry.rate_radps.z, RATE) - 0.05) < 1e-6);
+    in.imu.gyro_radps.x = F(40.0, RATE); /* beyond the 35 rad/s range */
+    const fc_step_status bad = fc_controller_step(&ctl, &in, &out);
+    assert_true((bad & FC_STEP_BAD_INPUT) != 0u);
+    assert_true((out.telemetry.estimator_status & FC_STEP_BAD_INPUT) != 0u);
+    assert_true(fabs(D(out.telemetry.rate_radps.x, RATE) - 0.2) < 1e-6); /* the last good rate */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -419,6 +453,7 @@ int main(void)
         cmocka_unit_test(test_position_loop_once_a_major_frame),
         cmocka_unit_test(test_pad_model_in_its_minor_frame),
         cmocka_unit_test(test_heading_input_reaches_the_filter),
+        cmocka_unit_test(test_external_attitude_skips_the_filter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -156,4 +156,14 @@ fc_step_status fc_attitude_estimator_take_heading(fc_attitude_estimator *est, fc
 fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
                                           fc_attitude_estimate *out);
 
+/* The step for a vehicle whose attitude comes from elsewhere (the platform's
+ * own estimator, fc_controller_params.use_external_attitude): the IMU sample
+ * checked as fc_attitude_estimator_step checks it and the rate formed with the
+ * bias as it stands (zero if the filter never ran), gyro - b; no alignment,
+ * correction or integration. FC_STEP_BAD_INPUT as in the full step (the rate
+ * of the last good sample kept); out is always written and finite, its
+ * attitude the filter's (not advanced), its accel_weight 0. */
+fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
+                                               fc_attitude_estimate *out);
+
 #endif /* FC_ATTITUDE_ESTIMATOR_H */

@@ -85,7 +85,10 @@ typedef struct fc_controller_params {
                                          * horizontal.dt_s and pad_motion.dt_s are dt_s times it */
     fc_real mass_kg;                    /* MASS: nominal */
     fc_real gravity_mps2;               /* ACCEL */
-    bool use_external_attitude;         /* the platform's estimate instead of the filter */
+    bool use_external_attitude;         /* the platform's estimate instead of the filter: the
+                                         * filter then only checks the IMU and forms the rate,
+                                         * gyro - b with b as init left it (0), so the platform's
+                                         * gyro must be calibrated; heading_rad goes unused */
     fc_attitude_estimator_params estimator;
     fc_attitude_control_params attitude;
     fc_allocation_params allocation;
