@@ -297,46 +297,67 @@ static void write_safe_output(fc_attitude_estimate *out)
     out->aligned = false;
 }
 
-/* A valid gyro sample, corrected by the bias of the previous step, becomes
- * the rate; returns whether it was valid. */
-static bool take_rate(fc_attitude_estimator *est, const fc_imu_sample *imu)
+/* The sample's checks, shared by both steps: a valid gyro sample, corrected
+ * by the bias of the previous step, becomes the rate; a valid accelerometer
+ * sample gives its length. */
+typedef struct sample_check {
+    bool gyro_ok, accel_ok;
+    fc_real norm_mps2; /* ACCEL, 0 unless accel_ok */
+} sample_check;
+
+static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu)
 {
-    if (imu == NULL || !gyro_valid(est, imu->gyro_radps)) {
-        return false;
+    sample_check c = {false, false, FC_INT(0, ACCEL)};
+    if (imu == NULL) {
+        return c;
     }
-    fc_arith *ar = &est->ar;
-    const fc_vec3 bias = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
-    est->rate_radps = fc_vec3_sub(ar, imu->gyro_radps, bias);
-    return true;
+    c.gyro_ok = gyro_valid(est, imu->gyro_radps);
+    if (c.gyro_ok) {
+        const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);
+    }
+    c.accel_ok = accel_valid(est, imu->accel_mps2, &c.norm_mps2);
+    return c;
 }
 
-fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
-                                          fc_attitude_estimate *out)
+/* Both steps' start (false, the safe output written, before a successful init)
+ * and end (the output, and the status of the arithmetic). */
+static bool step_begins(fc_attitude_estimator *est, fc_attitude_estimate *out)
 {
     if (est == NULL || !est->ready) {
         if (out != NULL) {
             write_safe_output(out);
         }
+        return false;
+    }
+    est->ar.saturated = 0u;
+    return true;
+}
+
+static fc_step_status step_ends(fc_attitude_estimator *est, fc_attitude_estimate *out, fc_step_status status)
+{
+    if (out != NULL) {
+        write_output(est, &est->ar, out);
+    }
+    return est->ar.saturated != 0u ? status | FC_STEP_ARITH_SATURATED : status;
+}
+
+fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
+                                          fc_attitude_estimate *out)
+{
+    if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    fc_arith *ar = &est->ar;
-    ar->saturated = 0u;
-    fc_step_status status = FC_STEP_OK;
-
-    fc_real norm_mps2 = FC_INT(0, ACCEL);
-    const bool gyro_ok = take_rate(est, imu);
-    const bool accel_ok = imu != NULL && accel_valid(est, imu->accel_mps2, &norm_mps2);
-    if (!gyro_ok || !accel_ok) {
-        status |= FC_STEP_BAD_INPUT;
-    }
+    const sample_check sample = check_sample(est, imu);
+    fc_step_status status = sample.gyro_ok && sample.accel_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT;
 
     fc_real weight = FC_INT(0, RATIO);
     if (!est->aligned) {
-        if (accel_ok) {
+        if (sample.accel_ok) {
             align(est, imu->accel_mps2);
         }
-    } else if (gyro_ok) {
-        weight = correct_and_integrate(est, accel_ok, imu->accel_mps2, norm_mps2);
+    } else if (sample.gyro_ok) {
+        weight = correct_and_integrate(est, sample.accel_ok, imu->accel_mps2, sample.norm_mps2);
         if (!(weight > FC_INT(0, RATIO))) {
             status |= FC_STEP_DEGRADED; /* gyro only */
         }
@@ -347,40 +368,16 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     if (est->heading_steps_left > 0u) {
         est->heading_steps_left--; /* one step older */
     }
-
-    if (out != NULL) {
-        write_output(est, ar, out);
-    }
-    if (ar->saturated != 0u) {
-        status |= FC_STEP_ARITH_SATURATED;
-    }
-    return status;
+    return step_ends(est, out, status);
 }
 
 fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
                                                fc_attitude_estimate *out)
 {
-    if (est == NULL || !est->ready) {
-        if (out != NULL) {
-            write_safe_output(out);
-        }
+    if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    fc_arith *ar = &est->ar;
-    ar->saturated = 0u;
-    fc_step_status status = FC_STEP_OK;
-    fc_real norm_mps2 = FC_INT(0, ACCEL);
-    const bool gyro_ok = take_rate(est, imu);
-    const bool accel_ok = imu != NULL && accel_valid(est, imu->accel_mps2, &norm_mps2);
-    if (!gyro_ok || !accel_ok) {
-        status |= FC_STEP_BAD_INPUT;
-    }
+    const sample_check sample = check_sample(est, imu);
     est->accel_weight = FC_INT(0, RATIO);
-    if (out != NULL) {
-        write_output(est, ar, out);
-    }
-    if (ar->saturated != 0u) {
-        status |= FC_STEP_ARITH_SATURATED;
-    }
-    return status;
+    return step_ends(est, out, sample.gyro_ok && sample.accel_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT);
 }
