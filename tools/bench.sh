@@ -47,6 +47,48 @@ cc -std=gnu11 -O2 "${warn[@]}" -shared -fPIC "$root/platform/cortex-m4-bench/ins
 
 fixed_of() { case $1 in *-fixed) echo 1 ;; *) echo 0 ;; esac; }
 
+m4f_flags=(-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno)
+# m4f_link ELF LIBRARY [FLAG...]: the M4F bench image of this run ($fx, $cf) on LIBRARY
+m4f_link() {
+  local elf=$1 lib=$2
+  shift 2
+  arm-none-eabi-gcc "${m4f_flags[@]}" "${common[@]}" -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf "$@" \
+    --specs=rdimon.specs -nostartfiles -T "$root/platform/cortex-m4-bench/stm32f405.ld" -Wl,--gc-sections \
+    -o "$elf" "$root/platform/cortex-m4-bench/bench_m4.c" "$lib" -lm -lrdimon
+}
+# m4f_library FIXED: libfc-sep.a here, firmware/src/*.c compiled one by one
+# with the flags of the cf2 presets' library (firmware/CMakeLists.txt)
+m4f_library() {
+  local objs=()
+  for c in "$root"/firmware/src/*.c; do
+    arm-none-eabi-gcc "${m4f_flags[@]}" -O3 -fno-tree-loop-distribute-patterns -DNDEBUG -std=gnu11 "${warn[@]}" \
+      -Wconversion -Wsign-conversion -ffunction-sections -fdata-sections -I"$root/firmware/include" \
+      -DFC_NUMERIC_FIXED="$1" -c "$c" -o "$(basename "$c" .c).o"
+    objs+=("$(basename "$c" .c).o")
+  done
+  rm -f libfc-sep.a
+  arm-none-eabi-ar rcs libfc-sep.a "${objs[@]}"
+}
+# m4f_run LIBRARY TAG FUNCTION...: bench.elf here on LIBRARY, run in QEMU with
+# the plugin timing each FUNCTION (and profiling fc_controller_step's PCs);
+# results under TAG, TAG~est and TAG~est2
+m4f_run() {
+  local lib=$1 tag=$2
+  shift 2
+  m4f_link bench.elf "$lib"
+  sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
+  local pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$PWD/plugin.txt,profile=fc_controller_step"
+  for m in "$@"; do pargs+=",fn=$m@$(sym "$m")"; done
+  rm -f plugin.txt
+  timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
+    -semihosting-config enable=on,target=native -kernel bench.elf -plugin "$out/insn_count.so,$pargs" >run.txt ||
+    { cat run.txt >&2; echo "bench: $tag run failed" >&2; exit 1; }
+  grep -q ': done' run.txt || { cat run.txt >&2; echo "bench: $tag did not finish" >&2; exit 1; }
+  awk -v p="$tag" '$1 == "INSNS" { print p, "calls", $2, $3, $4, $5, $6 }
+                 $1 == "CYCEST" { print p "~est", "calls", $2, $3, $4, $5, $6 }
+                 $1 == "CYCEST2" { print p "~est2", "calls", $2, $3, $4, $5, $6 }' plugin.txt >>"$results"
+}
+
 # largest frame among the library's and the bench image's .su files: "bytes function"
 largest_frame() { # preset run
   find "$root/build/$1/firmware" "$out/$2" -name '*.su' -print0 | xargs -0 cat |
@@ -86,27 +128,17 @@ for run in "${presets[@]}" "${presets[@]/%/-cf}"; do
     read -r text data bss < <(avr-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
   cf2*)
-    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
-      -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf --specs=rdimon.specs -nostartfiles -T "$root/platform/cortex-m4-bench/stm32f405.ld" \
-      -Wl,--gc-sections -o bench.elf "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" \
-      -lm -lrdimon
-    sym() { arm-none-eabi-nm bench.elf | awk -v s="$1" '$3 == s { print "0x" $1 }'; }
-    pargs="begin=$(sym bench_timed_begin),end=$(sym bench_timed_end),out=$out/$run/plugin.txt,profile=fc_controller_step"
-    for m in "${timed[@]}"; do pargs+=",fn=$m@$(sym "$m")"; done
-    rm -f plugin.txt
-    timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial none \
-      -semihosting-config enable=on,target=native -kernel bench.elf -plugin "$out/insn_count.so,$pargs" >run.txt ||
-      { cat run.txt >&2; echo "bench: $p run failed" >&2; exit 1; }
-    grep -q ': done' run.txt || { cat run.txt >&2; echo "bench: $p did not finish" >&2; exit 1; }
-    awk -v p="$run" '$1 == "INSNS" { print p, "calls", $2, $3, $4, $5, $6 }
-                   $1 == "CYCEST" { print p "~est", "calls", $2, $3, $4, $5, $6 }
-                   $1 == "CYCEST2" { print p "~est2", "calls", $2, $3, $4, $5, $6 }' plugin.txt >>"$results"
+    # what flies: the preset's library, one translation unit (firmware/unity/fc_library.c)
+    m4f_run "$root/build/$p/firmware/libfc.a" "$run" fc_controller_step
     awk -v p="$run" '$1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
     # the same image timing each step with DWT->CYCCNT, for a Crazyflie (not run here: CYCCNT reads 0 in QEMU)
-    arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno "${common[@]}" \
-      -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf -DBENCH_DWT=1 --specs=rdimon.specs -nostartfiles \
-      -T "$root/platform/cortex-m4-bench/stm32f405.ld" -Wl,--gc-sections -o bench-dwt.elf \
-      "$root/platform/cortex-m4-bench/bench_m4.c" "$root/build/$p/firmware/libfc.a" -lm -lrdimon
+    m4f_link bench-dwt.elf "$root/build/$p/firmware/libfc.a" -DBENCH_DWT=1
+    read -r text data bss < <(arm-none-eabi-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
+    # the modules: the same sources compiled one by one, so that each step is a
+    # call of its own that can be timed (the one unit inlines them); the
+    # profile below is of this image too
+    mkdir -p sep
+    ( cd sep && m4f_library "$fx" && m4f_run "$PWD/libfc-sep.a" "$run+sep" "${timed[@]}" )
     read -r text data bss < <(arm-none-eabi-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
   esac
@@ -131,6 +163,9 @@ awk -v mods="$mods" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
   $2 == "size"  { flash[$1] = $3; ram[$1] = $4; fr[$1] = $5 " B " $6 }
   function rng(p, m) { return (p, m) in mn ? sprintf("%d-%d", mn[p, m], mx[p, m]) : "n/a" }
   function ratio(a, b, m) { return mean[b, m] > 0 && mean[a, m] > 0 ? sprintf("%.2f", mean[b, m] / mean[a, m]) : "n/a" }
+  # the M4F run of row m: a module from the image of separately compiled
+  # sources (+sep), fc_controller_step from the one-unit library that flies
+  function m4(p, m, kind) { return (m == "fc_controller_step" ? p w : p w "+sep") kind }
   END {
     k = split(mods, M, " ")
     printf "%s: per call, %d calls each (2 rounds x 8 fixed input vectors, armed, dt 0.002 s)\n", title, n["atmega" w, "fc_controller_step"]
@@ -142,11 +177,14 @@ awk -v mods="$mods" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
     printf "%-31s|%16s-|%16s-|%6s-|%14s-|%14s-|%6s-|%14s-|%14s\n", "-------------------------------", "----------------", "----------------", "------", "--------------", "--------------", "------", "--------------", "--------------"
     for (i = 1; i <= k; i++) {
       m = M[i]
-      printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m, rng("atmega" w, m), rng("atmega-fixed" w, m), ratio("atmega" w, "atmega-fixed" w, m), rng("cf2" w, m), rng("cf2-fixed" w, m), ratio("cf2" w, "cf2-fixed" w, m), rng("cf2" w "~est", m), rng("cf2-fixed" w "~est", m)
+      printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m, rng("atmega" w, m), rng("atmega-fixed" w, m), ratio("atmega" w, "atmega-fixed" w, m), rng(m4("cf2", m, ""), m), rng(m4("cf2-fixed", m, ""), m), ratio(m4("cf2", m, ""), m4("cf2-fixed", m, ""), m), rng(m4("cf2", m, "~est"), m), rng(m4("cf2-fixed", m, "~est"), m)
     }
     m = "fc_controller_step"
     printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m " mean", sprintf("%d", mean["atmega" w, m]), sprintf("%d", mean["atmega-fixed" w, m]), "", sprintf("%d", mean["cf2" w, m]), sprintf("%d", mean["cf2-fixed" w, m]), "", sprintf("%d", mean["cf2" w "~est", m]), sprintf("%d", mean["cf2-fixed" w "~est", m])
     printf "(mean over the 16 calls, the load per step: each part of the outer group runs in one minor frame of every 5 steps)\n"
+    printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", "  M4F, sources one by one", "", "", "", rng("cf2" w "+sep", m), rng("cf2-fixed" w "+sep", m), "", rng("cf2" w "+sep~est", m), rng("cf2-fixed" w "+sep~est", m)
+    printf "(M4F: fc_controller_step of the library that flies, one translation unit (firmware/unity/fc_library.c), which\n"
+    printf "inlines the modules; the module rows and the row above are the same sources compiled one by one, the modules calls)\n"
     printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", "  est, LDR/STR at 2 cyc", "", "", "", "", "", "", rng("cf2" w "~est2", m), rng("cf2-fixed" w "~est2", m)
     printf "(fc_controller_step estimated with every LDR/STR at 2 cycles, no pipelining: the upper side of the load/store\n"
     printf "timing, and the estimate of the notes before the pipelining was modelled)\n"
@@ -177,13 +215,14 @@ for p in atmega-fixed atmega atmega-fixed-cf; do
   # (no "| head": under pipefail its early exit fails the pipeline)
   awk '$1 == "PROFILE" && ++n <= 15 { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt"
 done
-echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, same run): instructions and estimated"
-echo "cycles per step charged to the function holding the PC; top 15."
+echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, the image of the sources compiled one by"
+echo "one, where each function keeps its own code): instructions and estimated cycles per step charged to the"
+echo "function holding the PC; top 15."
 for p in cf2 cf2-fixed cf2-cf; do
   echo "$p:"
-  n=$(awk '$1 == "INSNS" && $2 == "fc_controller_step" { print $6 }' "$out/$p/plugin.txt")
-  python3 "$root/tools/pc-profile.py" --nm arm-none-eabi-nm --elf "$out/$p/bench.elf" --calls "$n" --top 15 \
-    "$out/$p/plugin.txt"
+  n=$(awk '$1 == "INSNS" && $2 == "fc_controller_step" { print $6 }' "$out/$p/sep/plugin.txt")
+  python3 "$root/tools/pc-profile.py" --nm arm-none-eabi-nm --elf "$out/$p/sep/bench.elf" --calls "$n" --top 15 \
+    "$out/$p/sep/plugin.txt"
 done
 
 # ---- worst-case stack depth of fc_controller_step (tools/stack-depth.py) ----

@@ -9,8 +9,9 @@ is the same on every target and includes the toolchain's routines (libgcc,
 libm, libc): AVR call/rcall and jmp/rjmp to another function (a tail call);
 Thumb bl/blx and b/b.w to another function. An indirect call (AVR
 icall/eicall/ijmp/eijmp, Thumb blx/bx to a register other than lr, a load or
-move into pc other than a return) reachable from the root fails loudly, and
-so does recursion (a cycle).
+move into pc other than a return or a switch's jump table whose entries all
+land in the same function) reachable from the root fails loudly, and so does
+recursion (a cycle).
 
 Frames: the -fstack-usage figure of every function compiled by us (the .su
 files under the --su directories; every frame there must be static); for a
@@ -83,6 +84,10 @@ def disassemble(objdump, elf):
         m = re.match(r"^\s*([0-9a-f]+):\s+([a-z][a-z0-9.]*)\s*(.*)$", line)
         if m:
             funcs[current].append((m.group(2), m.group(3)))
+            continue
+        m = re.match(r"^\s*[0-9a-f]+:\s+\.word\s+0x([0-9a-f]+)", line)
+        if m:  # data in the code: the entries of a jump table (analyse_arm)
+            funcs[current].append((".word", m.group(1)))
     return funcs, starts
 
 
@@ -152,10 +157,33 @@ def analyse_avr(name, insns):
     return calls, indirect, size
 
 
+def jump_table_stays_inside(insns, i):
+    """insns[i] is ldr pc, [rX, rY, lsl #2]: a switch's jump table when the
+    instruction before set rX to a pc-relative address (adr) and the table
+    words that follow (after an alignment nop) all land inside the function
+    being analysed; then it is a jump within the function, no call."""
+    m = re.match(r"^pc,\s*\[(r\d+),\s*r\d+,\s*lsl\s*#2\]$", insns[i][1].strip())
+    if not m or i == 0:
+        return False
+    before_op, before_args = insns[i - 1]
+    if before_op.split(".")[0] not in ("add", "adr") or \
+            not re.match(r"^%s,\s*pc\b" % m.group(1), before_args.strip()):
+        return False
+    entries = []
+    for op, args in insns[i + 1:]:
+        if op == ".word":
+            entries.append(int(args, 16) & ~1)  # the Thumb bit
+        elif op == "nop" and not entries:
+            continue
+        else:
+            break
+    return bool(entries) and all(CURRENT[0] <= e < CURRENT[1] for e in entries)
+
+
 def analyse_arm(name, insns):
     calls, indirect = set(), []
     size = 0
-    for op, args in insns:
+    for i, (op, args) in enumerate(insns):
         base = op.split(".")[0]
         if base in ("bl", "blx", "b") or re.match(r"^b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le|al)$", base):
             if base == "blx" and not TARGET_RE.search(args):
@@ -171,7 +199,9 @@ def analyse_arm(name, insns):
         elif base == "bx" and args.strip() != "lr":
             indirect.append(op + " " + args)
         elif base in ("mov", "ldr") and re.match(r"^pc\b", args.strip()) and \
-                not re.match(r"^pc,\s*\[sp\],\s*#4$", args.strip()):  # ldr pc, [sp], #4: a return
+                not re.match(r"^pc,\s*\[sp\],\s*#4$", args.strip()) and \
+                not jump_table_stays_inside(insns, i):
+            # (ldr pc, [sp], #4 is a return; a switch's table jump stays inside)
             indirect.append(op + " " + args)
         elif base in ("push", "stmdb") and "{" in args:
             size += 4 * len(expand_regs(args))

@@ -474,20 +474,20 @@ static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
 
 /* ---- the desaturating linear allocation --------------------------------- */
 
-/* A ratio num/den with den > 0 (both RATIO), kept as the pair: ratios are
+/* A fraction num/den with den > 0 (both RATIO), kept as the pair: ratios are
  * compared by cross products and divided once, at the end. */
-typedef struct ratio {
+typedef struct fraction {
     fc_real num, den;
-} ratio;
+} fraction;
 
 /* The sign of p - q. The products of two RATIO values (below 2^14) fit GAIN. */
-static int ratio_compare(fc_arith *ar, ratio p, ratio q)
+static int ratio_compare(fc_arith *ar, fraction p, fraction q)
 {
     const fc_real diff = fc_dot2(ar, p.num, q.den, fc_neg(ar, q.num), p.den, FC_SHIFT(RATIO, RATIO, GAIN));
     return diff < FC_INT(0, GAIN) ? -1 : (diff > FC_INT(0, GAIN) ? 1 : 0);
 }
 
-static fc_real ratio_unit(fc_arith *ar, ratio r)
+static fc_real ratio_unit(fc_arith *ar, fraction r)
 {
     if (r.num >= r.den) {
         return FC_INT(1, UNIT); /* untouched: no division */
@@ -498,7 +498,7 @@ static fc_real ratio_unit(fc_arith *ar, ratio r)
 
 /* The scales s in [0, 1] that satisfy a set of constraints s c <= e. */
 typedef struct scale_interval {
-    ratio low, high;
+    fraction low, high;
     bool zero_violates; /* some constraint fails even at s = 0 (e < 0 <= c) */
 } scale_interval;
 
@@ -517,7 +517,7 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
         if (e >= c) {
             return; /* a bound at or above 1: never binding (no products) */
         }
-        ratio bound = {fc_max(e, FC_INT(0, RATIO)), c};
+        fraction bound = {fc_max(e, FC_INT(0, RATIO)), c};
         if (e < FC_INT(0, RATIO)) {
             s->zero_violates = true;
         }
@@ -527,7 +527,7 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
     } else if (c < FC_INT(0, RATIO)) {
         /* s >= e / c = (-e) / (-c), a bound only when above zero */
         if (e < FC_INT(0, RATIO)) {
-            const ratio bound = {fc_neg(ar, e), fc_neg(ar, c)};
+            const fraction bound = {fc_neg(ar, e), fc_neg(ar, c)};
             if (s->low.num == FC_INT(0, RATIO) || ratio_compare(ar, bound, s->low) > 0) {
                 s->low = bound;
             }

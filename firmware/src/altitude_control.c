@@ -110,7 +110,7 @@ static bool gains_in_range(const fc_altitude_control_params *p)
            p->pid_vel_limit_mps <= FC_INT(500, VEL);
 }
 
-static bool params_valid(const fc_altitude_control_params *p)
+static bool altitude_params_valid(const fc_altitude_control_params *p)
 {
     const fc_real zero = FC_INT(0, UNIT);
     return all_finite(p) && gains_in_range(p) && p->law < FC_ALT_LAW_COUNT &&
@@ -299,7 +299,7 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
     c->ready = false;
     c->ar.saturated = 0u;
     c->p = *p;
-    if (!params_valid(p)) {
+    if (!altitude_params_valid(p)) {
         c->p.thrust_min_n = FC_INT(0, FORCE);
         c->p.theta0_kg = FC_INT(0, MASS);
         fc_altitude_control_reset(c);

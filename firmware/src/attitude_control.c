@@ -38,7 +38,7 @@ static bool vec_in(fc_vec3 v, fc_real lo, fc_real hi)
     return finite_in(v.x, lo, hi) && finite_in(v.y, lo, hi) && finite_in(v.z, lo, hi);
 }
 
-static bool params_valid(const fc_attitude_control_params *p)
+static bool attitude_params_valid(const fc_attitude_control_params *p)
 {
     const fc_real zero = FC_INT(0, UNIT);
     return positive_upto(p->dt_s, MAX_DT_S) && vec_positive_upto(p->inertia_kgm2, MAX_INERTIA_KGM2) &&
@@ -60,7 +60,7 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
     c->integral_hold = 0u;
     c->inertia_diff_kgm2 = fc_vec3_zero();
     c->hold_decay = FC_INT(0, UNIT);
-    if (!params_valid(p)) {
+    if (!attitude_params_valid(p)) {
         return FC_INIT_BAD_PARAM;
     }
     fc_arith ar = {0u};

@@ -57,41 +57,36 @@ void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_re
     p->heading_hold_s = FC_C(0.1f, DT);
 }
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool params_in_range(const fc_attitude_estimator_params *p)
 {
-    if (!in_range(p->dt_s, FC_INT(0, DT), FC_C(0.1f, DT)) || !(p->dt_s > FC_INT(0, DT))) {
+    if (!fc_in_range(p->dt_s, FC_INT(0, DT), FC_C(0.1f, DT)) || !(p->dt_s > FC_INT(0, DT))) {
         return false;
     }
-    if (!in_range(p->crossover_radps, FC_INT(0, RATE), FC_C(10.0f, RATE)) ||
+    if (!fc_in_range(p->crossover_radps, FC_INT(0, RATE), FC_C(10.0f, RATE)) ||
         !(p->crossover_radps > FC_INT(0, RATE))) {
         return false;
     }
-    if (!in_range(p->damping, FC_INT(0, RATIO), FC_C(10.0f, RATIO)) ||
+    if (!fc_in_range(p->damping, FC_INT(0, RATIO), FC_C(10.0f, RATIO)) ||
         !(p->damping > FC_INT(0, RATIO))) {
         return false;
     }
-    if (!in_range(p->gyro_bias_limit_radps, FC_INT(0, RATE), FC_C(0.8f, RATE))) {
+    if (!fc_in_range(p->gyro_bias_limit_radps, FC_INT(0, RATE), FC_C(0.8f, RATE))) {
         return false;
     }
-    if (!in_range(p->gravity_mps2, FC_C(1.0f, ACCEL), FC_C(100.0f, ACCEL))) {
+    if (!fc_in_range(p->gravity_mps2, FC_C(1.0f, ACCEL), FC_C(100.0f, ACCEL))) {
         return false;
     }
     /* the trust reaches 0 before free fall, where the direction is meaningless */
-    if (!in_range(p->accel_trust_band_mps2, FC_C(0.01f, ACCEL), p->gravity_mps2) ||
+    if (!fc_in_range(p->accel_trust_band_mps2, FC_C(0.01f, ACCEL), p->gravity_mps2) ||
         !(p->accel_trust_band_mps2 < p->gravity_mps2)) {
         return false;
     }
-    if (!in_range(p->gyro_range_radps, FC_INT(0, RATE), FC_C(100.0f, RATE)) ||
+    if (!fc_in_range(p->gyro_range_radps, FC_INT(0, RATE), FC_C(100.0f, RATE)) ||
         !(p->gyro_range_radps > FC_INT(0, RATE))) {
         return false;
     }
     /* a range below g would reject the accelerometer at rest */
-    if (!in_range(p->accel_range_mps2, p->gravity_mps2, FC_C(256.0f, ACCEL)) ||
+    if (!fc_in_range(p->accel_range_mps2, p->gravity_mps2, FC_C(256.0f, ACCEL)) ||
         !(p->accel_range_mps2 > p->gravity_mps2)) {
         return false;
     }

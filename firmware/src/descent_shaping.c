@@ -1,21 +1,16 @@
 /* descent_shaping.c - the descent velocity field (2.25)-(2.28) (fc/descent_shaping.h). */
 #include "fc/descent_shaping.h"
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool descent_params_valid(const fc_descent_shaping_params *p)
 {
-    return in_range(p->k_r_m2ps, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
-           in_range(p->delta_h_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
-           in_range(p->k_c_per_s, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
-           in_range(p->u_zbias_mps, FC_INT(-50, VEL), FC_INT(50, VEL)) &&
-           in_range(p->k_a_mps, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
-           in_range(p->delta_a_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
-           in_range(p->max_descent_mps, FC_C(0.001f, VEL), FC_INT(50, VEL)) &&
-           in_range(p->max_climb_mps, FC_C(0.001f, VEL), FC_INT(50, VEL));
+    return fc_in_range(p->k_r_m2ps, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
+           fc_in_range(p->delta_h_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
+           fc_in_range(p->k_c_per_s, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
+           fc_in_range(p->u_zbias_mps, FC_INT(-50, VEL), FC_INT(50, VEL)) &&
+           fc_in_range(p->k_a_mps, FC_INT(0, GAIN), FC_INT(100, GAIN)) &&
+           fc_in_range(p->delta_a_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
+           fc_in_range(p->max_descent_mps, FC_C(0.001f, VEL), FC_INT(50, VEL)) &&
+           fc_in_range(p->max_climb_mps, FC_C(0.001f, VEL), FC_INT(50, VEL));
 }
 
 fc_init_result fc_descent_shaping_init(fc_descent_shaping *ds, const fc_descent_shaping_params *p)

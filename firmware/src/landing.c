@@ -1,32 +1,27 @@
 /* landing.c - the landing mission's state machine (fc/landing.h). */
 #include "fc/landing.h"
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool landing_params_valid(const fc_landing_params *p)
 {
-    return in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
-           in_range(p->gear_height_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
-           in_range(p->hold_height_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
-           in_range(p->hold_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
-           in_range(p->hold_settle_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
-           in_range(p->hold_settle_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
-           in_range(p->descent_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
-           in_range(p->touchdown_dip_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
-           in_range(p->touchdown_window_m, FC_INT(0, LENGTH), FC_INT(1, LENGTH)) &&
-           in_range(p->contact_height_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
-           in_range(p->contact_confirm_s, FC_INT(0, TIME), FC_INT(10, TIME)) &&
-           in_range(p->ramp_s, FC_C(0.05f, TIME), FC_INT(10, TIME)) &&
-           in_range(p->confidence_start, FC_C(0.01f, UNIT), FC_INT(1, UNIT)) &&
-           in_range(p->confidence_abort, FC_INT(0, UNIT), p->confidence_start) &&
-           in_range(p->horizontal_start_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) &&
-           in_range(p->horizontal_abort_m, p->horizontal_start_m, FC_INT(100, LENGTH)) &&
-           in_range(p->tilt_cos_abort, FC_INT(0, RATIO), FC_INT(1, RATIO)) &&
-           in_range(p->pad_accel_max_mps2, FC_C(0.001f, ACCEL), FC_INT(100, ACCEL)) &&
-           in_range(p->range_timeout_s, FC_C(0.01f, TIME), FC_INT(10, TIME));
+    return fc_in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
+           fc_in_range(p->gear_height_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           fc_in_range(p->hold_height_m, FC_C(0.01f, LENGTH), FC_INT(100, LENGTH)) &&
+           fc_in_range(p->hold_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
+           fc_in_range(p->hold_settle_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           fc_in_range(p->hold_settle_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
+           fc_in_range(p->descent_tau_s, FC_C(0.05f, TIME), FC_INT(100, TIME)) &&
+           fc_in_range(p->touchdown_dip_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
+           fc_in_range(p->touchdown_window_m, FC_INT(0, LENGTH), FC_INT(1, LENGTH)) &&
+           fc_in_range(p->contact_height_m, FC_C(0.001f, LENGTH), FC_INT(1, LENGTH)) &&
+           fc_in_range(p->contact_confirm_s, FC_INT(0, TIME), FC_INT(10, TIME)) &&
+           fc_in_range(p->ramp_s, FC_C(0.05f, TIME), FC_INT(10, TIME)) &&
+           fc_in_range(p->confidence_start, FC_C(0.01f, UNIT), FC_INT(1, UNIT)) &&
+           fc_in_range(p->confidence_abort, FC_INT(0, UNIT), p->confidence_start) &&
+           fc_in_range(p->horizontal_start_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) &&
+           fc_in_range(p->horizontal_abort_m, p->horizontal_start_m, FC_INT(100, LENGTH)) &&
+           fc_in_range(p->tilt_cos_abort, FC_INT(0, RATIO), FC_INT(1, RATIO)) &&
+           fc_in_range(p->pad_accel_max_mps2, FC_C(0.001f, ACCEL), FC_INT(100, ACCEL)) &&
+           fc_in_range(p->range_timeout_s, FC_C(0.01f, TIME), FC_INT(10, TIME));
 }
 
 fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p)

@@ -4,38 +4,33 @@
 
 #include <stddef.h>
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool pad_motion_params_valid(const fc_pad_motion_params *p)
 {
     if (p->mode_count < 1u || p->mode_count > FC_PAD_MAX_MODES) {
         return false;
     }
-    if (!in_range(p->period_min_s, FC_C(0.5f, TIME), FC_INT(60, TIME)) ||
-        !in_range(p->period_max_s, p->period_min_s, FC_INT(60, TIME))) {
+    if (!fc_in_range(p->period_min_s, FC_C(0.5f, TIME), FC_INT(60, TIME)) ||
+        !fc_in_range(p->period_max_s, p->period_min_s, FC_INT(60, TIME))) {
         return false;
     }
     for (unsigned k = 0u; k < p->mode_count; k++) {
         /* ascending and inside the band: distinct columns of phi, ordered bands */
         const fc_real lower = k == 0u ? p->period_min_s : p->mode_period_s[k - 1u];
-        if (!in_range(p->mode_period_s[k], lower, p->period_max_s) || (k > 0u && p->mode_period_s[k] == lower)) {
+        if (!fc_in_range(p->mode_period_s[k], lower, p->period_max_s) || (k > 0u && p->mode_period_s[k] == lower)) {
             return false;
         }
     }
-    return in_range(p->frequency_gain, FC_INT(0, UNIT), FC_INT(1, UNIT)) &&
-           in_range(p->adapt_amplitude_min_m, FC_C(1e-4f, LENGTH), FC_INT(10, LENGTH)) &&
-           in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
-           in_range(p->forgetting, FC_C(0.9f, UNIT), FC_C(0.99999f, UNIT)) &&
-           in_range(p->covariance_init, FC_C(0.01f, MAT), FC_INT(100, MAT)) &&
-           in_range(p->covariance_trace_max, p->covariance_init, FC_INT(127, MAT)) &&
-           in_range(p->outlier_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) && p->outlier_reset_count >= 1u &&
-           in_range(p->horizon_s, FC_C(0.05f, TIME), FC_INT(60, TIME)) &&
-           in_range(p->observe_min_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
-           in_range(p->tolerance_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
-           in_range(p->error_average_gain, FC_C(1e-4f, UNIT), FC_INT(1, UNIT));
+    return fc_in_range(p->frequency_gain, FC_INT(0, UNIT), FC_INT(1, UNIT)) &&
+           fc_in_range(p->adapt_amplitude_min_m, FC_C(1e-4f, LENGTH), FC_INT(10, LENGTH)) &&
+           fc_in_range(p->dt_s, FC_C(1e-4f, DT), FC_C(0.1f, DT)) &&
+           fc_in_range(p->forgetting, FC_C(0.9f, UNIT), FC_C(0.99999f, UNIT)) &&
+           fc_in_range(p->covariance_init, FC_C(0.01f, MAT), FC_INT(100, MAT)) &&
+           fc_in_range(p->covariance_trace_max, p->covariance_init, FC_INT(127, MAT)) &&
+           fc_in_range(p->outlier_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) && p->outlier_reset_count >= 1u &&
+           fc_in_range(p->horizon_s, FC_C(0.05f, TIME), FC_INT(60, TIME)) &&
+           fc_in_range(p->observe_min_s, FC_INT(0, TIME), FC_INT(600, TIME)) &&
+           fc_in_range(p->tolerance_m, FC_C(0.001f, LENGTH), FC_INT(10, LENGTH)) &&
+           fc_in_range(p->error_average_gain, FC_C(1e-4f, UNIT), FC_INT(1, UNIT));
 }
 
 /* An angle in GAIN (any size) wrapped into [-pi, pi] and given as an ANGLE. */

@@ -4,26 +4,21 @@
 #define GRAVITY_MPS2 FC_C(9.80665f, ACCEL)
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool position_params_valid(const fc_position_control_params *p)
 {
-    return in_range(p->dt_s, FC_C(1.0e-5f, DT), FC_C(0.1f, DT)) &&
-           in_range(p->kp_per_s2, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
-           in_range(p->ki_per_s3, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
-           in_range(p->kd_per_s, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
-           in_range(p->error_max_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) &&
-           in_range(p->integral_max_mps2, FC_INT(0, ACCEL), FC_INT(50, ACCEL)) &&
-           in_range(p->accel_max_mps2, FC_C(0.001f, ACCEL), FC_INT(50, ACCEL)) &&
-           in_range(p->mass_kg, FC_C(0.001f, MASS), FC_INT(100, MASS)) &&
-           in_range(p->accel_fb_gain_per_s, FC_INT(0, RATIO), FC_INT(10, RATIO)) &&
-           in_range(p->accel_fb_max_mps2, FC_INT(0, ACCEL), FC_INT(20, ACCEL)) &&
-           in_range(p->tilt_max_rad, FC_C(0.01f, ANGLE), FC_C(1.4f, ANGLE)) &&
-           in_range(p->thrust_min_n, FC_C(0.001f, FORCE), FC_INT(1000, FORCE)) &&
-           in_range(p->thrust_max_n, FC_C(0.001f, FORCE), FC_INT(1000, FORCE)) &&
+    return fc_in_range(p->dt_s, FC_C(1.0e-5f, DT), FC_C(0.1f, DT)) &&
+           fc_in_range(p->kp_per_s2, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
+           fc_in_range(p->ki_per_s3, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
+           fc_in_range(p->kd_per_s, FC_INT(0, RATIO), FC_INT(100, RATIO)) &&
+           fc_in_range(p->error_max_m, FC_C(0.001f, LENGTH), FC_INT(100, LENGTH)) &&
+           fc_in_range(p->integral_max_mps2, FC_INT(0, ACCEL), FC_INT(50, ACCEL)) &&
+           fc_in_range(p->accel_max_mps2, FC_C(0.001f, ACCEL), FC_INT(50, ACCEL)) &&
+           fc_in_range(p->mass_kg, FC_C(0.001f, MASS), FC_INT(100, MASS)) &&
+           fc_in_range(p->accel_fb_gain_per_s, FC_INT(0, RATIO), FC_INT(10, RATIO)) &&
+           fc_in_range(p->accel_fb_max_mps2, FC_INT(0, ACCEL), FC_INT(20, ACCEL)) &&
+           fc_in_range(p->tilt_max_rad, FC_C(0.01f, ANGLE), FC_C(1.4f, ANGLE)) &&
+           fc_in_range(p->thrust_min_n, FC_C(0.001f, FORCE), FC_INT(1000, FORCE)) &&
+           fc_in_range(p->thrust_max_n, FC_C(0.001f, FORCE), FC_INT(1000, FORCE)) &&
            p->thrust_max_n > p->thrust_min_n;
 }
 

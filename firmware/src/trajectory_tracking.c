@@ -1,14 +1,9 @@
 /* trajectory_tracking.c - the tracking law (2.24) (fc/trajectory_tracking.h). */
 #include "fc/trajectory_tracking.h"
 
-static bool in_range(fc_real x, fc_real lo, fc_real hi)
-{
-    return fc_is_finite(x) && x >= lo && x <= hi;
-}
-
 static bool vec_in_range(fc_vec3 v, fc_real lo, fc_real hi)
 {
-    return in_range(v.x, lo, hi) && in_range(v.y, lo, hi) && in_range(v.z, lo, hi);
+    return fc_in_range(v.x, lo, hi) && fc_in_range(v.y, lo, hi) && fc_in_range(v.z, lo, hi);
 }
 
 fc_init_result fc_trajectory_tracking_init(fc_trajectory_tracking *tt, const fc_trajectory_tracking_params *p)

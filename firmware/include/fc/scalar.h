@@ -676,6 +676,12 @@ static inline fc_real fc_clamp(fc_real a, fc_real lo, fc_real hi)
     return a < lo ? lo : (a > hi ? hi : a);
 }
 
+/* x is a number in [lo, hi]: a NaN fails (the parameter checks of init). */
+static inline bool fc_in_range(fc_real x, fc_real lo, fc_real hi)
+{
+    return fc_is_finite(x) && x >= lo && x <= hi;
+}
+
 /* x is a number with |x| <= limit: a NaN fails, and so does an infinity
  * whatever the limit. */
 static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real limit)
