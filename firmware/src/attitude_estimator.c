@@ -315,6 +315,14 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
     return c;
 }
 
+static fc_step_status sample_status(sample_check c)
+{
+    if (c.gyro_ok && c.accel_ok) {
+        return FC_STEP_OK;
+    }
+    return FC_STEP_BAD_INPUT;
+}
+
 /* Both steps' start (false, the safe output written, before a successful init)
  * and end (the output, and the status of the arithmetic). */
 static bool step_begins(fc_attitude_estimator *est, fc_attitude_estimate *out)
@@ -334,7 +342,10 @@ static fc_step_status step_ends(fc_attitude_estimator *est, fc_attitude_estimate
     if (out != NULL) {
         write_output(est, &est->ar, out);
     }
-    return est->ar.saturated != 0u ? status | FC_STEP_ARITH_SATURATED : status;
+    if (est->ar.saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
 }
 
 fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
@@ -344,7 +355,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
         return FC_STEP_NOT_READY;
     }
     const sample_check sample = check_sample(est, imu);
-    fc_step_status status = sample.gyro_ok && sample.accel_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT;
+    fc_step_status status = sample_status(sample);
 
     fc_real weight = FC_INT(0, RATIO);
     if (!est->aligned) {
@@ -374,5 +385,5 @@ fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const
     }
     const sample_check sample = check_sample(est, imu);
     est->accel_weight = FC_INT(0, RATIO);
-    return step_ends(est, out, sample.gyro_ok && sample.accel_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT);
+    return step_ends(est, out, sample_status(sample));
 }
