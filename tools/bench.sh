@@ -206,6 +206,14 @@ table "" "Hexa 4 kg, ssc-adaptive, tracking the pad (TRACK_PAD)"
 table -cf "Crazyflie 2.x, ssc, landing mission (LAND), a range sample on 2 of the 8 vectors"
 table "" "Hexa 4 kg (the images' sizes below are the same for both workloads)" 1 | sed -n '/^image/,$p'
 
+# ---- the M4F float step call by call: which minor frames cost what ----
+echo
+echo "Cortex-M4F float, fc_controller_step of each timed call in order (est cycles, the library that flies): the"
+echo "first is the arming step; the outer group's parts (position loop, pad model, its covariance) come once in 5."
+for run in cf2 cf2-cf; do
+  awk -v r="$run" '$1 == "PERCALL" { $1 = ""; $2 = ""; printf "  %-7s%s\n", r, $0 }' "$out/$run/plugin.txt"
+done
+
 # ---- where fc_controller_step's AVR cycles go ----
 echo
 echo "Flat profile of fc_controller_step on the ATmega2560 (simavr, same run): exclusive cycles per step"

@@ -17,7 +17,9 @@
  *                              address, instructions and estimated cycles
  *                              executed while a call of NAME is under way;
  *                              lines "PCPROF addr insns cycles" (hex addr),
- *                              mapped onto functions by tools/bench.sh
+ *                              mapped onto functions by tools/bench.sh,
+ *                              and "PERCALL NAME c1 c2 ...": the estimated
+ *                              cycles of each of its counted calls, in order
  * Output lines: "INSNS name min max mean calls", "INSNS_TOTAL n", and
  * "CYCEST name min max mean calls": a cycle estimate from the Cortex-M4
  * instruction timings (ARM DDI 0439B, table 3-1), each instruction costed
@@ -94,6 +96,10 @@ static int prev_load_dest = -1; /* register loaded by the previous instruction, 
 static char out_path[512];
 static char profile_name[64];
 static counted_fn *profiled;
+/* the estimated cycles of each counted call of the profiled function */
+#define PERCALL_MAX 256u
+static uint64_t percall[PERCALL_MAX];
+static unsigned percall_n;
 /* the flat profile: per executed address, open addressing (the image is small) */
 #define PCPROF_SLOTS 65536u
 typedef struct pc_slot {
@@ -313,6 +319,9 @@ static void on_insn(unsigned int vcpu, void *udata)
             f->fmax = fc > f->fmax ? fc : f->fmax;
             f->fsum += fc;
             f->n++;
+            if (f == profiled && percall_n < PERCALL_MAX) {
+                percall[percall_n++] = cc;
+            }
         }
     }
     if (profiled != NULL && profiled->in_call) {
@@ -380,6 +389,13 @@ static void plugin_exit(qemu_plugin_id_t id, void *udata)
                 (unsigned long long)c->fmax, c->n ? (double)c->fsum / c->n : 0.0, c->n);
     }
     fprintf(f, "INSNS_TOTAL %llu\n", (unsigned long long)count);
+    if (profiled != NULL) {
+        fprintf(f, "PERCALL %s", profiled->name);
+        for (unsigned i = 0; i < percall_n; i++) {
+            fprintf(f, " %llu", (unsigned long long)percall[i]);
+        }
+        fprintf(f, "\n");
+    }
     for (uint32_t h = 0; pcprof != NULL && h < PCPROF_SLOTS; h++) {
         if (pcprof[h].pc != 0u) {
             fprintf(f, "PCPROF %llx %llu %llu\n", (unsigned long long)(pcprof[h].pc - 1u),
