@@ -17,11 +17,8 @@
 
 bool fc_attitude_heading_params_ok(const fc_attitude_estimator_params *p, fc_real kp_radps, uint16_t *hold_steps)
 {
-    if (!fc_is_finite(p->heading_weight) || p->heading_weight < FC_INT(0, RATIO) ||
-        p->heading_weight > FC_INT(1, RATIO)) {
-        return false;
-    }
-    if (!fc_is_finite(p->heading_hold_s) || p->heading_hold_s < p->dt_s || p->heading_hold_s > FC_INT(1, DT)) {
+    if (!fc_in_range(p->heading_weight, FC_INT(0, RATIO), FC_INT(1, RATIO)) ||
+        !fc_in_range(p->heading_hold_s, p->dt_s, FC_INT(1, DT))) {
         return false;
     }
     /* hold / dt rounded to whole steps, by additions (the same count in both
