@@ -519,17 +519,18 @@ static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory 
 
 /* Minor frame 1 of the outer group (every step with outer_divider 1): the
  * pad model takes the waiting sample, carried to this step along the model's
- * vertical speed, and gives a new estimate; minor frame 2 (outer_divider 3 or
- * more) updates its covariance, which the next step of the model would do
- * first otherwise. On the other steps the estimate is the last one with its
- * trajectory extrapolated to this step. */
+ * vertical speed, and gives a new estimate; minor frames 2 and on (with
+ * outer_divider 3 or more) each do one piece of the model's next step ahead
+ * of it (fc_pad_motion_work_ahead), which that step would do first otherwise.
+ * On the other steps the estimate is the last one with its trajectory
+ * extrapolated to this step. */
 static fc_step_status pad_step(fc_controller *ctl, uint8_t frame, fc_pad_motion_estimate *estimate)
 {
     fc_arith *ar = &ctl->ar;
     fc_step_status status = FC_STEP_OK;
     const uint8_t divider = ctl->p.outer_divider;
-    if (divider >= 3u && frame == 2u) {
-        status = passed_on(fc_pad_motion_finish_sample(&ctl->pad_motion));
+    if (divider >= 3u && frame >= 2u) {
+        status = passed_on(fc_pad_motion_work_ahead(&ctl->pad_motion));
     }
     if (frame == (divider > 1u ? 1u : 0u)) {
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};

@@ -94,6 +94,7 @@ static void covariance_restart(fc_pad_motion *pm)
             pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
         }
     }
+    pm->s_phi_prepared = false; /* of the S before */
 }
 
 void fc_pad_motion_reset(fc_pad_motion *pm)
@@ -161,7 +162,14 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
 /* the model                                                               */
 /* ---------------------------------------------------------------------- */
 
-/* phi(t) = [1, sin w_1 t, cos w_1 t, ...] from the phases given. */
+/* PARAMETERS_PAST_N: the entries of theta, its snapshots, phi and S past the
+ * n = 1 + 2K in use are zero, always (reset and covariance_restart write
+ * them so, and every update of them adds products of zeros). The sums over
+ * parameters therefore run over all FC_PAD_MAX_PARAMS: constant bounds,
+ * unrolled where the compiler unrolls, the same result to the bit. */
+
+/* phi(t) = [1, sin w_1 t, cos w_1 t, ...] from the phases given (phi zeroed
+ * by the caller past n). */
 static void regressor(const fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k, fc_real *phi)
 {
     phi[0] = FC_INT(1, UNIT);
@@ -171,11 +179,12 @@ static void regressor(const fc_pad_motion *pm, const fc_real *sin_k, const fc_re
     }
 }
 
-/* theta' phi: LENGTH x UNIT summed into LENGTH. */
-static fc_real model_value(fc_arith *ar, unsigned n, const fc_real *theta, const fc_real *phi)
+/* theta' phi: LENGTH x UNIT summed into LENGTH (over every entry: those
+ * past n are zero, PARAMETERS_PAST_N). */
+static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real *phi)
 {
     fc_acc acc = fc_acc_zero();
-    for (unsigned i = 0u; i < n; i++) {
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
         acc = fc_acc_mac(acc, theta[i], phi[i]);
     }
     return fc_acc_result(ar, acc, FC_SHIFT(LENGTH, UNIT, LENGTH));
@@ -188,7 +197,7 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real 
     fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed for clang-tidy: n = 1 + 2 modes it does not see) */
     regressor(pm, sin_k, cos_k, phi);
     fc_vertical_trajectory t;
-    t.z_m = model_value(ar, pm->n, pm->theta, phi);
+    t.z_m = model_value(ar, pm->theta, phi);
     t.vz_mps = FC_INT(0, VEL);
     t.az_mps2 = FC_INT(0, ACCEL);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
@@ -258,14 +267,14 @@ static bool covariance_usable(const fc_pad_motion *pm)
     return true;
 }
 
-/* The RLS update of theta with the a-priori residual e (see the header); the
- * update of S that goes with it is left pending (update_covariance), with the
- * gain g and S phi it needs. */
-static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m)
+/* S phi (MAT; = (phi' S)' as S is symmetric) into pending_s_phi, and
+ * phi' S phi: the half of the RLS update that needs the phases but not the
+ * sample (fc_pad_motion_work_ahead may do it before the sample comes). */
+static void prepare_s_phi(fc_pad_motion *pm, const fc_real *phi)
 {
     fc_arith *ar = &pm->ar;
-    const unsigned n = pm->n;
-    fc_real *s_phi = pm->pending_s_phi; /* MAT: S phi (= (phi' S)' as S is symmetric) */
+    const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
+    fc_real *s_phi = pm->pending_s_phi;
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
         fc_acc acc = fc_acc_zero();
@@ -276,7 +285,22 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
         quad = fc_acc_mac(quad, phi[i], s_phi[i]);
     }
     /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
-    const fc_real phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    pm->prepared_phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    pm->s_phi_prepared = true;
+}
+
+/* The RLS update of theta with the a-priori residual e (see the header); the
+ * update of S that goes with it is left pending (update_covariance), with the
+ * gain g and S phi it needs. */
+static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m)
+{
+    fc_arith *ar = &pm->ar;
+    const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
+    if (!pm->s_phi_prepared) {
+        prepare_s_phi(pm, phi);
+    }
+    const fc_real *s_phi = pm->pending_s_phi;
+    const fc_real phi_s_phi = pm->prepared_phi_s_phi;
     /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
     const fc_real denominator =
         fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
@@ -303,7 +327,7 @@ static fc_step_status update_covariance(fc_pad_motion *pm)
     }
     pm->covariance_pending = false;
     fc_arith *ar = &pm->ar;
-    const unsigned n = pm->n;
+    const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *gain = pm->pending_gain;
     const fc_real *s_phi = pm->pending_s_phi;
     fc_arith scratch = {0u};
@@ -366,7 +390,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     }
     fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed for clang-tidy: n = 1 + 2 modes it does not see) */
     regressor(pm, pm->phase_sin, pm->phase_cos, phi);
-    const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta, phi));
+    const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->theta, phi));
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
         pm->outliers_in_row++;
         if (pm->outliers_in_row >= pm->p.outlier_reset_count) {
@@ -378,7 +402,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     pm->outliers_in_row = 0u;
     if (pm->snapshots >= 2u) {
         /* what theta_old (H..2H old) predicted for now */
-        const fc_real error = fc_sub(ar, height_m, model_value(ar, pm->n, pm->theta_old, phi));
+        const fc_real error = fc_sub(ar, height_m, model_value(ar, pm->theta_old, phi));
         const fc_real step = fc_mul(ar, pm->p.error_average_gain, fc_sub(ar, fc_abs(ar, error), pm->error_mean_m),
                                     FC_SHIFT(UNIT, LENGTH, LENGTH));
         pm->error_mean_m = fc_add(ar, pm->error_mean_m, step);
@@ -473,14 +497,26 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
     ar->saturated |= f->saturated;
 }
 
-fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm)
+fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
 {
     if (!pm->ready) {
         return FC_STEP_NOT_READY;
     }
     pm->ar.saturated = 0u;
-    fc_step_status status = update_covariance(pm);
-    update_rotations(pm);
+    fc_step_status status = FC_STEP_OK;
+    if (pm->covariance_pending) {
+        status = update_covariance(pm); /* 1 */
+    } else if (pm->phases_behind) {
+        advance_phases(pm); /* 2 (the rotations first) */
+        pm->phases_behind = false;
+    } else if (pm->learning && !pm->s_phi_prepared) {
+        /* 3 (while not learning the next sample restarts the estimate, no RLS) */
+        fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed past n: PARAMETERS_PAST_N) */
+        regressor(pm, pm->phase_sin, pm->phase_cos, phi);
+        prepare_s_phi(pm, phi);
+    } else {
+        /* all done ahead */
+    }
     if (pm->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }
@@ -521,6 +557,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
      * rotation of the frequencies the previous sample left) */
     if (pm->phases_behind) {
         advance_phases(pm);
+        pm->phases_behind = false;
     }
     if (sample->fresh) {
         if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
@@ -533,6 +570,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     /* the phases turn to the next step's time when it comes: what its sample
      * changes in between (the rotations) can wait for a minor frame */
     pm->phases_behind = true;
+    pm->s_phi_prepared = false; /* of this step's phases; the next step has its own */
     if (pm->learning) {
         pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
         pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));

@@ -44,10 +44,9 @@ bool fc_quat_is_finite(fc_quat q)
 
 fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
-    if (!fc_quat_is_finite(q)) {
-        *ok = false;
-        return fc_quat_identity();
-    }
+    /* No finiteness test of the components first: a NaN or an infinity in
+     * any of them makes |q|^2 NaN or +inf (a sum of squares, no inf - inf),
+     * which the test of |q|^2 below rejects, with the same result. */
     /* A fixed quaternion longer than sqrt(2) would saturate |q|^2 in UNIT:
      * quarter it first (the direction is all that matters). */
     fc_arith probe = {0u};

@@ -271,24 +271,28 @@ static void test_bad_samples(void **state)
     assert_true(fabs(ts_val(est.now.z_m, FC_LENGTH_FRAC) - 0.1) < 0.001);
 }
 
-/* The covariance update done between two steps (fc_pad_motion_finish_sample,
- * a minor frame of its own in the controller) gives the same estimates, bit
- * for bit, as leaving it to the next step. */
-static void test_covariance_update_between_steps(void **state)
+/* The work of the next step done ahead of it (fc_pad_motion_work_ahead, in
+ * the controller's spare minor frames), 0 to 3 pieces between two steps in
+ * turn, gives the same estimates, bit for bit, as leaving it all to the next
+ * step; each piece is the one the header names, in its order. */
+static void test_work_ahead_between_steps(void **state)
 {
     (void)state;
     const fc_pad_motion_params p = params(2.5, 4.5, 8.0);
     fc_pad_motion inline_model, split_model;
     assert_int_equal(fc_pad_motion_init(&inline_model, &p), FC_INIT_OK);
     assert_int_equal(fc_pad_motion_init(&split_model, &p), FC_INIT_OK);
-    assert_int_equal(fc_pad_motion_finish_sample(&split_model), FC_STEP_OK); /* nothing pending */
+    assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK); /* nothing to do before a step */
     const heave h = {1, {0.05}, {2.0 * TS_PI / 3.1}, {0.4}, 0.3};
     uint32_t rng = 99u;
-    int finished = 0;
+    int covariance_ahead = 0, prepared_samples = 0;
     for (long k = 0; k < lround(30.0 / DT_S); k++) {
         double z, vz, az;
         heave_eval(&h, (double)k * DT_S, &z, &vz, &az);
         const fc_pad_motion_sample s = {fc_from_float((float)(z + noise(&rng, 0.002)), FC_LENGTH_FRAC), k % 5 == 0};
+        if (s.fresh && split_model.s_phi_prepared) {
+            prepared_samples++;
+        }
         fc_pad_motion_estimate a, b;
         memset(&a, 0, sizeof a); /* the padding, compared below */
         memset(&b, 0, sizeof b);
@@ -296,14 +300,60 @@ static void test_covariance_update_between_steps(void **state)
         const fc_step_status sb = fc_pad_motion_step(&split_model, &s, &b);
         assert_int_equal(sa, sb);
         assert_memory_equal(&a, &b, sizeof a);
-        if (split_model.covariance_pending) {
-            finished++;
+        assert_memory_equal(inline_model.theta, split_model.theta, sizeof inline_model.theta);
+        const long pieces = k % 4; /* 0 to 3 calls: every count after every step of the 5 (coprime) */
+        for (long c = 0; c < pieces; c++) {
+            const bool covariance_was_pending = split_model.covariance_pending;
+            const bool phases_were_behind = split_model.phases_behind;
+            assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK);
+            if (covariance_was_pending) {
+                /* piece 1 first, and only it */
+                covariance_ahead++;
+                assert_false(split_model.covariance_pending);
+                assert_int_equal(split_model.phases_behind, phases_were_behind);
+            } else if (phases_were_behind) {
+                assert_false(split_model.phases_behind); /* piece 2 */
+                assert_false(split_model.s_phi_prepared);
+            } else {
+                assert_true(split_model.s_phi_prepared); /* piece 3, or already done */
+            }
         }
-        assert_int_equal(fc_pad_motion_finish_sample(&split_model), FC_STEP_OK);
-        assert_false(split_model.covariance_pending);
     }
     assert_memory_equal(inline_model.s, split_model.s, sizeof inline_model.s);
-    assert_int_equal(finished, lround(30.0 / DT_S) / 5 - 1); /* every sample but the first (which restarts) */
+    assert_true(covariance_ahead > 0);
+    assert_true(prepared_samples > 0); /* samples taken on an S phi worked out ahead */
+}
+
+/* With fewer modes than FC_PAD_MAX_MODES the entries past n stay zero (the
+ * sums run over all of them, pad_motion.c PARAMETERS_PAST_N). */
+static void test_parameters_past_n_stay_zero(void **state)
+{
+    (void)state;
+    fc_pad_motion_params p = params(2.5, 4.5, 8.0);
+    p.mode_count = 1u;
+    fc_pad_motion pm;
+    assert_int_equal(fc_pad_motion_init(&pm, &p), FC_INIT_OK);
+    const heave h = {1, {0.05}, {2.0 * TS_PI / 3.1}, {0.4}, 0.3};
+    for (long k = 0; k < lround(20.0 / DT_S); k++) {
+        double z, vz, az;
+        heave_eval(&h, (double)k * DT_S, &z, &vz, &az);
+        const fc_pad_motion_sample s = {fc_from_float((float)z, FC_LENGTH_FRAC), k % 5 == 0};
+        fc_pad_motion_estimate est;
+        fc_pad_motion_step(&pm, &s, &est);
+        (void)fc_pad_motion_work_ahead(&pm);
+        (void)fc_pad_motion_work_ahead(&pm);
+    }
+    assert_true(pm.learning);
+    for (unsigned i = pm.n; i < FC_PAD_MAX_PARAMS; i++) {
+        assert_true(pm.theta[i] == FC_INT(0, LENGTH));
+        assert_true(pm.theta_old[i] == FC_INT(0, LENGTH));
+        assert_true(pm.pending_s_phi[i] == FC_INT(0, MAT));
+        for (unsigned j = 0u; j < FC_PAD_MAX_PARAMS; j++) {
+            assert_true(pm.s[i][j] == FC_INT(0, MAT));
+            assert_true(pm.s[j][i] == FC_INT(0, MAT));
+        }
+    }
+    assert_true(fabs(ts_val(pm.theta[1], FC_LENGTH_FRAC)) + fabs(ts_val(pm.theta[2], FC_LENGTH_FRAC)) > 0.03);
 }
 
 static void test_params_rejected(void **state)
@@ -332,7 +382,7 @@ static void test_params_rejected(void **state)
     assert_int_equal(fc_pad_motion_init(&pm, &p), FC_INIT_BAD_PARAM);
     const fc_pad_motion_sample s = {FC_C(0.1f, LENGTH), true};
     assert_int_equal(fc_pad_motion_step(&pm, &s, &est), FC_STEP_NOT_READY);
-    assert_int_equal(fc_pad_motion_finish_sample(&pm), FC_STEP_NOT_READY);
+    assert_int_equal(fc_pad_motion_work_ahead(&pm), FC_STEP_NOT_READY);
     assert_true(ts_val(est.confidence, FC_UNIT_FRAC) == 0.0);
     fc_vertical_trajectory ahead = {FC_INT(1, LENGTH), FC_INT(1, VEL), FC_INT(1, ACCEL)};
     fc_pad_motion_predict_ahead(&pm, &ahead);
@@ -349,7 +399,8 @@ int main(void)
         cmocka_unit_test(test_no_confidence_before_observing),
         cmocka_unit_test(test_outliers),
         cmocka_unit_test(test_bad_samples),
-        cmocka_unit_test(test_covariance_update_between_steps),
+        cmocka_unit_test(test_work_ahead_between_steps),
+        cmocka_unit_test(test_parameters_past_n_stay_zero),
         cmocka_unit_test(test_params_rejected),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "pad_motion (fixed)" : "pad_motion (float)", tests, NULL,

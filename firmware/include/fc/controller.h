@@ -27,8 +27,11 @@
  *                  it (the newest one) and is carried to that step along the
  *                  model's own vertical speed; between its runs the pad's
  *                  trajectory is extrapolated, z + z' t + z'' t^2 / 2
- *   minor frame 2  the covariance update of that sample (outer_divider >= 3;
- *                  with fewer frames the model's next step does it first)
+ *   minor frames 2 and on (outer_divider >= 3)  the work of the pad model's
+ *                  next step that needs no sample, one piece a frame: the
+ *                  covariance update of the newest sample, the phases turned
+ *                  to the next step, S phi for them (fc_pad_motion_work_ahead;
+ *                  what no frame did, the model's next step does first)
  * (with outer_divider 1 both run on every step, as one group). The default
  * puts the outer group at 100 Hz or the step rate if that is slower, the
  * Crazyflie firmware's position rate; the position input rarely comes faster.

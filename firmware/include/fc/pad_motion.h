@@ -137,6 +137,9 @@ typedef struct fc_pad_motion {
     fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: g of the newest sample, for S's update */
     fc_real pending_s_phi[FC_PAD_MAX_PARAMS];    /* MAT: its S phi */
     bool covariance_pending;                     /* S's update of the newest sample not yet done */
+    bool s_phi_prepared;                         /* pending_s_phi and prepared_phi_s_phi hold S phi and
+                                                    phi' S phi of the next step's phases (work ahead) */
+    fc_real prepared_phi_s_phi;                  /* GAIN */
     fc_real error_mean_m;                        /* LENGTH */
     fc_pad_motion_summary summary;               /* of theta, w_k and the error mean */
     bool summary_stale;                          /* they changed since it was made */
@@ -161,17 +164,25 @@ void fc_pad_motion_reset(fc_pad_motion *pm);
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
                                   fc_pad_motion_estimate *out);
 
-/* The second half of taking a sample: the update of S (56 products for 3
- * modes), which only the next sample needs, and the sine and cosine of the
- * step of each adapted frequency, which only the next step needs. A caller
- * with a spare minor frame calls this there, between two steps; otherwise the
- * next fc_pad_motion_step does it first. The same values either way;
- * FC_STEP_DEGRADED if S had to restart (see covariance_usable). Nothing
- * pending: FC_STEP_OK. */
-fc_step_status fc_pad_motion_finish_sample(fc_pad_motion *pm);
+/* The work of the next step that needs no sample, done ahead of it, one
+ * piece per call, in this order (a piece with nothing to do is passed over):
+ *   1. the update of S of the newest sample (56 products for 3 modes), which
+ *      only the next sample needs
+ *   2. the sine and cosine of the step of each adapted frequency, and the
+ *      phases turned to the next step's time
+ *   3. S phi and phi' S phi for those phases (49 + 7 products), half of the
+ *      RLS update of a sample the next step may take
+ * A caller with spare minor frames calls this in them, between two steps;
+ * what is not done ahead the next fc_pad_motion_step does first. The same
+ * values either way, bit for bit. Returns FC_STEP_DEGRADED if S had to restart
+ * (see covariance_usable), FC_STEP_ARITH_SATURATED as a step does; nothing
+ * left to do: FC_STEP_OK. */
+fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm);
 
 /* The model's trajectory H (horizon_s) after the newest step's time, on demand:
- * the landing does not use it, so the step does not work it out. Not ready: zero. */
+ * the landing does not use it, so the step does not work it out. Ask for it
+ * after fc_pad_motion_step and before fc_pad_motion_work_ahead (whose piece 2
+ * turns the phases to the next step's time). Not ready: zero. */
 void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahead);
 
 #endif /* FC_PAD_MOTION_H */
