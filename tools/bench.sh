@@ -213,7 +213,7 @@ table "" "Hexa 4 kg (the images' sizes below are the same for both workloads)" 1
 # ---- the M4F float step call by call: which minor frames cost what ----
 echo
 echo "Cortex-M4F float, fc_controller_step of each timed call in order (est cycles, the library that flies): the"
-echo "first is the arming step; the outer group's parts (position loop, pad model, its covariance) come once in 5."
+echo "first is the arming step; the outer group's parts (position loop, pad model, the pieces of its work ahead) come once in 5."
 for run in cf2 cf2-cf; do
   awk -v r="$run" '$1 == "PERCALL" { $1 = ""; $2 = ""; printf "  %-7s%s\n", r, $0 }' "$out/$run/plugin.txt"
 done

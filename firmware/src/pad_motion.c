@@ -72,7 +72,7 @@ static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radp
 }
 
 /* cos and sin of w_k dt for the modes whose w_k changed: the sine and cosine
- * of the step, out of the sample's step (fc_pad_motion_finish_sample). */
+ * of the step, out of the sample's step (fc_pad_motion_work_ahead, piece 2). */
 static void update_rotations(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -319,7 +319,7 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
  * triangle mirrored (2 n (n + 1) / 2 = 56 products for 3 modes); no inflation
  * while trace(S) is above its bound (a scratch sum: past the format is past
  * the bound). S is next used by the next sample, so this may wait for a minor
- * frame of its own (fc_pad_motion_finish_sample). */
+ * frame of its own (fc_pad_motion_work_ahead, piece 1). */
 static fc_step_status update_covariance(fc_pad_motion *pm)
 {
     if (!pm->covariance_pending) {
