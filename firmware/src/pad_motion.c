@@ -226,8 +226,9 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
     *c = c_new;
 }
 
-/* One step of every phase, renormalised by one Newton step of 1/sqrt:
- * (s, c) (3 - s^2 - c^2) / 2, which keeps s^2 + c^2 at 1 to second order. */
+/* One step of every phase (then they are not behind), renormalised by one
+ * Newton step of 1/sqrt: (s, c) (3 - s^2 - c^2) / 2, which keeps s^2 + c^2
+ * at 1 to second order. */
 static void advance_phases(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -242,6 +243,7 @@ static void advance_phases(fc_pad_motion *pm)
         pm->phase_sin[k] = fc_mul(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
         pm->phase_cos[k] = fc_mul(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
     }
+    pm->phases_behind = false;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -508,7 +510,6 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
         status = update_covariance(pm); /* 1 */
     } else if (pm->phases_behind) {
         advance_phases(pm); /* 2 (the rotations first) */
-        pm->phases_behind = false;
     } else if (pm->learning && !pm->s_phi_prepared) {
         /* 3 (while not learning the next sample restarts the estimate, no RLS) */
         fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed past n: PARAMETERS_PAST_N) */
@@ -557,7 +558,6 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
      * rotation of the frequencies the previous sample left) */
     if (pm->phases_behind) {
         advance_phases(pm);
-        pm->phases_behind = false;
     }
     if (sample->fresh) {
         if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
