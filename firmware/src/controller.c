@@ -317,7 +317,7 @@ static void reset_loops(fc_controller *ctl)
     fc_attitude_control_reset(&ctl->attitude);
     fc_allocation_reset(&ctl->allocation);
     fc_position_control_reset(&ctl->position);
-    ctl->have_attitude_setpoint = false; /* the next step runs the position loop */
+    ctl->have_attitude_setpoint = false; /* level until the position loop's next minor frame */
     ctl->last_saturation = 0u;
     ctl->last_thrust_n = FC_INT(0, FORCE);
 }
@@ -456,31 +456,38 @@ static fc_step_status passed_on(fc_step_status module_status)
     return module_status & (FC_STEP_BAD_INPUT | FC_STEP_OUTPUT_LIMITED | FC_STEP_ARITH_SATURATED | FC_STEP_DEGRADED);
 }
 
-static void default_telemetry(fc_controller *ctl, fc_controller_telemetry *tm)
+/* The telemetry fields that only some paths of a ready step write (the
+ * failsafe has no reference, a disarmed step runs no loop): their values when
+ * not written. The others every path of a ready step writes once. */
+static void telemetry_defaults(fc_controller_telemetry *tm)
 {
-    tm->attitude = ctl->last_attitude;
-    tm->attitude_setpoint = ctl->last_attitude;
-    tm->rate_radps = fc_vec3_zero();
     tm->reference.z_m = FC_INT(0, LENGTH);
     tm->reference.vz_mps = FC_INT(0, VEL);
     tm->reference.az_mps2 = FC_INT(0, ACCEL);
-    tm->tilt_cos = FC_INT(1, RATIO);
     tm->allocation_saturation = 0u;
-    tm->estimator_status = FC_STEP_OK;
     tm->altitude_status = FC_STEP_OK;
     tm->attitude_status = FC_STEP_OK;
     tm->allocation_status = FC_STEP_OK;
-    /* tm->pad: written whole by pad_step on each step of a ready controller,
-     * so zeroed only when not ready; likewise
-     * tm->altitude, written whole by fc_altitude_control_step and zeroed only on
-     * the paths that do not run it (a memset each per step saved) */
-    tm->gear_height_m = ctl->gear_height_m;
-    tm->landing_state = ctl->ready ? ctl->landing.state : FC_LANDING_IDLE;
-    tm->landing_reason = ctl->ready ? ctl->landing.reason : FC_REASON_NONE;
-    tm->landing_changed = false;
     tm->touchdown_window = false;
     tm->descent_blocked_by = FC_REASON_NONE;
-    tm->aborts = ctl->ready ? ctl->landing.aborts : 0u;
+}
+
+/* The whole telemetry of a controller that is not ready. */
+static void telemetry_not_ready(const fc_controller *ctl, fc_controller_telemetry *tm)
+{
+    telemetry_defaults(tm);
+    tm->attitude = ctl->last_attitude;
+    tm->attitude_setpoint = ctl->last_attitude;
+    tm->rate_radps = fc_vec3_zero();
+    tm->tilt_cos = FC_INT(1, RATIO);
+    tm->estimator_status = FC_STEP_OK;
+    tm->altitude = (fc_altitude_control_output){0};
+    tm->pad = (fc_pad_motion_estimate){0};
+    tm->gear_height_m = ctl->gear_height_m;
+    tm->landing_state = FC_LANDING_IDLE;
+    tm->landing_reason = FC_REASON_NONE;
+    tm->landing_changed = false;
+    tm->aborts = 0u;
 }
 
 /* The pad as the range finder sees it: a sample of its surface height
@@ -566,26 +573,6 @@ static void update_heading(fc_controller *ctl, fc_real yaw_rad)
     }
 }
 
-/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h),
- * in minor frame 0 of the outer group (or on the first step of the loop after
- * a reset or a level phase); held, with its status, for the major frame. */
-static fc_step_status horizontal_step(fc_controller *ctl, const fc_controller_inputs *in, bool position_frame,
-                                      fc_quat *attitude_sp)
-{
-    if (position_frame || !ctl->have_attitude_setpoint) {
-        update_heading(ctl, in->yaw_setpoint_rad);
-        const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
-                                               fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
-                                               ctl->heading_cos,   ctl->heading_sin};
-        fc_position_control_output pout;
-        ctl->held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
-        ctl->held_attitude_setpoint = pout.attitude_sp;
-        ctl->have_attitude_setpoint = true;
-    }
-    *attitude_sp = ctl->held_attitude_setpoint;
-    return ctl->held_position_status;
-}
-
 /* Level at the heading: the shortest rotation about z, [cos psi/2, 0, 0, sin psi/2]
  * from (cos psi, sin psi) by the half-angle formula, normalised. */
 static fc_quat level_attitude(fc_controller *ctl, fc_real yaw_rad)
@@ -603,6 +590,33 @@ static fc_quat level_attitude(fc_controller *ctl, fc_real yaw_rad)
     bool ok = false;
     const fc_quat n = fc_quat_normalize(ar, q, &ok);
     return ok ? n : fc_quat_identity();
+}
+
+/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h),
+ * in minor frame 0 of the outer group only, so that its cost never adds to
+ * that of another part; held, with its status, for the major frame. Until
+ * its first run (after arming, a reset or a level phase: at most
+ * outer_divider - 1 steps, 8 ms at 500 Hz) the setpoint is level at the heading. */
+static fc_step_status horizontal_step(fc_controller *ctl, const fc_controller_inputs *in, bool position_frame,
+                                      fc_quat *attitude_sp)
+{
+    if (position_frame) {
+        update_heading(ctl, in->yaw_setpoint_rad);
+        const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
+                                               fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
+                                               ctl->heading_cos,   ctl->heading_sin};
+        fc_position_control_output pout;
+        ctl->held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
+        ctl->held_attitude_setpoint = pout.attitude_sp;
+        ctl->have_attitude_setpoint = true;
+    } else if (!ctl->have_attitude_setpoint) {
+        *attitude_sp = level_attitude(ctl, in->yaw_setpoint_rad);
+        return FC_STEP_OK;
+    } else {
+        /* held */
+    }
+    *attitude_sp = ctl->held_attitude_setpoint;
+    return ctl->held_position_status;
 }
 
 /* Failsafe: a vertical-speed loop on the speed integrated from the
@@ -725,13 +739,15 @@ static void landing_telemetry(const fc_controller *ctl, fc_controller_telemetry 
 fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs *in_raw, fc_controller_outputs *out)
 {
     fc_controller_telemetry *tm = &out->telemetry;
-    motors_off(ctl, out);
-    default_telemetry(ctl, tm);
     if (!ctl->ready) {
-        tm->altitude = (fc_altitude_control_output){0};
-        tm->pad = (fc_pad_motion_estimate){0};
+        motors_off(ctl, out);
+        telemetry_not_ready(ctl, tm);
         return FC_STEP_NOT_READY;
     }
+    /* Outputs written once: the motors at the end of each path (off on the
+     * paths that return early), the telemetry as it is formed, the fields
+     * that only some paths form set first */
+    telemetry_defaults(tm);
     fc_arith *ar = &ctl->ar;
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
@@ -780,6 +796,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         ctl->last_command = FC_COMMAND_DISARM;
         tm->altitude = (fc_altitude_control_output){0};
         landing_telemetry(ctl, tm, state_before, reason_before);
+        motors_off(ctl, out);
         return status;
     }
     if (ctl->last_command != in->command && !ctl->failsafe) {
@@ -825,6 +842,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     }
     if (!motors_on) {
         reset_loops(ctl);
+        motors_off(ctl, out);
         return status;
     }
     if (fly_reference) {
@@ -864,6 +882,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         out->rotor_speed[i] = allocation_out.speed[i];
     }
+    out->rotor_count = ctl->allocation.rotor_count;
     out->motors_on = true;
     out->thrust_n = demand.thrust_n;
     out->moment_nm = demand.moment_nm;

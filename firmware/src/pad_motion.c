@@ -72,7 +72,7 @@ static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radp
 }
 
 /* cos and sin of w_k dt for the modes whose w_k changed: the sine and cosine
- * of the step, out of the sample's step (fc_pad_motion_work_ahead, piece 2). */
+ * of the step, out of the sample's step (fc_pad_motion_work_ahead, piece 1). */
 static void update_rotations(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -114,6 +114,8 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
     pm->learning = false;
     pm->summary_stale = true;
     pm->covariance_pending = false; /* S starts again from s0 I */
+    pm->covariance_rows_done = 0u;
+    pm->covariance_inflate = false;
 }
 
 fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params *p)
@@ -317,28 +319,40 @@ static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m
     pm->covariance_pending = true;
 }
 
+/* Piece 1 of the work ahead updates S's rows [0, COVARIANCE_SPLIT_ROW) (with
+ * trace(S)), piece 2 the rest (with the phases): for 3 modes (n = 7) 18 and 10
+ * of the 28 entries of the upper triangle, which makes the two pieces cost
+ * about the same (Cortex-M4F: ~350 cycles each, platform/cortex-m4-bench). */
+#define COVARIANCE_SPLIT_ROW 3u
+
 /* The pending S = (S - g phi' S) / lambda of the newest sample, the upper
  * triangle mirrored (2 n (n + 1) / 2 = 56 products for 3 modes); no inflation
  * while trace(S) is above its bound (a scratch sum: past the format is past
- * the bound). S is next used by the next sample, so this may wait for a minor
- * frame of its own (fc_pad_motion_work_ahead, piece 1). */
-static fc_step_status update_covariance(fc_pad_motion *pm)
+ * the bound). S is next used by the next sample, so this may wait for the
+ * minor frames before it (fc_pad_motion_work_ahead, pieces 1 and 2): rows
+ * [covariance_rows_done, row_end) here, the whole update once row_end is
+ * FC_PAD_MAX_PARAMS. Each entry reads only its own old value, so the update
+ * in parts is the update in one, bit for bit; the bound is checked on S
+ * before its first row changes. */
+static fc_step_status update_covariance(fc_pad_motion *pm, unsigned row_end)
 {
     if (!pm->covariance_pending) {
         return FC_STEP_OK;
     }
-    pm->covariance_pending = false;
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *gain = pm->pending_gain;
     const fc_real *s_phi = pm->pending_s_phi;
-    fc_arith scratch = {0u};
-    fc_real trace = FC_INT(0, MAT);
-    for (unsigned i = 0u; i < n; i++) {
-        trace = fc_add(&scratch, trace, pm->s[i][i]);
+    if (pm->covariance_rows_done == 0u) {
+        fc_arith scratch = {0u};
+        fc_real trace = FC_INT(0, MAT);
+        for (unsigned i = 0u; i < n; i++) {
+            trace = fc_add(&scratch, trace, pm->s[i][i]);
+        }
+        pm->covariance_inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
     }
-    const bool inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
-    for (unsigned i = 0u; i < n; i++) {
+    const bool inflate = pm->covariance_inflate;
+    for (unsigned i = pm->covariance_rows_done; i < row_end && i < n; i++) {
         for (unsigned j = i; j < n; j++) {
             fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
             if (inflate) {
@@ -348,6 +362,12 @@ static fc_step_status update_covariance(fc_pad_motion *pm)
             pm->s[j][i] = sij;
         }
     }
+    if (row_end < n) {
+        pm->covariance_rows_done = (uint8_t)row_end;
+        return FC_STEP_OK;
+    }
+    pm->covariance_pending = false;
+    pm->covariance_rows_done = 0u;
     if (!covariance_usable(pm)) {
         covariance_restart(pm);
         return FC_STEP_DEGRADED;
@@ -506,10 +526,16 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
     }
     pm->ar.saturated = 0u;
     fc_step_status status = FC_STEP_OK;
-    if (pm->covariance_pending) {
-        status = update_covariance(pm); /* 1 */
-    } else if (pm->phases_behind) {
-        advance_phases(pm); /* 2 (the rotations first) */
+    if (pm->covariance_pending && pm->covariance_rows_done == 0u) {
+        /* 1 */
+        update_rotations(pm);
+        status = update_covariance(pm, COVARIANCE_SPLIT_ROW);
+    } else if (pm->covariance_pending || pm->phases_behind) {
+        /* 2 */
+        status = update_covariance(pm, FC_PAD_MAX_PARAMS);
+        if (pm->phases_behind) {
+            advance_phases(pm);
+        }
     } else if (pm->learning && !pm->s_phi_prepared) {
         /* 3 (while not learning the next sample restarts the estimate, no RLS) */
         fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed past n: PARAMETERS_PAST_N) */
@@ -553,7 +579,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     fc_arith *ar = &pm->ar;
     ar->saturated = 0u;
     /* the previous sample's covariance update, if no minor frame did it */
-    fc_step_status status = update_covariance(pm);
+    fc_step_status status = update_covariance(pm, FC_PAD_MAX_PARAMS);
     /* the phases from the previous step's time to this one's (with the
      * rotation of the frequencies the previous sample left) */
     if (pm->phases_behind) {

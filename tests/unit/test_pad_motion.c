@@ -273,7 +273,7 @@ static void test_bad_samples(void **state)
 
 /* The work of the next step done ahead of it (fc_pad_motion_work_ahead, in
  * the controller's spare minor frames), 0 to 3 pieces between two steps in
- * turn, gives the same estimates, bit for bit, as leaving it all to the next
+ * turn (so also a step that finds S half updated), gives the same estimates, bit for bit, as leaving it all to the next
  * step; each piece is the one the header names, in its order. */
 static void test_work_ahead_between_steps(void **state)
 {
@@ -304,15 +304,21 @@ static void test_work_ahead_between_steps(void **state)
         const long pieces = k % 4; /* 0 to 3 calls: every count after every step of the 5 (coprime) */
         for (long c = 0; c < pieces; c++) {
             const bool covariance_was_pending = split_model.covariance_pending;
+            const uint8_t rows_done_before = split_model.covariance_rows_done;
             const bool phases_were_behind = split_model.phases_behind;
             assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK);
-            if (covariance_was_pending) {
-                /* piece 1 first, and only it */
+            if (covariance_was_pending && rows_done_before == 0u) {
+                /* piece 1 first: S's first rows and the rotations, not the phases */
                 covariance_ahead++;
-                assert_false(split_model.covariance_pending);
+                assert_true(split_model.covariance_pending);
+                assert_int_equal(split_model.covariance_rows_done, 3);
+                assert_int_equal(split_model.rotation_stale, 0);
                 assert_int_equal(split_model.phases_behind, phases_were_behind);
-            } else if (phases_were_behind) {
-                assert_false(split_model.phases_behind); /* piece 2 */
+            } else if (covariance_was_pending || phases_were_behind) {
+                /* piece 2: the rest of S and the phases */
+                assert_false(split_model.covariance_pending);
+                assert_int_equal(split_model.covariance_rows_done, 0);
+                assert_false(split_model.phases_behind);
                 assert_false(split_model.s_phi_prepared);
             } else {
                 assert_true(split_model.s_phi_prepared); /* piece 3, or already done */

@@ -22,16 +22,21 @@
  * outer group runs once every outer_divider steps (a major frame), each part
  * in a minor frame of its own so that the two never add up in one step:
  *   minor frame 0  the horizontal position loop, at dt outer_divider; its
- *                  attitude setpoint is held for the major frame
+ *                  attitude setpoint is held for the major frame (until its
+ *                  first run after arming, a reset or a level phase, the
+ *                  setpoint is level at the heading: the loop never runs
+ *                  out of its frame)
  *   minor frame 1  the pad model, at dt outer_divider; a range sample waits for
  *                  it (the newest one) and is carried to that step along the
  *                  model's own vertical speed; between its runs the pad's
  *                  trajectory is extrapolated, z + z' t + z'' t^2 / 2
  *   minor frames 2 and on (outer_divider >= 3)  the work of the pad model's
  *                  next step that needs no sample, one piece a frame: the
- *                  covariance update of the newest sample, the phases turned
- *                  to the next step, S phi for them (fc_pad_motion_work_ahead;
- *                  what no frame did, the model's next step does first)
+ *                  covariance update of the newest sample in two halves (the
+ *                  first with the rotations of adapted frequencies, the second
+ *                  with the phases turned to the next step), S phi for them
+ *                  (fc_pad_motion_work_ahead; what no frame did, the model's
+ *                  next step does first)
  * (with outer_divider 1 both run on every step, as one group). The default
  * puts the outer group at 100 Hz or the step rate if that is slower, the
  * Crazyflie firmware's position rate; the position input rarely comes faster.

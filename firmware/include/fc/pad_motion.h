@@ -137,6 +137,8 @@ typedef struct fc_pad_motion {
     fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: g of the newest sample, for S's update */
     fc_real pending_s_phi[FC_PAD_MAX_PARAMS];    /* MAT: its S phi */
     bool covariance_pending;                     /* S's update of the newest sample not yet done */
+    uint8_t covariance_rows_done;                /* rows of it done ahead (fc_pad_motion_work_ahead) */
+    bool covariance_inflate;                     /* its inflation, decided on S before its first row */
     bool s_phi_prepared;                         /* pending_s_phi and prepared_phi_s_phi hold S phi and
                                                     phi' S phi of the next step's phases (work ahead) */
     fc_real prepared_phi_s_phi;                  /* GAIN */
@@ -166,17 +168,19 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
 
 /* The work of the next step that needs no sample, done ahead of it, one
  * piece per call, in this order (a piece with nothing to do is passed over):
- *   1. the update of S of the newest sample (56 products for 3 modes), which
- *      only the next sample needs
- *   2. the sine and cosine of the step of each adapted frequency, and the
- *      phases turned to the next step's time
+ *   1. the sine and cosine of the step of each frequency the newest sample
+ *      adapted, and the first three rows of the update of S of that sample
+ *      (18 of the 28 entries of its upper triangle for 3 modes), which only
+ *      the next sample needs
+ *   2. the rest of S's update, and the phases turned to the next step's time
  *   3. S phi and phi' S phi for those phases (49 + 7 products), half of the
  *      RLS update of a sample the next step may take
- * A caller with spare minor frames calls this in them, between two steps;
- * what is not done ahead the next fc_pad_motion_step does first. The same
- * values either way, bit for bit. Returns FC_STEP_DEGRADED if S had to restart
- * (see covariance_usable), FC_STEP_ARITH_SATURATED as a step does; nothing
- * left to do: FC_STEP_OK. */
+ * The pieces are about the same size (the controller calls one per spare
+ * minor frame; fc/controller.h). A caller with spare minor frames calls this
+ * in them, between two steps; what is not done ahead the next
+ * fc_pad_motion_step does first. The same values either way, bit for bit.
+ * Returns FC_STEP_DEGRADED if S had to restart (see covariance_usable),
+ * FC_STEP_ARITH_SATURATED as a step does; nothing left to do: FC_STEP_OK. */
 fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm);
 
 /* The model's trajectory H (horizon_s) after the newest step's time, on demand:
