@@ -545,7 +545,7 @@ static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_re
  * and e >= 0). The callers test this first and skip the call. */
 static bool never_binds(fc_real c, fc_real e)
 {
-    return e >= fc_max(c, FC_INT(0, RATIO));
+    return e >= c && e >= FC_INT(0, RATIO); /* e >= max(c, 0), without the select */
 }
 
 static bool interval_feasible(fc_arith *ar, const scale_interval *s)

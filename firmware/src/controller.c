@@ -332,6 +332,25 @@ static void clear_failsafe(fc_controller *ctl)
     ctl->good_input_s = FC_INT(0, TIME);
 }
 
+/* Level at the heading: the shortest rotation about z, [cos psi/2, 0, 0, sin psi/2]
+ * from (cos psi, sin psi) by the half-angle formula, normalised. Its own
+ * saturation record: 1 + cos psi reaches 2 at psi = 0, which UNIT holds only
+ * to its last LSB in fixed (the direction is what counts, normalised all the same). */
+static fc_quat level_at_heading(fc_real heading_cos, fc_real heading_sin)
+{
+    fc_arith ar = {0u};
+    fc_quat q;
+    if (heading_cos >= FC_INT(0, UNIT)) {
+        q = (fc_quat){fc_add(&ar, FC_INT(1, UNIT), heading_cos), FC_INT(0, UNIT), FC_INT(0, UNIT), heading_sin};
+    } else {
+        /* the same rotation without the cancellation near psi = pi */
+        q = (fc_quat){heading_sin, FC_INT(0, UNIT), FC_INT(0, UNIT), fc_sub(&ar, FC_INT(1, UNIT), heading_cos)};
+    }
+    bool ok = false;
+    const fc_quat n = fc_quat_normalize(&ar, q, &ok);
+    return ok ? n : fc_quat_identity();
+}
+
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p)
 {
     ctl->ready = false;
@@ -358,6 +377,7 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     ctl->heading_rad = FC_INT(0, ANGLE);
     ctl->heading_cos = FC_INT(1, UNIT);
     ctl->heading_sin = FC_INT(0, UNIT);
+    ctl->heading_level = level_at_heading(ctl->heading_cos, ctl->heading_sin);
     /* every module validates its own parameters; the first failure is the answer */
     fc_init_result result = FC_INIT_OK;
     const fc_init_result parts[] = {
@@ -563,33 +583,22 @@ static fc_step_status pad_step(fc_controller *ctl, uint8_t frame, fc_pad_motion_
     return status;
 }
 
-/* The heading's (cos, sin), recomputed only when the setpoint changes. */
+/* The heading's (cos, sin) and level attitude, recomputed only when the setpoint changes. */
 static void update_heading(fc_controller *ctl, fc_real yaw_rad)
 {
     if (yaw_rad != ctl->heading_rad) {
         ctl->heading_rad = yaw_rad;
         ctl->heading_cos = fc_cos(&ctl->ar, yaw_rad);
         ctl->heading_sin = fc_sin(&ctl->ar, yaw_rad);
+        ctl->heading_level = level_at_heading(ctl->heading_cos, ctl->heading_sin);
     }
 }
 
-/* Level at the heading: the shortest rotation about z, [cos psi/2, 0, 0, sin psi/2]
- * from (cos psi, sin psi) by the half-angle formula, normalised. */
+/* Level at the heading of the setpoint (0 if it is no angle). */
 static fc_quat level_attitude(fc_controller *ctl, fc_real yaw_rad)
 {
     update_heading(ctl, fc_within(yaw_rad, FC_C(7.0f, ANGLE)) ? yaw_rad : FC_INT(0, ANGLE));
-    fc_arith *ar = &ctl->ar;
-    fc_quat q;
-    if (ctl->heading_cos >= FC_INT(0, UNIT)) {
-        q = (fc_quat){fc_add(ar, FC_INT(1, UNIT), ctl->heading_cos), FC_INT(0, UNIT), FC_INT(0, UNIT),
-                      ctl->heading_sin};
-    } else {
-        /* the same rotation without the cancellation near psi = pi */
-        q = (fc_quat){ctl->heading_sin, FC_INT(0, UNIT), FC_INT(0, UNIT), fc_sub(ar, FC_INT(1, UNIT), ctl->heading_cos)};
-    }
-    bool ok = false;
-    const fc_quat n = fc_quat_normalize(ar, q, &ok);
-    return ok ? n : fc_quat_identity();
+    return ctl->heading_level;
 }
 
 /* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h),

@@ -20,6 +20,8 @@
  *                              mapped onto functions by tools/bench.sh,
  *                              and "PERCALL NAME c1 c2 ...": the estimated
  *                              cycles of each of its counted calls, in order
+ *   profile_call=N             the PCPROF lines of the N-th counted call only
+ *                              (1 = the first; to see what a worst step does)
  * Output lines: "INSNS name min max mean calls", "INSNS_TOTAL n", and
  * "CYCEST name min max mean calls": a cycle estimate from the Cortex-M4
  * instruction timings (ARM DDI 0439B, table 3-1), each instruction costed
@@ -96,6 +98,7 @@ static int prev_load_dest = -1; /* register loaded by the previous instruction, 
 static char out_path[512];
 static char profile_name[64];
 static counted_fn *profiled;
+static uint64_t profile_call; /* profile only this call of it (1 = the first counted), 0: all */
 /* the estimated cycles of each counted call of the profiled function */
 #define PERCALL_MAX 256u
 static uint64_t percall[PERCALL_MAX];
@@ -324,7 +327,7 @@ static void on_insn(unsigned int vcpu, void *udata)
             }
         }
     }
-    if (profiled != NULL && profiled->in_call) {
+    if (profiled != NULL && profiled->in_call && (profile_call == 0u || profiled->n + 1u == profile_call)) {
         uint32_t h = (uint32_t)(pc >> 1) & (PCPROF_SLOTS - 1u);
         while (pcprof[h].pc != 0u && pcprof[h].pc != pc + 1u) {
             h = (h + 1u) & (PCPROF_SLOTS - 1u);
@@ -421,6 +424,8 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const struct qem
             snprintf(out_path, sizeof out_path, "%s", a + 4);
         } else if (!strncmp(a, "profile=", 8)) {
             snprintf(profile_name, sizeof profile_name, "%s", a + 8);
+        } else if (!strncmp(a, "profile_call=", 13)) {
+            profile_call = strtoull(a + 13, NULL, 0);
         } else if (!strncmp(a, "fn=", 3) && nfns < MAX_FN) {
             const char *at = strchr(a + 3, '@');
             if (at == NULL) {

@@ -189,6 +189,7 @@ typedef struct fc_controller {
     bool failsafe_landed;
     /* the heading of the setpoint, kept between steps (trigonometry only when it changes) */
     fc_real heading_rad, heading_cos, heading_sin;
+    fc_quat heading_level;              /* level at that heading */
     fc_real step_s;                     /* TIME: dt */
     bool ready;
     fc_arith ar;
