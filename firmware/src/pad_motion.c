@@ -33,6 +33,17 @@ static bool pad_motion_params_valid(const fc_pad_motion_params *p)
            fc_in_range(p->error_average_gain, FC_C(1e-4f, UNIT), FC_INT(1, UNIT));
 }
 
+/* Where mode k's sine and cosine sit in phi (and its a_k, b_k in theta). */
+static unsigned sin_of(unsigned k)
+{
+    return 1u + 2u * k;
+}
+
+static unsigned cos_of(unsigned k)
+{
+    return 2u + 2u * k;
+}
+
 /* An angle in GAIN (any size) wrapped into [-pi, pi] and given as an ANGLE. */
 static fc_real wrapped_angle(fc_arith *ar, fc_real angle_gain)
 {
@@ -94,7 +105,7 @@ static void covariance_restart(fc_pad_motion *pm)
             pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
         }
     }
-    pm->s_phi_prepared = false; /* of the S before */
+    pm->sample_prepared = false; /* of the S before */
 }
 
 void fc_pad_motion_reset(fc_pad_motion *pm)
@@ -125,10 +136,11 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
     pm->n = 1u;
     pm->rotation_stale = 0u;
     pm->phases_behind = false;
+    /* phases start at t = 0: sin 0, cos 0 (and zero past n) */
+    pm->phi[0] = FC_INT(1, UNIT);
     for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
-        /* phases start at t = 0: sin 0, cos 0 */
-        pm->phase_sin[k] = FC_INT(0, UNIT);
-        pm->phase_cos[k] = FC_INT(1, UNIT);
+        pm->phi[sin_of(k)] = FC_INT(0, UNIT);
+        pm->phi[cos_of(k)] = k < p->mode_count ? FC_INT(1, UNIT) : FC_INT(0, UNIT);
     }
     if (!pad_motion_params_valid(p)) {
         return FC_INIT_BAD_PARAM;
@@ -170,17 +182,6 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
  * parameters therefore run over all FC_PAD_MAX_PARAMS: constant bounds,
  * unrolled where the compiler unrolls, the same result to the bit. */
 
-/* phi(t) = [1, sin w_1 t, cos w_1 t, ...] from the phases given (phi zeroed
- * by the caller past n). */
-static void regressor(const fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k, fc_real *phi)
-{
-    phi[0] = FC_INT(1, UNIT);
-    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        phi[1u + 2u * k] = sin_k[k];
-        phi[2u + 2u * k] = cos_k[k];
-    }
-}
-
 /* theta' phi: LENGTH x UNIT summed into LENGTH (over every entry: those
  * past n are zero, PARAMETERS_PAST_N). */
 static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real *phi)
@@ -192,22 +193,20 @@ static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real *ph
     return fc_acc_result(ar, acc, FC_SHIFT(LENGTH, UNIT, LENGTH));
 }
 
-/* z, z', z'' of the model theta at the phases given. */
-static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *sin_k, const fc_real *cos_k)
+/* z, z', z'' of the model theta at the phases phi. */
+static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *phi)
 {
     fc_arith *ar = &pm->ar;
-    fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed for clang-tidy: n = 1 + 2 modes it does not see) */
-    regressor(pm, sin_k, cos_k, phi);
     fc_vertical_trajectory t;
     t.z_m = model_value(ar, pm->theta, phi);
     t.vz_mps = FC_INT(0, VEL);
     t.az_mps2 = FC_INT(0, ACCEL);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
+        const fc_real a = pm->theta[sin_of(k)], b = pm->theta[cos_of(k)];
+        const fc_real sin_k = phi[sin_of(k)], cos_k = phi[cos_of(k)];
         /* z' = w (a cos - b sin),  z'' = -w^2 (a sin + b cos) */
-        const fc_real rate_part =
-            fc_dot2(ar, a, cos_k[k], fc_neg(ar, b), sin_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
-        const fc_real accel_part = fc_dot2(ar, a, sin_k[k], b, cos_k[k], FC_SHIFT(LENGTH, UNIT, LENGTH));
+        const fc_real rate_part = fc_dot2(ar, a, cos_k, fc_neg(ar, b), sin_k, FC_SHIFT(LENGTH, UNIT, LENGTH));
+        const fc_real accel_part = fc_dot2(ar, a, sin_k, b, cos_k, FC_SHIFT(LENGTH, UNIT, LENGTH));
         t.vz_mps =
             fc_add(ar, t.vz_mps, fc_mul(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
         t.az_mps2 =
@@ -236,14 +235,14 @@ static void advance_phases(fc_pad_motion *pm)
     fc_arith *ar = &pm->ar;
     update_rotations(pm);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        rotate(ar, &pm->phase_sin[k], &pm->phase_cos[k], pm->step_cos[k], pm->step_sin[k]);
-        const fc_real norm_sq = fc_dot2(ar, pm->phase_sin[k], pm->phase_sin[k], pm->phase_cos[k],
-                                               pm->phase_cos[k], FC_SHIFT(UNIT, UNIT, UNIT));
+        fc_real *sin_k = &pm->phi[sin_of(k)], *cos_k = &pm->phi[cos_of(k)];
+        rotate(ar, sin_k, cos_k, pm->step_cos[k], pm->step_sin[k]);
+        const fc_real norm_sq = fc_dot2(ar, *sin_k, *sin_k, *cos_k, *cos_k, FC_SHIFT(UNIT, UNIT, UNIT));
         const fc_real factor =
             fc_add(ar, FC_INT(1, UNIT),
                    fc_mul(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq), FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
-        pm->phase_sin[k] = fc_mul(ar, pm->phase_sin[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
-        pm->phase_cos[k] = fc_mul(ar, pm->phase_cos[k], factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        *sin_k = fc_mul(ar, *sin_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        *cos_k = fc_mul(ar, *cos_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
     }
     pm->phases_behind = false;
 }
@@ -271,13 +270,16 @@ static bool covariance_usable(const fc_pad_motion *pm)
     return true;
 }
 
-/* S phi (MAT; = (phi' S)' as S is symmetric) into pending_s_phi, and
- * phi' S phi: the half of the RLS update that needs the phases but not the
- * sample (fc_pad_motion_work_ahead may do it before the sample comes). */
-static void prepare_s_phi(fc_pad_motion *pm, const fc_real *phi)
+/* What a sample at the current phases needs that is not the sample: S phi
+ * (MAT; = (phi' S)' as S is symmetric) into pending_s_phi and phi' S phi, the
+ * half of the RLS update, and the model's values the sample is checked
+ * against (fc_pad_motion_work_ahead may do this before the sample comes:
+ * theta, its snapshots and S only change when a step takes a sample). */
+static void prepare_sample(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
+    const fc_real *phi = pm->phi;
     fc_real *s_phi = pm->pending_s_phi;
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
@@ -290,19 +292,19 @@ static void prepare_s_phi(fc_pad_motion *pm, const fc_real *phi)
     }
     /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
     pm->prepared_phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
-    pm->s_phi_prepared = true;
+    pm->prepared_z_m = model_value(ar, pm->theta, phi);
+    /* what theta_old (H..2H old) predicted for now, once there is one */
+    pm->prepared_z_old_m = pm->snapshots >= 2u ? model_value(ar, pm->theta_old, phi) : FC_INT(0, LENGTH);
+    pm->sample_prepared = true;
 }
 
 /* The RLS update of theta with the a-priori residual e (see the header); the
  * update of S that goes with it is left pending (update_covariance), with the
  * gain g and S phi it needs. */
-static void rls_update(fc_pad_motion *pm, const fc_real *phi, fc_real residual_m)
+static void rls_update(fc_pad_motion *pm, fc_real residual_m)
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
-    if (!pm->s_phi_prepared) {
-        prepare_s_phi(pm, phi);
-    }
     const fc_real *s_phi = pm->pending_s_phi;
     const fc_real phi_s_phi = pm->prepared_phi_s_phi;
     /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
@@ -385,7 +387,7 @@ static void adapt_frequencies(fc_pad_motion *pm, const fc_real *amplitude_before
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         const size_t a_index = (size_t)2u * k;
         const fc_real a_prev = amplitude_before[a_index], b_prev = amplitude_before[a_index + 1u];
-        const fc_real a = pm->theta[1u + 2u * k], b = pm->theta[2u + 2u * k];
+        const fc_real a = pm->theta[sin_of(k)], b = pm->theta[cos_of(k)];
         const fc_real size_sq = fc_dot2(ar, a, a, b, b, FC_SHIFT(LENGTH, LENGTH, RATIO));
         if (size_sq < pm->amplitude_min_sq) {
             continue;
@@ -410,9 +412,10 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
         restart_from(pm, height_m);
         return FC_STEP_OK;
     }
-    fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed for clang-tidy: n = 1 + 2 modes it does not see) */
-    regressor(pm, pm->phase_sin, pm->phase_cos, phi);
-    const fc_real residual = fc_sub(ar, height_m, model_value(ar, pm->theta, phi));
+    if (!pm->sample_prepared) {
+        prepare_sample(pm);
+    }
+    const fc_real residual = fc_sub(ar, height_m, pm->prepared_z_m);
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
         pm->outliers_in_row++;
         if (pm->outliers_in_row >= pm->p.outlier_reset_count) {
@@ -423,8 +426,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     }
     pm->outliers_in_row = 0u;
     if (pm->snapshots >= 2u) {
-        /* what theta_old (H..2H old) predicted for now */
-        const fc_real error = fc_sub(ar, height_m, model_value(ar, pm->theta_old, phi));
+        const fc_real error = fc_sub(ar, height_m, pm->prepared_z_old_m);
         const fc_real step = fc_mul(ar, pm->p.error_average_gain, fc_sub(ar, fc_abs(ar, error), pm->error_mean_m),
                                     FC_SHIFT(UNIT, LENGTH, LENGTH));
         pm->error_mean_m = fc_add(ar, pm->error_mean_m, step);
@@ -433,7 +435,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
     for (unsigned i = 0u; i + 1u < pm->n; i++) {
         amplitude_before[i] = pm->theta[1u + i];
     }
-    rls_update(pm, phi, residual);
+    rls_update(pm, residual);
     adapt_frequencies(pm, amplitude_before);
     pm->since_sample_s = FC_INT(0, TIME);
     return FC_STEP_OK;
@@ -476,7 +478,7 @@ static void summarise_fit(fc_pad_motion *pm)
     f->dominant_mode = 0u;
     fc_real largest = FC_INT(-1, LENGTH);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[1u + 2u * k]), fc_abs(ar, pm->theta[2u + 2u * k]));
+        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
         f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
         f->accel_bound_mps2 =
             fc_add(ar, f->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
@@ -500,7 +502,7 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
         summarise_fit(pm);
     }
     const fc_pad_motion_summary *f = &pm->summary;
-    out->now = model_trajectory(pm, pm->phase_sin, pm->phase_cos);
+    out->now = model_trajectory(pm, pm->phi);
     out->heave_bound_m = f->heave_bound_m;
     out->accel_bound_mps2 = f->accel_bound_mps2;
     out->dominant_mode = f->dominant_mode;
@@ -536,11 +538,9 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
         if (pm->phases_behind) {
             advance_phases(pm);
         }
-    } else if (pm->learning && !pm->s_phi_prepared) {
+    } else if (pm->learning && !pm->sample_prepared) {
         /* 3 (while not learning the next sample restarts the estimate, no RLS) */
-        fc_real phi[FC_PAD_MAX_PARAMS] = {0}; /* (zeroed past n: PARAMETERS_PAST_N) */
-        regressor(pm, pm->phase_sin, pm->phase_cos, phi);
-        prepare_s_phi(pm, phi);
+        prepare_sample(pm);
     } else {
         /* all done ahead */
     }
@@ -557,16 +557,17 @@ void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahea
         return;
     }
     fc_arith *ar = &pm->ar;
-    fc_real sin_ahead[FC_PAD_MAX_MODES] = {0}, cos_ahead[FC_PAD_MAX_MODES] = {0};
+    fc_real phi_ahead[FC_PAD_MAX_PARAMS];
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+        phi_ahead[i] = pm->phi[i];
+    }
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         /* the phases turned by w_k H */
         const fc_real ahead_rad =
             wrapped_angle(ar, fc_mul(ar, pm->omega_radps[k], pm->p.horizon_s, FC_SHIFT(RATE, TIME, GAIN)));
-        sin_ahead[k] = pm->phase_sin[k];
-        cos_ahead[k] = pm->phase_cos[k];
-        rotate(ar, &sin_ahead[k], &cos_ahead[k], fc_cos(ar, ahead_rad), fc_sin(ar, ahead_rad));
+        rotate(ar, &phi_ahead[sin_of(k)], &phi_ahead[cos_of(k)], fc_cos(ar, ahead_rad), fc_sin(ar, ahead_rad));
     }
-    *ahead = model_trajectory(pm, sin_ahead, cos_ahead);
+    *ahead = model_trajectory(pm, phi_ahead);
 }
 
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
@@ -596,7 +597,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     /* the phases turn to the next step's time when it comes: what its sample
      * changes in between (the rotations) can wait for a minor frame */
     pm->phases_behind = true;
-    pm->s_phi_prepared = false; /* of this step's phases; the next step has its own */
+    pm->sample_prepared = false; /* of this step's phases and theta; the next step has its own */
     if (pm->learning) {
         pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
         pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));

@@ -290,7 +290,7 @@ static void test_work_ahead_between_steps(void **state)
         double z, vz, az;
         heave_eval(&h, (double)k * DT_S, &z, &vz, &az);
         const fc_pad_motion_sample s = {fc_from_float((float)(z + noise(&rng, 0.002)), FC_LENGTH_FRAC), k % 5 == 0};
-        if (s.fresh && split_model.s_phi_prepared) {
+        if (s.fresh && split_model.sample_prepared) {
             prepared_samples++;
         }
         fc_pad_motion_estimate a, b;
@@ -319,9 +319,9 @@ static void test_work_ahead_between_steps(void **state)
                 assert_false(split_model.covariance_pending);
                 assert_int_equal(split_model.covariance_rows_done, 0);
                 assert_false(split_model.phases_behind);
-                assert_false(split_model.s_phi_prepared);
+                assert_false(split_model.sample_prepared);
             } else {
-                assert_true(split_model.s_phi_prepared); /* piece 3, or already done */
+                assert_true(split_model.sample_prepared); /* piece 3, or already done */
             }
         }
     }

@@ -128,8 +128,8 @@ typedef struct fc_pad_motion {
     fc_real since_sample_s;                      /* TIME: since the previous fresh sample */
     fc_real inflation;                           /* UNIT: 1/lambda - 1 */
     fc_real one_minus_lambda;                    /* UNIT */
-    fc_real phase_sin[FC_PAD_MAX_MODES];         /* UNIT: sin w_k t */
-    fc_real phase_cos[FC_PAD_MAX_MODES];         /* UNIT: cos w_k t */
+    fc_real phi[FC_PAD_MAX_PARAMS];              /* UNIT: phi(t) itself, the phases of the modes
+                                                    [1, sin w_1 t, cos w_1 t, ...], zero past n */
     fc_real theta[FC_PAD_MAX_PARAMS];            /* LENGTH */
     fc_real theta_old[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot H..2H old */
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
@@ -139,9 +139,11 @@ typedef struct fc_pad_motion {
     bool covariance_pending;                     /* S's update of the newest sample not yet done */
     uint8_t covariance_rows_done;                /* rows of it done ahead (fc_pad_motion_work_ahead) */
     bool covariance_inflate;                     /* its inflation, decided on S before its first row */
-    bool s_phi_prepared;                         /* pending_s_phi and prepared_phi_s_phi hold S phi and
-                                                    phi' S phi of the next step's phases (work ahead) */
-    fc_real prepared_phi_s_phi;                  /* GAIN */
+    bool sample_prepared;                        /* at the next step's phases (work ahead, piece 3):
+                                                    pending_s_phi holds S phi, and the three below */
+    fc_real prepared_phi_s_phi;                  /* GAIN: phi' S phi */
+    fc_real prepared_z_m;                        /* LENGTH: theta' phi, what the model expects */
+    fc_real prepared_z_old_m;                    /* LENGTH: theta_old' phi (with two snapshots) */
     fc_real error_mean_m;                        /* LENGTH */
     fc_pad_motion_summary summary;               /* of theta, w_k and the error mean */
     bool summary_stale;                          /* they changed since it was made */
@@ -174,7 +176,8 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
  *      the next sample needs
  *   2. the rest of S's update, and the phases turned to the next step's time
  *   3. S phi and phi' S phi for those phases (49 + 7 products), half of the
- *      RLS update of a sample the next step may take
+ *      RLS update of a sample the next step may take, and the model's value
+ *      there (of theta, and of the snapshot the sample checks)
  * The pieces are about the same size (the controller calls one per spare
  * minor frame; fc/controller.h). A caller with spare minor frames calls this
  * in them, between two steps; what is not done ahead the next
