@@ -180,12 +180,18 @@ static bool gyro_valid(const fc_attitude_estimator *est, fc_vec3 gyro)
     return fc_vec3_within(gyro, est->p.gyro_range_radps);
 }
 
-/* A valid accelerometer sample also gives its length (ACCEL). */
+/* A valid accelerometer sample: inside its range, and a direction (its
+ * length above zero). Its length (ACCEL) when norm_mps2 is given; without it
+ * (the rate step) a direction is a vector that is not zero, which is the
+ * same test without the root (but in float for a vector whose squares
+ * underflow, |a| < 1e-19 m/s^2). */
 static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_real *norm_mps2)
 {
-    *norm_mps2 = FC_INT(0, ACCEL);
     if (!fc_vec3_within(accel, est->p.accel_range_mps2)) {
         return false;
+    }
+    if (norm_mps2 == NULL) {
+        return accel.x != FC_INT(0, ACCEL) || accel.y != FC_INT(0, ACCEL) || accel.z != FC_INT(0, ACCEL);
     }
     /* the one square root of the step */
     *norm_mps2 = fc_vec3_norm(&est->ar, accel, FC_ACCEL_FRAC);
@@ -294,13 +300,14 @@ static void write_safe_output(fc_attitude_estimate *out)
 
 /* The sample's checks, shared by both steps: a valid gyro sample, corrected
  * by the bias of the previous step, becomes the rate; a valid accelerometer
- * sample gives its length. */
+ * sample gives its length if asked (the full step; the rate step only
+ * reports whether it is valid). */
 typedef struct sample_check {
     bool gyro_ok, accel_ok;
     fc_real norm_mps2; /* ACCEL, 0 unless accel_ok */
 } sample_check;
 
-static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu)
+static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu, bool with_length)
 {
     sample_check c = {false, false, FC_INT(0, ACCEL)};
     if (imu == NULL) {
@@ -311,7 +318,7 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
         const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
         est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);
     }
-    c.accel_ok = accel_valid(est, imu->accel_mps2, &c.norm_mps2);
+    c.accel_ok = accel_valid(est, imu->accel_mps2, with_length ? &c.norm_mps2 : NULL);
     return c;
 }
 
@@ -354,7 +361,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu);
+    const sample_check sample = check_sample(est, imu, true);
     fc_step_status status = sample_status(sample);
 
     fc_real weight = FC_INT(0, RATIO);
@@ -383,7 +390,7 @@ fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu);
+    const sample_check sample = check_sample(est, imu, false);
     est->accel_weight = FC_INT(0, RATIO);
     return step_ends(est, out, sample_status(sample));
 }

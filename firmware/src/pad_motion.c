@@ -270,16 +270,17 @@ static bool covariance_usable(const fc_pad_motion *pm)
     return true;
 }
 
-/* What a sample at the current phases needs that is not the sample: S phi
- * (MAT; = (phi' S)' as S is symmetric) into pending_s_phi and phi' S phi, the
- * half of the RLS update, and the model's values the sample is checked
- * against (fc_pad_motion_work_ahead may do this before the sample comes:
- * theta, its snapshots and S only change when a step takes a sample). */
+/* What a sample at the current phases needs that is not the sample: the
+ * RLS gain g (it depends on phi and S only) with the S phi that S's update
+ * needs too, and the model's values the sample is checked against
+ * (fc_pad_motion_work_ahead may do this before the sample comes: theta, its
+ * snapshots and S only change when a step takes a sample). */
 static void prepare_sample(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *phi = pm->phi;
+    /* S phi (MAT; = (phi' S)' as S is symmetric) and phi' S phi */
     fc_real *s_phi = pm->pending_s_phi;
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
@@ -291,41 +292,41 @@ static void prepare_sample(fc_pad_motion *pm)
         quad = fc_acc_mac(quad, phi[i], s_phi[i]);
     }
     /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
-    pm->prepared_phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    const fc_real phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
+    const fc_real denominator =
+        fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
+               fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
+    const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
+    for (unsigned i = 0u; i < n; i++) {
+        pm->pending_gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT)); /* MAT */
+    }
     pm->prepared_z_m = model_value(ar, pm->theta, phi);
     /* what theta_old (H..2H old) predicted for now, once there is one */
     pm->prepared_z_old_m = pm->snapshots >= 2u ? model_value(ar, pm->theta_old, phi) : FC_INT(0, LENGTH);
     pm->sample_prepared = true;
 }
 
-/* The RLS update of theta with the a-priori residual e (see the header); the
- * update of S that goes with it is left pending (update_covariance), with the
- * gain g and S phi it needs. */
+/* The RLS update of theta with the a-priori residual e (see the header): theta
+ * += g e; the update of S that goes with it is left pending
+ * (update_covariance), with the gain g and S phi it needs. */
 static void rls_update(fc_pad_motion *pm, fc_real residual_m)
 {
     fc_arith *ar = &pm->ar;
-    const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
-    const fc_real *s_phi = pm->pending_s_phi;
-    const fc_real phi_s_phi = pm->prepared_phi_s_phi;
-    /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
-    const fc_real denominator =
-        fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
-               fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
-    const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
-    fc_real *gain = pm->pending_gain; /* MAT */
-    for (unsigned i = 0u; i < n; i++) {
-        gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT));
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) { /* PARAMETERS_PAST_N */
         pm->theta[i] =
-            fc_add(ar, pm->theta[i], fc_mul(ar, gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
+            fc_add(ar, pm->theta[i], fc_mul(ar, pm->pending_gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
     }
     pm->covariance_pending = true;
 }
 
 /* Piece 1 of the work ahead updates S's rows [0, COVARIANCE_SPLIT_ROW) (with
- * trace(S)), piece 2 the rest (with the phases): for 3 modes (n = 7) 18 and 10
- * of the 28 entries of the upper triangle, which makes the two pieces cost
- * about the same (Cortex-M4F: ~350 cycles each, platform/cortex-m4-bench). */
-#define COVARIANCE_SPLIT_ROW 3u
+ * trace(S)), piece 2 the rest (with the phases): for 3 modes (n = 7) 13 and 15
+ * of the 28 entries of the upper triangle. Piece 1 is the lighter because the
+ * controller's arming step, which resets its loops, falls in its minor frame
+ * (Cortex-M4F, the Crazyflie's step: every minor frame under 3,000 cycles,
+ * platform/cortex-m4-bench). */
+#define COVARIANCE_SPLIT_ROW 2u
 
 /* The pending S = (S - g phi' S) / lambda of the newest sample, the upper
  * triangle mirrored (2 n (n + 1) / 2 = 56 products for 3 modes); no inflation
@@ -466,8 +467,9 @@ static void renew_snapshots(fc_pad_motion *pm)
 
 /* What the estimate says of the fit itself: the bounds, the dominant mode and
  * the confidence's error ratio. They change only with theta, w_k or the error
- * mean, i.e. when a sample is taken or the estimate restarts, so they are
- * worked out then (summary_stale) and not on every step. */
+ * mean, i.e. when a sample is taken or the estimate restarts (summary_stale),
+ * and are worked out after that step, not on every step: by the work ahead
+ * (piece 3) or at the start of the next step. */
 static void summarise_fit(fc_pad_motion *pm)
 {
     fc_arith summary_ar = {0u}; /* its own record: a saturation here stands for every step until the next */
@@ -498,9 +500,6 @@ static void summarise_fit(fc_pad_motion *pm)
 static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
 {
     fc_arith *ar = &pm->ar;
-    if (pm->summary_stale) {
-        summarise_fit(pm);
-    }
     const fc_pad_motion_summary *f = &pm->summary;
     out->now = model_trajectory(pm, pm->phi);
     out->heave_bound_m = f->heave_bound_m;
@@ -538,9 +537,15 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
         if (pm->phases_behind) {
             advance_phases(pm);
         }
-    } else if (pm->learning && !pm->sample_prepared) {
-        /* 3 (while not learning the next sample restarts the estimate, no RLS) */
-        prepare_sample(pm);
+    } else if (pm->summary_stale || (pm->learning && !pm->sample_prepared)) {
+        /* 3 */
+        if (pm->summary_stale) {
+            summarise_fit(pm);
+        }
+        if (pm->learning && !pm->sample_prepared) {
+            /* (while not learning the next sample restarts the estimate, no RLS) */
+            prepare_sample(pm);
+        }
     } else {
         /* all done ahead */
     }
@@ -579,8 +584,11 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     }
     fc_arith *ar = &pm->ar;
     ar->saturated = 0u;
-    /* the previous sample's covariance update, if no minor frame did it */
+    /* the previous sample's covariance update and summary, if no minor frame did them */
     fc_step_status status = update_covariance(pm, FC_PAD_MAX_PARAMS);
+    if (pm->summary_stale) {
+        summarise_fit(pm);
+    }
     /* the phases from the previous step's time to this one's (with the
      * rotation of the frequencies the previous sample left) */
     if (pm->phases_behind) {

@@ -69,11 +69,6 @@ static bool horizontal_errors(fc_arith *ar, const fc_position_control_input *in,
     return true;
 }
 
-static bool vec_differs(fc_vec3 a, fc_vec3 b)
-{
-    return a.x != b.x || a.y != b.y || a.z != b.z;
-}
-
 /* The attitude setpoint from the thrust direction and the heading (header). */
 static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3 b3, fc_real c, fc_real s)
 {
@@ -155,8 +150,8 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     const fc_vec3 a_d = fc_vec3_scale(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
     const fc_vec3 a_unsat =
         fc_vec3_add(ar, fc_vec3_add(ar, fc_vec3_add(ar, a_p, a_d), pc->integral_mps2), horizontal(ff));
-    const fc_vec3 a_h = fc_vec3_clamp_norm(ar, a_unsat, p->accel_max_mps2, FC_FRAC(ACCEL));
-    bool limited = vec_differs(a_h, a_unsat);
+    bool limited = false;
+    const fc_vec3 a_h = fc_vec3_clamp_norm_report(ar, a_unsat, p->accel_max_mps2, FC_FRAC(ACCEL), &limited);
     const fc_vec3 a_des = fc_vec3_make(a_h.x, a_h.y, ff.z);
 
     /* (2.11) with the acceleration feedback: F = m (a_des - g - I_a), g = (0, 0, -g0) */
@@ -174,14 +169,16 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     fc_arith scratch_h = {0u};
     const fc_real force_h_max = fc_mul(&scratch_h, force.z, pc->tan_tilt_max, FC_SHIFT(FORCE, RATIO, FORCE));
     const fc_vec3 force_h = horizontal(force);
-    const fc_vec3 force_h_lim = fc_vec3_clamp_norm(ar, force_h, force_h_max, FC_FRAC(FORCE));
-    if (vec_differs(force_h, force_h_lim)) {
+    bool tilt_limited = false;
+    const fc_vec3 force_h_lim = fc_vec3_clamp_norm_report(ar, force_h, force_h_max, FC_FRAC(FORCE), &tilt_limited);
+    if (tilt_limited) {
         limited = true;
         force.x = force_h_lim.x;
         force.y = force_h_lim.y;
     }
-    const fc_vec3 force_lim = fc_vec3_clamp_norm(ar, force, p->thrust_max_n, FC_FRAC(FORCE));
-    if (vec_differs(force, force_lim)) {
+    bool collective_limited = false;
+    const fc_vec3 force_lim = fc_vec3_clamp_norm_report(ar, force, p->thrust_max_n, FC_FRAC(FORCE), &collective_limited);
+    if (collective_limited) {
         thrust_limited = true;
         limited = true;
         force = force_lim;

@@ -46,6 +46,13 @@ fc_vec3 fc_vec3_divide_by_norm(fc_arith *ar, fc_vec3 v, fc_real norm, bool *ok)
 
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
 {
+    bool clamped = false;
+    return fc_vec3_clamp_norm_report(ar, v, max_norm, frac, &clamped);
+}
+
+fc_vec3 fc_vec3_clamp_norm_report(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac, bool *clamped)
+{
+    *clamped = false;
     if (max_norm >= FC_INT(0, UNIT) && fc_hypot3_within(v.x, v.y, v.z, max_norm)) {
         return v; /* |v| <= max_norm, the common case: in fixed decided without the root */
     }
@@ -64,7 +71,9 @@ fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac)
     }
     /* max_norm / |v| < 1 as UNIT; the direction of v is kept */
     const fc_real ratio = fc_div(ar, limit, norm, FC_UNIT_FRAC);
-    return fc_vec3_scale(ar, v, ratio, FC_UNIT_FRAC);
+    const fc_vec3 scaled = fc_vec3_scale(ar, v, ratio, FC_UNIT_FRAC);
+    *clamped = scaled.x != v.x || scaled.y != v.y || scaled.z != v.z;
+    return scaled;
 }
 
 

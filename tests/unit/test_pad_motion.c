@@ -308,10 +308,10 @@ static void test_work_ahead_between_steps(void **state)
             const bool phases_were_behind = split_model.phases_behind;
             assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK);
             if (covariance_was_pending && rows_done_before == 0u) {
-                /* piece 1 first: S's first rows and the rotations, not the phases */
+                /* piece 1 first: S's first rows (2: COVARIANCE_SPLIT_ROW) and the rotations, not the phases */
                 covariance_ahead++;
                 assert_true(split_model.covariance_pending);
-                assert_int_equal(split_model.covariance_rows_done, 3);
+                assert_int_equal(split_model.covariance_rows_done, 2);
                 assert_int_equal(split_model.rotation_stale, 0);
                 assert_int_equal(split_model.phases_behind, phases_were_behind);
             } else if (covariance_was_pending || phases_were_behind) {
@@ -321,7 +321,9 @@ static void test_work_ahead_between_steps(void **state)
                 assert_false(split_model.phases_behind);
                 assert_false(split_model.sample_prepared);
             } else {
-                assert_true(split_model.sample_prepared); /* piece 3, or already done */
+                /* piece 3, or already done: the summary, and the next sample's gain */
+                assert_false(split_model.summary_stale);
+                assert_true(split_model.sample_prepared || !split_model.learning);
             }
         }
     }

@@ -134,14 +134,15 @@ typedef struct fc_pad_motion {
     fc_real theta_old[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot H..2H old */
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
     fc_real s[FC_PAD_MAX_PARAMS][FC_PAD_MAX_PARAMS]; /* MAT: scaled covariance S */
-    fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: g of the newest sample, for S's update */
+    fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: the RLS gain g of the newest (or the next)
+                                                    sample, for S's update */
     fc_real pending_s_phi[FC_PAD_MAX_PARAMS];    /* MAT: its S phi */
     bool covariance_pending;                     /* S's update of the newest sample not yet done */
     uint8_t covariance_rows_done;                /* rows of it done ahead (fc_pad_motion_work_ahead) */
     bool covariance_inflate;                     /* its inflation, decided on S before its first row */
     bool sample_prepared;                        /* at the next step's phases (work ahead, piece 3):
-                                                    pending_s_phi holds S phi, and the three below */
-    fc_real prepared_phi_s_phi;                  /* GAIN: phi' S phi */
+                                                    pending_gain and pending_s_phi hold the next
+                                                    sample's g and S phi, and the two below */
     fc_real prepared_z_m;                        /* LENGTH: theta' phi, what the model expects */
     fc_real prepared_z_old_m;                    /* LENGTH: theta_old' phi (with two snapshots) */
     fc_real error_mean_m;                        /* LENGTH */
@@ -164,20 +165,27 @@ void fc_pad_motion_reset(fc_pad_motion *pm);
 
 /* One step: take the sample if fresh and usable (finite, inside the input
  * range, not an outlier), advance the phases, give the estimate. A bad sample
- * is ignored (FC_STEP_BAD_INPUT). Not ready: a zero estimate with confidence 0. */
+ * is ignored (FC_STEP_BAD_INPUT). The estimate's trajectory, mean and
+ * prediction error are the fit's with this step's sample; its figures of the
+ * fit (the bounds, the dominant mode, the confidence) are summarised after a
+ * step that takes a sample (fc_pad_motion_work_ahead, or the next step), so
+ * they stand for the fit one sample older. Not ready: a zero estimate with
+ * confidence 0. */
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
                                   fc_pad_motion_estimate *out);
 
 /* The work of the next step that needs no sample, done ahead of it, one
  * piece per call, in this order (a piece with nothing to do is passed over):
  *   1. the sine and cosine of the step of each frequency the newest sample
- *      adapted, and the first three rows of the update of S of that sample
- *      (18 of the 28 entries of its upper triangle for 3 modes), which only
+ *      adapted, and the first two rows of the update of S of that sample
+ *      (13 of the 28 entries of its upper triangle for 3 modes), which only
  *      the next sample needs
  *   2. the rest of S's update, and the phases turned to the next step's time
- *   3. S phi and phi' S phi for those phases (49 + 7 products), half of the
- *      RLS update of a sample the next step may take, and the model's value
- *      there (of theta, and of the snapshot the sample checks)
+ *   3. the summary of the newest fit (its bounds, dominant mode and error
+ *      ratio), and the RLS gain for the next step's phases (S phi and
+ *      phi' S phi: 49 + 7 products; g), all of the RLS update of a sample
+ *      the next step may take but theta += g e, and the model's value there
+ *      (of theta, and of the snapshot the sample checks)
  * The pieces are about the same size (the controller calls one per spare
  * minor frame; fc/controller.h). A caller with spare minor frames calls this
  * in them, between two steps; what is not done ahead the next

@@ -85,6 +85,10 @@ fc_vec3 fc_vec3_divide_by_norm(fc_arith *ar, fc_vec3 v, fc_real norm, bool *ok);
  * v is scaled down to length max_norm; v and max_norm share format frac. */
 fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac);
 
+/* The same, and *clamped: whether the result differs from v (the test a
+ * caller would make by comparing them, made only where v was scaled). */
+fc_vec3 fc_vec3_clamp_norm_report(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac, bool *clamped);
+
 /* Format change of all three components. */
 FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to)
 {
