@@ -415,6 +415,10 @@ static void test_clamp_norm(void **state)
             const fc_vec3 v = rand_vec(&rng, cases[k].r, f, &rv);
             const double n = dnorm(rv);
             const fc_vec3 out = fc_vec3_clamp_norm(&ar, v, limit, f);
+            /* the reporting form: the same vector, and whether it differs from v */
+            bool reported = true;
+            assert_vec_eq(fc_vec3_clamp_norm_report(&ar, v, limit, f, &reported), out);
+            assert_int_equal(reported, out.x != v.x || out.y != v.y || out.z != v.z);
             if (ts_val(fc_vec3_norm(&ar, v, f), f) <= lim) {
                 /* inside the limit: unchanged, bit for bit */
                 assert_vec_eq(out, v);
@@ -433,9 +437,14 @@ static void test_clamp_norm(void **state)
         ts_check_end(&c);
         assert_true(clamped > 100);
     }
-    /* a vector exactly at the limit is not touched */
+    /* a vector exactly at the limit is not touched (and not reported) */
     const fc_vec3 at = fc_vec3_make(FC_INT(3, VEL), FC_INT(4, VEL), 0);
     assert_vec_eq(fc_vec3_clamp_norm(&ar, at, FC_INT(5, VEL), FC_VEL_FRAC), at);
+    bool reported = true;
+    (void)fc_vec3_clamp_norm_report(&ar, at, FC_INT(5, VEL), FC_VEL_FRAC, &reported);
+    assert_false(reported);
+    (void)fc_vec3_clamp_norm_report(&ar, at, FC_INT(4, VEL), FC_VEL_FRAC, &reported);
+    assert_true(reported);
     /* an axis-aligned vector is clamped exactly */
     assert_vec_eq(fc_vec3_clamp_norm(&ar, fc_vec3_make(0, 0, FC_INT(-40, VEL)), FC_INT(5, VEL), FC_VEL_FRAC),
                   fc_vec3_make(0, 0, FC_INT(-5, VEL)));
