@@ -49,8 +49,7 @@ fc_step_status fc_attitude_estimator_take_heading(fc_attitude_estimator *est, fc
     }
     /* |yaw| <= 7 rad: sin and cos cannot saturate (their own record) */
     fc_arith ar = {0u};
-    est->heading_cos = fc_cos(&ar, yaw_rad);
-    est->heading_sin = fc_sin(&ar, yaw_rad);
+    fc_sincos(&ar, yaw_rad, &est->heading_sin, &est->heading_cos);
     est->heading_rad = yaw_rad;
     est->heading_steps_left = est->heading_hold_steps;
     return FC_STEP_OK;

@@ -588,8 +588,7 @@ static void update_heading(fc_controller *ctl, fc_real yaw_rad)
 {
     if (yaw_rad != ctl->heading_rad) {
         ctl->heading_rad = yaw_rad;
-        ctl->heading_cos = fc_cos(&ctl->ar, yaw_rad);
-        ctl->heading_sin = fc_sin(&ctl->ar, yaw_rad);
+        fc_sincos(&ctl->ar, yaw_rad, &ctl->heading_sin, &ctl->heading_cos);
         ctl->heading_level = level_at_heading(ctl->heading_cos, ctl->heading_sin);
     }
 }

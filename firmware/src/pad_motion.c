@@ -90,8 +90,7 @@ static void update_rotations(fc_pad_motion *pm)
     for (unsigned k = 0u; k < pm->p.mode_count && pm->rotation_stale != 0u; k++) {
         if ((pm->rotation_stale & (1u << k)) != 0u) {
             const fc_real step_angle = fc_mul(ar, pm->omega_radps[k], pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
-            pm->step_cos[k] = fc_cos(ar, step_angle);
-            pm->step_sin[k] = fc_sin(ar, step_angle);
+            fc_sincos(ar, step_angle, &pm->step_sin[k], &pm->step_cos[k]);
         }
     }
     pm->rotation_stale = 0u;
@@ -570,7 +569,9 @@ void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahea
         /* the phases turned by w_k H */
         const fc_real ahead_rad =
             wrapped_angle(ar, fc_mul(ar, pm->omega_radps[k], pm->p.horizon_s, FC_SHIFT(RATE, TIME, GAIN)));
-        rotate(ar, &phi_ahead[sin_of(k)], &phi_ahead[cos_of(k)], fc_cos(ar, ahead_rad), fc_sin(ar, ahead_rad));
+        fc_real ahead_sin, ahead_cos;
+        fc_sincos(ar, ahead_rad, &ahead_sin, &ahead_cos);
+        rotate(ar, &phi_ahead[sin_of(k)], &phi_ahead[cos_of(k)], ahead_cos, ahead_sin);
     }
     *ahead = model_trajectory(pm, phi_ahead);
 }

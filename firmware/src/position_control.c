@@ -41,8 +41,9 @@ fc_init_result fc_position_control_init(fc_position_control *pc, const fc_positi
     pc->ki_dt = fc_mul(ar, p->ki_per_s3, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
     pc->fb_dt = fc_mul(ar, p->accel_fb_gain_per_s, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
     /* tan(tilt_max) once (cos(1.4) = 0.17, so tan <= 5.8) */
-    pc->tan_tilt_max =
-        fc_div(ar, fc_sin(ar, p->tilt_max_rad), fc_cos(ar, p->tilt_max_rad), FC_DIV_SHIFT(UNIT, UNIT, RATIO));
+    fc_real sin_tilt, cos_tilt;
+    fc_sincos(ar, p->tilt_max_rad, &sin_tilt, &cos_tilt);
+    pc->tan_tilt_max = fc_div(ar, sin_tilt, cos_tilt, FC_DIV_SHIFT(UNIT, UNIT, RATIO));
     if (ar->saturated != 0u) {
         return FC_INIT_BAD_PARAM;
     }

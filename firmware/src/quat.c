@@ -112,9 +112,10 @@ fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v)
 fc_quat fc_quat_from_axis_angle(fc_arith *ar, fc_vec3 axis_unit, fc_real angle_rad)
 {
     const fc_real half_angle = fc_mul(ar, angle_rad, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
-    const fc_real s = fc_sin(ar, half_angle);
+    fc_real s, c;
+    fc_sincos(ar, half_angle, &s, &c);
     const fc_vec3 v = fc_vec3_scale(ar, axis_unit, s, UNIT_X_UNIT);
-    return fc_quat_make(fc_cos(ar, half_angle), v.x, v.y, v.z);
+    return fc_quat_make(c, v.x, v.y, v.z);
 }
 
 void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real *angle_rad)
@@ -159,8 +160,9 @@ fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
     } else {
         const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
         const fc_real half_angle = fc_mul(ar, angle, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
-        cos_half = fc_cos(ar, half_angle);
-        sin_half_over_a = fc_div(ar, fc_sin(ar, half_angle), angle, FC_DIV_SHIFT(UNIT, ANGLE, UNIT));
+        fc_real sin_half;
+        fc_sincos(ar, half_angle, &sin_half, &cos_half);
+        sin_half_over_a = fc_div(ar, sin_half, angle, FC_DIV_SHIFT(UNIT, ANGLE, UNIT));
     }
     /* (sin(a/2)/a) theta: UNIT times ANGLE is the UNIT vector part */
     const fc_vec3 v = fc_vec3_scale(ar, theta_rad, sin_half_over_a, FC_SHIFT(ANGLE, UNIT, UNIT));
@@ -173,9 +175,10 @@ fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_r
     const fc_real half_roll = fc_mul(ar, roll_rad, FC_C(0.5f, UNIT), half_shift);
     const fc_real half_pitch = fc_mul(ar, pitch_rad, FC_C(0.5f, UNIT), half_shift);
     const fc_real half_yaw = fc_mul(ar, yaw_rad, FC_C(0.5f, UNIT), half_shift);
-    const fc_real cr = fc_cos(ar, half_roll), sr = fc_sin(ar, half_roll);
-    const fc_real cp = fc_cos(ar, half_pitch), sp = fc_sin(ar, half_pitch);
-    const fc_real cy = fc_cos(ar, half_yaw), sy = fc_sin(ar, half_yaw);
+    fc_real cr, sr, cp, sp, cy, sy;
+    fc_sincos(ar, half_roll, &sr, &cr);
+    fc_sincos(ar, half_pitch, &sp, &cp);
+    fc_sincos(ar, half_yaw, &sy, &cy);
     /* q = q_z(yaw) (x) q_y(pitch) (x) q_x(roll), expanded */
     const fc_real cp_cy = fc_mul(ar, cp, cy, UNIT_X_UNIT), sp_sy = fc_mul(ar, sp, sy, UNIT_X_UNIT);
     const fc_real sp_cy = fc_mul(ar, sp, cy, UNIT_X_UNIT), cp_sy = fc_mul(ar, cp, sy, UNIT_X_UNIT);

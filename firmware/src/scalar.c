@@ -528,6 +528,11 @@ fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
     return c;
 }
 
+void fc_sincos(fc_arith *ar, fc_real angle_rad, fc_real *sin_out, fc_real *cos_out)
+{
+    sincos_fixed(ar, angle_rad, sin_out, cos_out);
+}
+
 /* atan t for t in [-tan(pi/8), tan(pi/8)], Q30 in, ANGLE out: Taylor to t^23
  * (truncation below 1e-10 rad). */
 static int32_t atan_small_angle(fc_arith *ar, int32_t t_q30)
@@ -729,6 +734,16 @@ fc_real fc_cos(fc_arith *ar, fc_real angle_rad)
 {
     (void)ar;
     return (fc_real)cosf(angle_rad);
+}
+
+void fc_sincos(fc_arith *ar, fc_real angle_rad, fc_real *sin_out, fc_real *cos_out)
+{
+    (void)ar;
+    /* two calls: avr-libc has no sincos, and newlib's sincosf (Cortex-M4F)
+     * is slower than its sinf and cosf (est. +50 cycles a pair); on the host
+     * gcc pairs them into glibc's sincosf itself */
+    *sin_out = (fc_real)sinf(angle_rad);
+    *cos_out = (fc_real)cosf(angle_rad);
 }
 
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x)

@@ -1157,6 +1157,21 @@ static void test_sin_cos_wrap(void **state)
     check_sin_cos("sin/cos -8 < a < -pi", -7.99f, -3.1416f, 4000);
 }
 
+/* fc_sincos gives fc_sin's and fc_cos's values, bit for bit, over all of ANGLE. */
+static void test_sincos_is_sin_and_cos(void **state)
+{
+    (void)state;
+    for (int i = 0; i <= 16000; i++) {
+        const fc_real a = fc_from_float(-7.99f + 15.98f * (float)i / 16000.0f, FC_ANGLE_FRAC);
+        fc_arith pair = {0}, single = {0};
+        fc_real s, c;
+        fc_sincos(&pair, a, &s, &c);
+        TS_ASSERT_REAL_EQ(s, fc_sin(&single, a));
+        TS_ASSERT_REAL_EQ(c, fc_cos(&single, a));
+        assert_int_equal(pair.saturated, single.saturated);
+    }
+}
+
 /* atan2 around circles of several radii and formats: every quadrant.
  * fixed: 4 ANGLE LSB; float: 2 ulps. */
 static void test_atan2_quadrants(void **state)
@@ -1447,6 +1462,7 @@ int main(void)
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),
         cmocka_unit_test(test_sin_cos_wrap),
+        cmocka_unit_test(test_sincos_is_sin_and_cos),
         cmocka_unit_test(test_atan2_quadrants),
         cmocka_unit_test(test_atan2_axes_and_origin),
         cmocka_unit_test(test_asin),

@@ -769,6 +769,10 @@ static inline bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real lim
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);
 fc_real fc_cos(fc_arith *ar, fc_real angle_rad);
 
+/* Both at once: the values of fc_sin and fc_cos, bit for bit; in fixed for
+ * the cost of one (one range reduction). */
+void fc_sincos(fc_arith *ar, fc_real angle_rad, fc_real *sin_out, fc_real *cos_out);
+
 /* atan2(y, x) as an ANGLE in [-pi, pi]; y and x in any one common format. */
 fc_real fc_atan2(fc_arith *ar, fc_real y, fc_real x);
 
