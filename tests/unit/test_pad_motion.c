@@ -332,6 +332,34 @@ static void test_work_ahead_between_steps(void **state)
     assert_true(prepared_samples > 0); /* samples taken on an S phi worked out ahead */
 }
 
+/* The phases turn by w dt a step, from the step's sine and cosine: by their
+ * series for a small angle (dt 2 ms, 0.021 rad) and by fc_sincos for a large
+ * one (dt 0.1 s, 1.05 rad); after 300 steps phi still holds sin and cos of
+ * w t (float: 2e-5; fixed: the rounding of 300 turns, 2e-4). */
+static void test_phases_turn_with_the_step(void **state)
+{
+    (void)state;
+    const double dts[] = {0.002, 0.1};
+    for (size_t d = 0; d < sizeof dts / sizeof dts[0]; d++) {
+        fc_pad_motion_params p = params(0.6, 1.0, 2.0);
+        p.dt_s = fc_from_float((float)dts[d], FC_DT_FRAC);
+        p.period_min_s = fc_from_float(0.5f, FC_TIME_FRAC);
+        fc_pad_motion pm;
+        assert_int_equal(fc_pad_motion_init(&pm, &p), FC_INIT_OK);
+        const double dt = (double)fc_to_float(p.dt_s, FC_DT_FRAC);
+        const double omega = (double)fc_to_float(pm.omega_radps[0], FC_RATE_FRAC);
+        const fc_pad_motion_sample none = {FC_INT(0, LENGTH), false};
+        fc_pad_motion_estimate e;
+        for (int k = 0; k <= 300; k++) {
+            (void)fc_pad_motion_step(&pm, &none, &e);
+            const double t = (double)k * dt;
+            const double tol = FC_NUMERIC_FIXED ? 2e-4 : 2e-5;
+            assert_true(fabs((double)fc_to_float(pm.phi[1], FC_UNIT_FRAC) - sin(omega * t)) < tol);
+            assert_true(fabs((double)fc_to_float(pm.phi[2], FC_UNIT_FRAC) - cos(omega * t)) < tol);
+        }
+    }
+}
+
 /* With fewer modes than FC_PAD_MAX_MODES the entries past n stay zero (the
  * sums run over all of them, pad_motion.c PARAMETERS_PAST_N). */
 static void test_parameters_past_n_stay_zero(void **state)
@@ -409,6 +437,7 @@ int main(void)
         cmocka_unit_test(test_bad_samples),
         cmocka_unit_test(test_work_ahead_between_steps),
         cmocka_unit_test(test_parameters_past_n_stay_zero),
+        cmocka_unit_test(test_phases_turn_with_the_step),
         cmocka_unit_test(test_params_rejected),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "pad_motion (fixed)" : "pad_motion (float)", tests, NULL,
