@@ -562,6 +562,8 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
     }
     pm->ar.saturated = 0u;
     fc_step_status status = FC_STEP_OK;
+    /* (while not learning the next sample restarts the estimate, no RLS) */
+    const bool sample_due = pm->learning && !pm->sample_prepared;
     if (pm->covariance_pending && pm->covariance_rows_done == 0u) {
         /* 1 */
         update_rotations(pm);
@@ -572,13 +574,12 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
         if (pm->phases_behind) {
             advance_phases(pm);
         }
-    } else if (pm->summary_stale || (pm->learning && !pm->sample_prepared)) {
+    } else if (pm->summary_stale || sample_due) {
         /* 3 */
         if (pm->summary_stale) {
             summarise_fit(pm);
         }
-        if (pm->learning && !pm->sample_prepared) {
-            /* (while not learning the next sample restarts the estimate, no RLS) */
+        if (sample_due) {
             prepare_sample(pm);
         }
     } else {
