@@ -18,6 +18,17 @@
 #error "scalar.c holds the out-of-line products: it is never a compact unit"
 #endif
 
+/* Constant tables: in program memory on the ATmega (read by LPM), where a
+ * const array would otherwise be copied into its 8 KB of RAM at start-up. */
+#if defined(__AVR__)
+#include <avr/pgmspace.h>
+#define FC_ROM_TABLE PROGMEM
+#define FC_ROM_READ_U16(address) pgm_read_word(address)
+#else
+#define FC_ROM_TABLE
+#define FC_ROM_READ_U16(address) (*(address))
+#endif
+
 #if defined(__AVR__)
 /*
  * fc_fx_narrow_wide for a shift known only at run time (0 < shift < 32), the
@@ -404,10 +415,28 @@ static int bit_length_u32(uint32_t x)
 }
 
 /*
- * 1/sqrt(x), division-free: x = m * 4^j with m in [1/4, 1), then Newton steps
- * y <- y (3 - m y^2) / 2 for y = 1/sqrt(m) in (1, 2], held in Q29.
+ * 1/sqrt(x), division-free: x = m * 4^j with m in [1/4, 1), a first guess of
+ * y = 1/sqrt(m) in (1, 2] from a table, then Newton steps
+ * y <- y (3 - m y^2) / 2, y held in Q29.
  */
 #define RSQRT_Y_FRAC 29
+#define RSQRT_SEGMENT_SHIFT 25 /* m in Q30 cut into segments of 2^25, i.e. 1/32 */
+#define RSQRT_KNOT_FRAC 14     /* the table's 1/sqrt values: Q14, below 2^15 */
+#define RSQRT_NEWTON_STEPS 2
+
+/* The table's values at the start and the end of segment k of m (Q30:
+ * k = m / 2^25 - 8, 0..23): 1/sqrt(1/4 + k/32) and 1/sqrt(1/4 + (k+1)/32). */
+static void rsqrt_knots(uint32_t k, uint16_t *at_start, uint16_t *at_end)
+{
+    /* round(2^14 / sqrt(1/4 + k/32)), k = 0..24 (test_scalar.test_rsqrt_exact
+     * derives the same values) */
+    static const uint16_t knot_q14[25] FC_ROM_TABLE = {
+        32768, 30894, 29309, 27945, 26755, 25705, 24770, 23930, 23170, 22479, 21845, 21263, 20724,
+        20225, 19760, 19326, 18919, 18536, 18176, 17837, 17515, 17211, 16921, 16646, 16384};
+    *at_start = FC_ROM_READ_U16(&knot_q14[k]);
+    *at_end = FC_ROM_READ_U16(&knot_q14[k + 1u]);
+}
+
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 {
     if (x <= 0) {
@@ -423,17 +452,26 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     const int32_t m_q30 = s >= 0 ? (int32_t)shl_u32((uint32_t)x, s) : (int32_t)shr_u32((uint32_t)x, -s);
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
-    /* first guess y0 = 2.1 - 1.15 m (within 10 % of 1/sqrt(m) on [1/4, 1]);
-     * five Newton steps take that below the Q29 resolution. The products
-     * are 32 x 32 -> 64 in halves (fc_fx_umul_wide), each shift a floor:
+    /* first guess: the chord of 1/sqrt over m's segment of the table, within
+     * 1.3e-3 of 1/sqrt(m); the knots (Q14) minus their difference times the
+     * position in the segment (Q16), a 16 x 16-bit product, gives Q30 */
+    uint16_t knot_start, knot_end;
+    rsqrt_knots(((uint32_t)m_q30 >> RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
+    const uint16_t position_q16 = (uint16_t)((uint32_t)m_q30 >> (RSQRT_SEGMENT_SHIFT - 16));
+    const uint32_t drop_q30 = (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
+    const int shift_to_y = RSQRT_KNOT_FRAC + 16 - RSQRT_Y_FRAC; /* Q30 to Q29 */
+    int32_t y = (int32_t)((((uint32_t)knot_start << 16) - drop_q30) >> shift_to_y);
+
+    /* two Newton steps take 1.3e-3 to 3.4e-6 and then to the Q29 resolution:
+     * at most 1.01 LSB from 1/sqrt(m) over all 805,306,368 values of m (an
+     * exhaustive host run; the five steps from a linear guess this replaces
+     * gave 1.00 LSB for three more steps, ~2,700 ATmega cycles). The
+     * products are 32 x 32 -> 64 in halves (fc_fx_umul_wide), each shift a floor:
      *   y2 = y^2 / 2^28    Q30, below 2^34 (held as top 2^32 + low)
-     *   my2 = m y2 / 2^30  Q30, m y^2 <= 1.21 after the guess, <= 1 after a step
+     *   my2 = m y2 / 2^30  Q30, m y^2 <= 1.003 after the guess, <= 1 after a step
      *   y <- y (3 - my2) / 2^31
-     * (the values of the int64_t form this replaces, bit for bit:
-     * test_scalar.test_rsqrt_exact) */
-    const fc_fx_wide guess = fc_fx_umul_wide((uint32_t)m_q30, (uint32_t)Q30(1.15f));
-    int32_t y = Q30(1.05f) - (int32_t)fc_fx_extract(guess.low, guess.high, 31);
-    for (int i = 0; i < 5; i++) {
+     * (the values of the int64_t form, bit for bit: test_scalar.test_rsqrt_exact) */
+    for (int i = 0; i < RSQRT_NEWTON_STEPS; i++) {
         const fc_fx_wide yy = fc_fx_umul_wide((uint32_t)y, (uint32_t)y);
         const uint32_t y2_low = fc_fx_extract(yy.low, yy.high, 2 * RSQRT_Y_FRAC - 30);
         const uint32_t y2_top = yy.high >> (2 * RSQRT_Y_FRAC - 30); /* bits 32.. of y2 */
@@ -441,7 +479,7 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
         my2.high += (uint32_t)m_q30 * y2_top;
         const uint32_t my2_q30 = fc_fx_extract(my2.low, my2.high, 30);
         const uint32_t three_q30 = (uint32_t)3u << 30;
-        /* 3 - m y^2 > 0 (m y^2 <= 1.21); kept at 0 if it were not */
+        /* 3 - m y^2 > 0 (m y^2 <= 1.003); kept at 0 if it were not */
         const uint32_t corr_q30 = (my2.high >> 30) == 0u && my2_q30 <= three_q30 ? three_q30 - my2_q30 : 0u;
         const fc_fx_wide next = fc_fx_umul_wide((uint32_t)y, corr_q30);
         y = (int32_t)fc_fx_extract(next.low, next.high, 31); /* y (3 - m y^2) / 2 */

@@ -886,9 +886,11 @@ static void test_sqrt_hypot3_exact(void **state)
 #endif
 }
 
-/* fixed: fc_rsqrt (products in 32-bit halves) gives bit for bit the values of
- * its int64_t form (below, as it was), for every pair of formats in use and
- * inputs of every bit length. */
+/* fixed: fc_rsqrt (products in 32-bit halves, a table in program memory on
+ * the ATmega) gives bit for bit the values of its int64_t form (below), for
+ * every pair of formats in use and inputs of every bit length. The reference's
+ * table is computed here from its definition, so the test also checks the
+ * literal table of scalar.c. */
 #if FC_NUMERIC_FIXED
 static int32_t reference_rsqrt(fc_arith *ar, int32_t x, int frac_in, int frac_out)
 {
@@ -906,11 +908,14 @@ static int32_t reference_rsqrt(fc_arith *ar, int32_t x, int frac_in, int frac_ou
     }
     const int32_t m_q30 = s >= 0 ? (int32_t)((uint32_t)x << s) : (int32_t)((uint32_t)x >> (-s));
     const int j = (30 - s - frac_in) / 2;
-    /* Q30(1.05f) and Q30(1.15f) of scalar.c, folded in float as there */
-    const int32_t q30_105 = (int32_t)(1.05f * 1073741824.0f + 0.5f);
-    const int32_t q30_115 = (int32_t)(1.15f * 1073741824.0f + 0.5f);
-    int32_t y = (int32_t)(((int64_t)q30_105) - (((int64_t)m_q30 * q30_115) >> 31));
-    for (int i = 0; i < 5; i++) {
+    /* the first guess: the chord between the knots round(2^14 / sqrt(1/4 + k/32))
+     * that enclose m, in Q30, taken to Q29 */
+    const int k = (int)((uint32_t)m_q30 >> 25) - 8;
+    const int64_t knot_start = llround(16384.0 / sqrt(0.25 + k / 32.0));
+    const int64_t knot_end = llround(16384.0 / sqrt(0.25 + (k + 1) / 32.0));
+    const int64_t position_q16 = ((uint32_t)m_q30 >> 9) & 0xFFFFu;
+    int32_t y = (int32_t)(((knot_start << 16) - (knot_start - knot_end) * position_q16) >> 1);
+    for (int i = 0; i < 2; i++) {
         const int64_t y2_q30 = ((int64_t)y * y) >> 28;
         const int64_t my2_q30 = ((int64_t)m_q30 * y2_q30) >> 30;
         const int64_t corr_q30 = ((int64_t)3 << 30) - my2_q30;
