@@ -4,6 +4,13 @@
 /* shift of a product of two UNIT values giving a UNIT value */
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
+/* |q|^2 this close to 1 is unit length to the resolution of the format: a
+ * quaternion scaled to unit length by fc_quat_normalize, its four components
+ * rounded, lands within 3.5 UNIT LSB of it (each rounding moves |q|^2 by
+ * |q_i| LSB at most, the factor's rounding by 1 and the sum's by 1/2). In
+ * float it is below half an ulp of 1: there it means |q|^2 == 1 exactly. */
+#define UNIT_LENGTH_SQ_TOLERANCE FC_C(4.0f / 1073741824.0f, UNIT) /* 4 UNIT LSB, 3.7e-9 */
+
 static fc_real twice(fc_arith *ar, fc_real a)
 {
     return fc_add(ar, a, a);
@@ -61,6 +68,11 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
     }
     *ok = true;
     const fc_real one_minus_norm_sq = fc_sub(ar, FC_INT(1, UNIT), norm_sq);
+    if (fc_within(one_minus_norm_sq, UNIT_LENGTH_SQ_TOLERANCE)) {
+        /* unit already (a quaternion this function returned, say): scaling
+         * would move each component by rounding alone */
+        return q;
+    }
     if (fc_abs(ar, one_minus_norm_sq) < FC_C(3.0e-5f, UNIT)) {
         /* |q|^2 = 1 - e: 1/|q| = 1 + e/2 + O(e^2), the O(e^2) below 1e-9 here */
         const fc_real inv_norm = fc_add(ar, FC_INT(1, UNIT),

@@ -15,8 +15,9 @@
  * next symbol); a call of a function is counted
  * when the PC enters its first instruction from outside it.
  *
- * Output, one line per name: "CYCLES name min max mean calls", then
- * (--profile) "PROFILE name exclusive_cycles_per_call calls_per_call
+ * Output, one line per name: "CYCLES name min max mean calls", then one
+ * "PERCALL name c1 c2 ..." per name (the first 64 calls' cycles, in order),
+ * then (--profile) "PROFILE name exclusive_cycles_per_call calls_per_call
  * percent", most cycles first, then
  * "STACK peak_bytes" (lowest SP from reset, against RAMEND) and
  * "RESULT 0x...." (the image's bench_result). Exit status 0 when the image
@@ -38,6 +39,7 @@
 #include "../sim/sim_support.h"
 
 #define MAX_TIMED 16
+#define MAX_CALLS_LISTED 64
 #define MAX_FUNCS 4096
 
 /* a function of the image: [addr, addr + size) in bytes of flash */
@@ -119,6 +121,7 @@ typedef struct timed_fn {
     uint32_t min, max;
     uint64_t sum;
     unsigned n;
+    uint32_t each[MAX_CALLS_LISTED]; /* the first calls' cycles, in order */
 } timed_fn;
 
 static timed_fn g_timed[MAX_TIMED];
@@ -218,6 +221,9 @@ int main(int argc, char **argv)
                 t->min = c < t->min ? c : t->min;
                 t->max = c > t->max ? c : t->max;
                 t->sum += c;
+                if (t->n < MAX_CALLS_LISTED) {
+                    t->each[t->n] = c;
+                }
                 t->n++;
             }
         }
@@ -243,6 +249,14 @@ int main(int argc, char **argv)
         const timed_fn *t = &g_timed[k];
         printf("CYCLES %s %u %u %.0f %u\n", t->name, t->n ? t->min : 0u, t->max, t->n ? (double)t->sum / t->n : 0.0,
                t->n);
+    }
+    for (unsigned k = 0; k < g_ntimed; k++) {
+        const timed_fn *t = &g_timed[k];
+        printf("PERCALL %s", t->name);
+        for (unsigned i = 0; i < t->n && i < MAX_CALLS_LISTED; i++) {
+            printf(" %u", t->each[i]);
+        }
+        printf("\n");
     }
     if (profiled != NULL && profiled->n > 0) {
         uint64_t total = 0;
