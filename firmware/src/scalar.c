@@ -76,20 +76,39 @@ FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shi
     return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
 }
 #define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
+/* the shifts of 32 and more that fc/scalar.h hands to the functions below on
+ * the ATmega (FC_FX_FAR_INLINE): narrowed on the halves, the floor by a
+ * counted ASR loop */
+#define OUTLINE_FAR_SHIFT(shift, extra) ((shift) >= 32 && (shift) <= FC_FX_FAR_SHIFT_MAX + (extra))
+FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, int shift)
+{
+    if (shift - 2 < 32) {
+        return narrow_wide_runtime(ar, quarters, shift - 2);
+    }
+    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
+}
 #else
 #define OUTLINE_RUNTIME_SHIFT(shift) 0
+#define OUTLINE_FAR_SHIFT(shift, extra) 0
+#define narrow_quarters_runtime(ar, quarters, shift) fc_fx_narrow_quarters(ar, quarters, shift)
 #define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
 #endif
 
 /* The out-of-line products of compact translation units (fc/scalar.h). On
- * the ATmega the 64-bit sum is formed as the inlined primitives form it and
- * narrowed by narrow_wide_runtime (bit-identical: atmega.scalar_equivalence). */
+ * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
+ * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
+ * atmega.scalar_equivalence), and so are the shifts of 32 and more that
+ * fc/scalar.h hands over (FC_FX_FAR_INLINE); other shifts, and every shift
+ * elsewhere, by the int64_t definition. */
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
     if (OUTLINE_RUNTIME_SHIFT(shift)) {
         return narrow_wide_runtime(ar, fc_fx_mul_wide(a, b), shift);
     }
-    return fc_mul(ar, a, b, shift);
+    if (OUTLINE_FAR_SHIFT(shift, 0)) {
+        return fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift);
+    }
+    return fc_fx_narrow(ar, (int64_t)a * b, shift);
 }
 
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
@@ -97,7 +116,11 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     if (OUTLINE_RUNTIME_SHIFT(shift)) {
         return narrow_wide_runtime(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
-    return fc_dot2(ar, a0, b0, a1, b1, shift);
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1)),
+                                       shift);
+    }
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
 
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -107,7 +130,11 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
         const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
         return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
     }
-    return fc_dot3(ar, a0, b0, a1, b1, a2, b2, shift);
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(q01, fc_fx_mul_quarter(a2, b2)), shift);
+    }
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
 
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -118,7 +145,12 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
         const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
         return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
     }
-    return fc_dot4(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+        const fc_fx_wide q23 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a2, b2), fc_fx_mul_quarter(a3, b3));
+        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(q01, q23), shift);
+    }
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }
 
 /* ----------------------------------------------------------------------- */

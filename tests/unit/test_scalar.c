@@ -694,6 +694,50 @@ static void test_dot_wide_intermediate(void **state)
 #endif
 }
 
+/* fixed: the products with a shift of 32 or more (the formats that drop 32
+ * bits or more: RATE x RATE -> GAIN, UNIT x UNIT -> ANGLE, ...) are narrowed
+ * on the 32-bit halves; they give bit for bit the values and flags of the
+ * int64_t forms fc_fx_narrow and fc_fx_narrow_sum, at every such shift in
+ * use and beyond, over edge and random operands. */
+static void test_mul_dot_wide_shifts(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(3232u);
+    const int32_t edges[] = {INT32_MIN, INT32_MIN + 1, INT32_MAX, INT32_MAX - 1, 0, 1, -1,
+                             (int32_t)0x40000000, -(int32_t)0x40000000, 46341, -46341};
+    const size_t n_edges = sizeof edges / sizeof edges[0];
+    unsigned cases = 0u;
+    for (int shift = 32; shift <= 42; shift++) {
+        for (int i = 0; i < 20000; i++) {
+            int32_t a[4], b[4];
+            for (int k = 0; k < 4; k++) {
+                const uint32_t pick = ts_rand_u32(&rng);
+                a[k] = (pick & 3u) == 0u ? edges[pick % n_edges] : (int32_t)ts_rand_u32(&rng) >> (pick % 31u);
+                b[k] = (pick & 12u) == 0u ? edges[(pick >> 8) % n_edges]
+                                          : (int32_t)ts_rand_u32(&rng) >> ((pick >> 8) % 31u);
+            }
+            fc_arith got = {0}, want = {0};
+            const int64_t p[4] = {(int64_t)a[0] * b[0], (int64_t)a[1] * b[1], (int64_t)a[2] * b[2],
+                                  (int64_t)a[3] * b[3]};
+            assert_int_equal(fc_mul(&got, a[0], b[0], shift), fc_fx_narrow(&want, p[0], shift));
+            assert_int_equal(got.saturated, want.saturated);
+            assert_int_equal(fc_dot2(&got, a[0], b[0], a[1], b[1], shift),
+                             fc_fx_narrow_sum(&want, p[0], p[1], 0, 0, shift));
+            assert_int_equal(got.saturated, want.saturated);
+            assert_int_equal(fc_dot3(&got, a[0], b[0], a[1], b[1], a[2], b[2], shift),
+                             fc_fx_narrow_sum(&want, p[0], p[1], p[2], 0, shift));
+            assert_int_equal(got.saturated, want.saturated);
+            assert_int_equal(fc_dot4(&got, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], shift),
+                             fc_fx_narrow_sum(&want, p[0], p[1], p[2], p[3], shift));
+            assert_int_equal(got.saturated, want.saturated);
+            cases++;
+        }
+    }
+    print_message("wide shifts exact: %u cases\n", cases);
+#endif
+}
+
 static void test_acc(void **state)
 {
     (void)state;
@@ -1457,6 +1501,7 @@ int main(void)
         cmocka_unit_test(test_convert),
         cmocka_unit_test(test_dot2_dot3_dot4),
         cmocka_unit_test(test_dot_wide_intermediate),
+        cmocka_unit_test(test_mul_dot_wide_shifts),
         cmocka_unit_test(test_acc),
         cmocka_unit_test(test_sqrt),
         cmocka_unit_test(test_hypot3),

@@ -314,6 +314,60 @@ FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift
     return result;
 }
 
+/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8 a
+ * compile-time constant: on the ATmega by ASR/ROR (fc/scalar_avr.h). */
+FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
+{
+#if defined(__AVR__)
+    FC_AVR_ASR64(value.low, value.high, bits);
+    return value;
+#else
+    return fc_fx_split(fc_fx_join(value) >> bits); /* arithmetic shift (gcc) */
+#endif
+}
+
+/*
+ * fc_fx_narrow_wide for 32 <= shift <= FC_FX_FAR_SHIFT_MAX: the products whose
+ * formats drop 32 bits or more (RATE x RATE -> GAIN, UNIT x UNIT -> ANGLE,
+ * VEL x DT -> LENGTH), on the halves too instead of in C int64_t (libgcc
+ * calls on the ATmega). The value is floored by 2^k, k = shift - 31, then
+ * rounded by 2^31:
+ *   floor((floor(v / 2^k) + 2^30) / 2^31) = floor((v + 2^(shift-1)) / 2^shift)
+ * (v = 2^k q + r with 0 <= r < 2^k: r / 2^k < 1 added to the integer
+ * q + 2^30 leaves the floor as it is), so the value and the saturation are
+ * those of fc_fx_narrow's 64-bit form.
+ */
+#define FC_FX_FAR_SHIFT_MAX 38
+/* Where those products are formed: inline, or on the ATmega by the
+ * out-of-line products of scalar.c (fc_fx_mul_outline, ...), as its flash does
+ * not hold another inlined multiply and narrowing per such site. */
+#if defined(__AVR__)
+#define FC_FX_FAR_INLINE 0
+#else
+#define FC_FX_FAR_INLINE 1
+#endif
+FC_FX_INLINE fc_real fc_fx_narrow_wide_far(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    return fc_fx_narrow_wide(ar, fc_fx_asr_wide(value, shift - 31), 31);
+}
+
+/* fc_fx_narrow_sum's form for the shifts 32..FC_FX_FAR_SHIFT_MAX + 2, on the
+ * halves: QUARTERS is the sum of the products each floored by 4 (fc_fx_asr_wide
+ * by 2; four of them sum without a clamp), narrowed by shift - 2. */
+FC_FX_INLINE fc_real fc_fx_narrow_quarters(fc_arith *ar, fc_fx_wide quarters, int shift)
+{
+    if (shift - 2 < 32) {
+        return fc_fx_narrow_wide(ar, quarters, shift - 2);
+    }
+    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
+}
+
+/* a * b floored by 4, as halves (a term of fc_fx_narrow_quarters). */
+FC_FX_INLINE fc_fx_wide fc_fx_mul_quarter(int32_t a, int32_t b)
+{
+    return fc_fx_asr_wide(fc_fx_mul_wide(a, b), 2);
+}
+
 /* value / 2^shift rounded to nearest and saturated, any shift. */
 FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
 {
@@ -389,6 +443,10 @@ FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift
     if (shift > 0 && shift < 32) {
         return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
     }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX) {
+        return FC_FX_FAR_INLINE ? fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift)
+                                : fc_fx_mul_outline(ar, a, b, shift);
+    }
     return fc_fx_narrow(ar, (int64_t)a * b, shift);
 }
 
@@ -422,6 +480,12 @@ FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_rea
     if (shift > 0 && shift < 32) {
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
+        return FC_FX_FAR_INLINE ? fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0),
+                                                                                fc_fx_mul_quarter(a1, b1)),
+                                                        shift)
+                                : fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
+    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
 
@@ -445,6 +509,13 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
     }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
+        if (!FC_FX_FAR_INLINE) {
+            return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
+        }
+        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+        return fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(q01, fc_fx_mul_quarter(a2, b2)), shift);
+    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
 
@@ -459,6 +530,14 @@ FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
         const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, p23), shift);
+    }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
+        if (!FC_FX_FAR_INLINE) {
+            return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+        }
+        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+        const fc_fx_wide q23 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a2, b2), fc_fx_mul_quarter(a3, b3));
+        return fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(q01, q23), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }

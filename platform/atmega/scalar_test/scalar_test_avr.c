@@ -5,7 +5,7 @@
  * definition written with C int64_t (fc_fx_rescale, fc_fx_add64,
  * fc_fx_saturate of fc/scalar.h, which avr-gcc computes through libgcc), on
  * the same target, over edge operands and pseudo-random ones, for every right
- * shift 1..31 as a compile-time constant (what the library uses) and through
+ * shift 1..33, 36, 38 and 40 as a compile-time constant (what the library uses) and through
  * a run-time shift (a shift passed to a function that is not inlined).
  * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
  * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert
@@ -101,6 +101,9 @@ static __attribute__((noinline)) int32_t ref_dot(fc_arith *ar, const int32_t *a,
     int64_t p[4] = {0, 0, 0, 0};
     for (int i = 0; i < n; i++) {
         p[i] = (int64_t)a[i] * b[i];
+    }
+    if (shift >= 32) {
+        return fc_fx_narrow_sum(ar, p[0], p[1], p[2], p[3], shift); /* the sum in quarters */
     }
     return ref_narrow(ar, fc_fx_add64(fc_fx_add64(p[0], p[1]), fc_fx_add64(p[2], p[3])), shift);
 }
@@ -264,12 +267,18 @@ DEFINE_CASE(8) DEFINE_CASE(9) DEFINE_CASE(10) DEFINE_CASE(11) DEFINE_CASE(12) DE
 DEFINE_CASE(14) DEFINE_CASE(15) DEFINE_CASE(16) DEFINE_CASE(17) DEFINE_CASE(18) DEFINE_CASE(19)
 DEFINE_CASE(20) DEFINE_CASE(21) DEFINE_CASE(22) DEFINE_CASE(23) DEFINE_CASE(24) DEFINE_CASE(25)
 DEFINE_CASE(26) DEFINE_CASE(27) DEFINE_CASE(28) DEFINE_CASE(29) DEFINE_CASE(30) DEFINE_CASE(31)
+/* shifts of 32 and more: products narrowed on the halves after a floor
+ * (fc_fx_narrow_wide_far, fc_fx_narrow_quarters): the library's 32, 36 and
+ * 38, the edges 33 and FC_FX_FAR_SHIFT_MAX + 2 = 40 (fc_mul's int64_t path
+ * there); a sample, as the image's flash holds no more cases */
+DEFINE_CASE(32) DEFINE_CASE(33) DEFINE_CASE(36) DEFINE_CASE(38) DEFINE_CASE(40)
 
+#define CASE_COUNT 36
 typedef void (*case_fn)(const int32_t *a, const int32_t *b);
-static const case_fn cases[31] = {
-    case_1,  case_2,  case_3,  case_4,  case_5,  case_6,  case_7,  case_8,  case_9,  case_10, case_11,
-    case_12, case_13, case_14, case_15, case_16, case_17, case_18, case_19, case_20, case_21, case_22,
-    case_23, case_24, case_25, case_26, case_27, case_28, case_29, case_30, case_31,
+static const case_fn cases[CASE_COUNT] = {
+    case_1,  case_2,  case_3,  case_4,  case_5,  case_6,  case_7,  case_8,  case_9,  case_10, case_11, case_12,
+    case_13, case_14, case_15, case_16, case_17, case_18, case_19, case_20, case_21, case_22, case_23, case_24,
+    case_25, case_26, case_27, case_28, case_29, case_30, case_31, case_32, case_33, case_36, case_38, case_40,
 };
 
 /* The shift only known at run time (as in fc_vec3_scale): the looping path. */
@@ -322,7 +331,7 @@ int main(void)
             }
             a[0] = edges[i];
             b[0] = edges[j];
-            for (uint8_t s = 0; s < 31; s++) {
+            for (uint8_t s = 0; s < CASE_COUNT; s++) {
                 cases[s](a, b);
                 case_runtime(a, b, (int)s + 1);
             }
@@ -335,7 +344,7 @@ int main(void)
             a[k] = edges[i];
             b[k] = edges[(uint8_t)(i + k) % EDGE_COUNT];
         }
-        for (uint8_t s = 0; s < 31; s++) {
+        for (uint8_t s = 0; s < CASE_COUNT; s++) {
             cases[s](a, b);
         }
     }
@@ -344,7 +353,7 @@ int main(void)
             a[k] = operand();
             b[k] = operand();
         }
-        for (uint8_t s = 0; s < 31; s++) {
+        for (uint8_t s = 0; s < CASE_COUNT; s++) {
             cases[s](a, b);
         }
         case_runtime(a, b, (int)(rng_next() % 31u) + 1);
