@@ -217,6 +217,10 @@ echo "first is the arming step; the outer group's parts (position loop, pad mode
 for run in cf2 cf2-cf; do
   awk -v r="$run" '$1 == "PERCALL" { $1 = ""; $2 = ""; printf "  %-7s%s\n", r, $0 }' "$out/$run/plugin.txt"
 done
+echo "ATmega2560, fc_controller_step of the same calls (exact cycles):"
+for run in atmega atmega-fixed atmega-cf atmega-fixed-cf; do
+  awk -v r="$run" '$1 == "PERCALL" && $2 == "fc_controller_step" { $1 = ""; $2 = ""; printf "  %-16s%s\n", r, $0 }' "$out/$run/run.txt"
+done
 
 # ---- where fc_controller_step's AVR cycles go ----
 echo
