@@ -231,6 +231,23 @@ for p in atmega-fixed atmega atmega-fixed-cf; do
   # (no "| head": under pipefail its early exit fails the pipeline)
   awk '$1 == "PROFILE" && ++n <= 15 { printf "  %-34s %8d cyc %7.2f calls %5.1f %%\n", $2, $3, $4, $5 }' "$out/$p/run.txt"
 done
+echo
+echo "The same cycles of fc_controller_step by kind of AVR instruction (cycles per step, share):"
+printf "  %-26s" "kind"
+class_files=()
+for r in atmega-cf atmega-fixed-cf atmega atmega-fixed; do
+  printf " | %-16s" "$r"
+  class_files+=("$out/$r/run.txt")
+done
+printf "\n"
+awk '
+  FNR == 1 { file++ }
+  $1 == "CLASS" { kind = $2; for (i = 3; i < NF - 1; i++) kind = kind " " $i
+                  if (!(kind in seen)) { seen[kind] = 1; order[++k] = kind }
+                  cyc[kind, file] = $(NF - 1); pct[kind, file] = $NF }
+  END { for (j = 1; j <= k; j++) { printf "  %-26s", order[j]
+          for (f = 1; f <= file; f++) printf " | %7d %5.1f %%", cyc[order[j], f], pct[order[j], f]
+          printf "\n" } }' "${class_files[@]}"
 echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, the image of the sources compiled one by"
 echo "one, where each function keeps its own code): instructions and estimated cycles per step charged to the"
 echo "function holding the PC; top 15."

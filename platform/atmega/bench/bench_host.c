@@ -19,6 +19,9 @@
  * "PERCALL name c1 c2 ..." per name (the first 64 calls' cycles, in order),
  * then (--profile) "PROFILE name exclusive_cycles_per_call calls_per_call
  * percent", most cycles first, then
+ * (--profile) "CLASS kind cycles_per_call percent": the same cycles by the
+ * kind of instruction that spent them (multiplies, loads and stores, moves,
+ * add/subtract, compares, control flow, other ALU), then
  * "STACK peak_bytes" (lowest SP from reset, against RAMEND) and
  * "RESULT 0x...." (the image's bench_result). Exit status 0 when the image
  * finished, its init succeeded and every name was timed at least once (no
@@ -127,6 +130,54 @@ typedef struct timed_fn {
 static timed_fn g_timed[MAX_TIMED];
 static unsigned g_ntimed;
 
+/* The kinds of AVR instruction the profile splits the cycles by. */
+enum insn_class {
+    CLASS_MUL,        /* MUL, MULS, MULSU, FMUL* */
+    CLASS_MEMORY,     /* LD, LDD, LDS, ST, STD, STS, PUSH, POP, LPM, ELPM */
+    CLASS_MOVE,       /* MOV, MOVW */
+    CLASS_LDI,        /* LDI */
+    CLASS_ADD_SUB,    /* ADD, ADC, SUB, SBC, SUBI, SBCI */
+    CLASS_COMPARE,    /* CP, CPC, CPI */
+    CLASS_FLOW,       /* branches, jumps, calls, returns, skips (CPSE, SBRC, SBRS, SBIC, SBIS) */
+    CLASS_OTHER,      /* the rest of the ALU: shifts, logic, ADIW/SBIW, bit moves */
+    CLASS_COUNT
+};
+static const char *const class_names[CLASS_COUNT] = {
+    "mul", "load/store/push/pop", "mov/movw", "ldi", "add/adc/sub/sbc", "cp/cpc/cpi", "branch/jump/call/ret/skip",
+    "other ALU"};
+static uint64_t g_class_cycles[CLASS_COUNT];
+
+/* The class of the instruction word OP (AVR instruction set manual encodings). */
+static enum insn_class insn_class_of(uint16_t op)
+{
+    if ((op & 0xFC00u) == 0x9C00u || (op & 0xFE00u) == 0x0200u) {
+        return CLASS_MUL; /* MUL 1001 11rd; MULS 0000 0010, MULSU/FMUL* 0000 0011 */
+    }
+    if ((op & 0xD000u) == 0x8000u || (op & 0xFC00u) == 0x9000u) {
+        return CLASS_MEMORY; /* LDD/STD 10q0; LD/ST/LDS/STS/PUSH/POP/LPM 1001 00xx */
+    }
+    if ((op & 0xFC00u) == 0x2C00u || (op & 0xFF00u) == 0x0100u) {
+        return CLASS_MOVE;
+    }
+    if ((op & 0xF000u) == 0xE000u) {
+        return CLASS_LDI;
+    }
+    if ((op & 0xEC00u) == 0x0C00u || (op & 0xEC00u) == 0x0800u || (op & 0xE000u) == 0x4000u) {
+        return CLASS_ADD_SUB; /* ADD 0000 11, ADC 0001 11, SBC 0000 10, SUB 0001 10, SBCI 0100, SUBI 0101 */
+    }
+    if ((op & 0xEC00u) == 0x0400u || (op & 0xF000u) == 0x3000u) {
+        return CLASS_COMPARE; /* CPC 0000 01, CP 0001 01, CPI 0011 */
+    }
+    if ((op & 0xF800u) == 0xF000u || (op & 0xE000u) == 0xC000u || (op & 0xFE0Cu) == 0x940Cu || op == 0x9508u ||
+        op == 0x9518u || (op & 0xFEEFu) == 0x9409u || (op & 0xFC00u) == 0x1000u || (op & 0xFC08u) == 0xFC00u ||
+        (op & 0xFD00u) == 0x9900u) {
+        /* BRBS/BRBC 1111 0x; RJMP/RCALL 110x; JMP/CALL 1001 010k kkkk 11xk; RET, RETI;
+         * IJMP/ICALL/EIJMP/EICALL; CPSE 0001 00; SBRC/SBRS 1111 11x; SBIC/SBIS 1001 10x1 */
+        return CLASS_FLOW;
+    }
+    return CLASS_OTHER;
+}
+
 int main(int argc, char **argv)
 {
     const char *elf_path = NULL;
@@ -229,8 +280,10 @@ int main(int argc, char **argv)
         }
         const uint64_t before = avr->cycle;
         const bool profiling = profiled != NULL && profiled->in_call;
+        const uint16_t opcode = (uint16_t)(avr->flash[pc] | (avr->flash[pc + 1] << 8));
         state = avr_run(avr);
         if (profiling) {
+            g_class_cycles[insn_class_of(opcode)] += avr->cycle - before;
             prof_fn *f = prof_find(pc);
             if (f != NULL) {
                 f->cycles += avr->cycle - before;
@@ -267,6 +320,16 @@ int main(int argc, char **argv)
         for (unsigned i = 0; i < g_nfuncs && g_funcs[i].cycles > 0; i++) {
             printf("PROFILE %s %.0f %.2f %.1f\n", g_funcs[i].name, (double)g_funcs[i].cycles / profiled->n,
                    (double)g_funcs[i].calls / profiled->n, 100.0 * (double)g_funcs[i].cycles / (double)total);
+        }
+    }
+    if (profiled != NULL && profiled->n > 0) {
+        uint64_t total = 0;
+        for (int c = 0; c < CLASS_COUNT; c++) {
+            total += g_class_cycles[c];
+        }
+        for (int c = 0; c < CLASS_COUNT; c++) {
+            printf("CLASS %s %.0f %.1f\n", class_names[c], (double)g_class_cycles[c] / profiled->n,
+                   total > 0 ? 100.0 * (double)g_class_cycles[c] / (double)total : 0.0);
         }
     }
     printf("STACK %u\n", (unsigned)(avr->ramend - min_sp));
