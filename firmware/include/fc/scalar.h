@@ -314,8 +314,9 @@ FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift
     return result;
 }
 
-/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8 a
- * compile-time constant: on the ATmega by ASR/ROR (fc/scalar_avr.h). */
+/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8: on the
+ * ATmega by ASR/ROR, unrolled for a compile-time constant and a counted loop
+ * for a run-time one (fc/scalar_avr.h). */
 FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
 {
 #if defined(__AVR__)
