@@ -248,6 +248,7 @@ awk '
   END { for (j = 1; j <= k; j++) { printf "  %-26s", order[j]
           for (f = 1; f <= file; f++) printf " | %7d %5.1f %%", cyc[order[j], f], pct[order[j], f]
           printf "\n" } }' "${class_files[@]}"
+echo
 echo "Flat profile of fc_controller_step on the Cortex-M4F (QEMU plugin, the image of the sources compiled one by"
 echo "one, where each function keeps its own code): instructions and estimated cycles per step charged to the"
 echo "function holding the PC; top 15."
