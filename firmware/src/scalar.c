@@ -117,8 +117,7 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
         return narrow_wide_runtime(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1)),
-                                       shift);
+        return narrow_quarters_runtime(ar, fc_fx_quarters2(a0, b0, a1, b1), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
@@ -131,8 +130,7 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
         return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
     }
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
-        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(q01, fc_fx_mul_quarter(a2, b2)), shift);
+        return narrow_quarters_runtime(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
@@ -146,9 +144,7 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
         return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
     }
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
-        const fc_fx_wide q23 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a2, b2), fc_fx_mul_quarter(a3, b3));
-        return narrow_quarters_runtime(ar, fc_fx_add_wide_wrap(q01, q23), shift);
+        return narrow_quarters_runtime(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }

@@ -369,6 +369,24 @@ FC_FX_INLINE fc_fx_wide fc_fx_mul_quarter(int32_t a, int32_t b)
     return fc_fx_asr_wide(fc_fx_mul_wide(a, b), 2);
 }
 
+/* The sums of two, three and four such terms (fc_dot2/3/4 and their
+ * out-of-line forms in scalar.c), in fc_fx_narrow_sum's order. */
+FC_FX_INLINE fc_fx_wide fc_fx_quarters2(int32_t a0, int32_t b0, int32_t a1, int32_t b1)
+{
+    return fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_quarters3(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2)
+{
+    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_mul_quarter(a2, b2));
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_quarters4(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2,
+                                        int32_t a3, int32_t b3)
+{
+    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_quarters2(a2, b2, a3, b3));
+}
+
 /* value / 2^shift rounded to nearest and saturated, any shift. */
 FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
 {
@@ -445,8 +463,10 @@ FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift
         return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX) {
-        return FC_FX_FAR_INLINE ? fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift)
-                                : fc_fx_mul_outline(ar, a, b, shift);
+        if (!FC_FX_FAR_INLINE) {
+            return fc_fx_mul_outline(ar, a, b, shift);
+        }
+        return fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift);
     }
     return fc_fx_narrow(ar, (int64_t)a * b, shift);
 }
@@ -482,10 +502,10 @@ FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_rea
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        return FC_FX_FAR_INLINE ? fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0),
-                                                                                fc_fx_mul_quarter(a1, b1)),
-                                                        shift)
-                                : fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
+        if (!FC_FX_FAR_INLINE) {
+            return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
+        }
+        return fc_fx_narrow_quarters(ar, fc_fx_quarters2(a0, b0, a1, b1), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
@@ -514,8 +534,7 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         if (!FC_FX_FAR_INLINE) {
             return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
         }
-        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
-        return fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(q01, fc_fx_mul_quarter(a2, b2)), shift);
+        return fc_fx_narrow_quarters(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
@@ -536,9 +555,7 @@ FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         if (!FC_FX_FAR_INLINE) {
             return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
         }
-        const fc_fx_wide q01 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
-        const fc_fx_wide q23 = fc_fx_add_wide_wrap(fc_fx_mul_quarter(a2, b2), fc_fx_mul_quarter(a3, b3));
-        return fc_fx_narrow_quarters(ar, fc_fx_add_wide_wrap(q01, q23), shift);
+        return fc_fx_narrow_quarters(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }
