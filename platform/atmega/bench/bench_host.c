@@ -280,7 +280,8 @@ int main(int argc, char **argv)
         }
         const uint64_t before = avr->cycle;
         const bool profiling = profiled != NULL && profiled->in_call;
-        const uint16_t opcode = (uint16_t)(avr->flash[pc] | (avr->flash[pc + 1] << 8));
+        /* the instruction about to run (read before avr_run moves the PC), for the profile only */
+        const uint16_t opcode = profiling ? (uint16_t)(avr->flash[pc] | (avr->flash[pc + 1] << 8)) : 0u;
         state = avr_run(avr);
         if (profiling) {
             g_class_cycles[insn_class_of(opcode)] += avr->cycle - before;
