@@ -22,6 +22,9 @@
  * (--profile) "CLASS kind cycles_per_call percent": the same cycles by the
  * kind of instruction that spent them (multiplies, loads and stores, moves,
  * add/subtract, compares, control flow, other ALU), then
+ * (--pc-cycles FILE, with --profile) the same cycles per instruction address
+ * written to FILE, "0xADDRESS cycles_per_call" a line, for a line profile
+ * (avr-addr2line on an image built with -g), then
  * "STACK peak_bytes" (lowest SP from reset, against RAMEND) and
  * "RESULT 0x...." (the image's bench_result). Exit status 0 when the image
  * finished, its init succeeded and every name was timed at least once (no
@@ -147,6 +150,10 @@ static const char *const class_names[CLASS_COUNT] = {
     "other ALU"};
 static uint64_t g_class_cycles[CLASS_COUNT];
 
+/* cycles of the profiled calls per instruction word of the flash (--pc-cycles) */
+#define FLASH_WORDS (256u * 1024u / 2u)
+static uint64_t g_pc_cycles[FLASH_WORDS];
+
 /* The class of the instruction word OP (AVR instruction set manual encodings). */
 static enum insn_class insn_class_of(uint16_t op)
 {
@@ -185,6 +192,7 @@ int main(int argc, char **argv)
     const char *names[MAX_TIMED];
     unsigned nnames = 0;
     const char *profile_name = NULL;
+    const char *pc_cycles_path = NULL;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--elf")) {
             elf_path = argv[i + 1];
@@ -192,6 +200,8 @@ int main(int argc, char **argv)
             names[nnames++] = argv[i + 1];
         } else if (!strcmp(argv[i], "--profile")) {
             profile_name = argv[i + 1];
+        } else if (!strcmp(argv[i], "--pc-cycles")) {
+            pc_cycles_path = argv[i + 1];
         } else if (!strcmp(argv[i], "--max-seconds")) {
             max_seconds = strtod(argv[i + 1], NULL);
         } else {
@@ -199,7 +209,7 @@ int main(int argc, char **argv)
         }
     }
     if (elf_path == NULL || nnames == 0 || (argc - 1) % 2 != 0) {
-        fprintf(stderr, "usage: avr_bench --elf FILE --time NAME... [--profile NAME] [--max-seconds S]\n");
+        fprintf(stderr, "usage: avr_bench --elf FILE --time NAME... [--profile NAME [--pc-cycles FILE]] [--max-seconds S]\n");
         return 2;
     }
     elf_version(EV_CURRENT);
@@ -285,6 +295,7 @@ int main(int argc, char **argv)
         state = avr_run(avr);
         if (profiling) {
             g_class_cycles[insn_class_of(opcode)] += avr->cycle - before;
+            g_pc_cycles[(pc / 2u) % FLASH_WORDS] += avr->cycle - before;
             prof_fn *f = prof_find(pc);
             if (f != NULL) {
                 f->cycles += avr->cycle - before;
@@ -332,6 +343,19 @@ int main(int argc, char **argv)
             printf("CLASS %s %.0f %.1f\n", class_names[c], (double)g_class_cycles[c] / profiled->n,
                    total > 0 ? 100.0 * (double)g_class_cycles[c] / (double)total : 0.0);
         }
+    }
+    if (profiled != NULL && profiled->n > 0 && pc_cycles_path != NULL) {
+        FILE *out = fopen(pc_cycles_path, "w");
+        if (out == NULL) {
+            perror(pc_cycles_path);
+            return 2;
+        }
+        for (uint32_t w = 0; w < FLASH_WORDS; w++) {
+            if (g_pc_cycles[w] > 0u) {
+                fprintf(out, "0x%05lx %.2f\n", (unsigned long)(w * 2u), (double)g_pc_cycles[w] / profiled->n);
+            }
+        }
+        fclose(out);
     }
     printf("STACK %u\n", (unsigned)(avr->ramend - min_sp));
     uint32_t digest_addr = 0;

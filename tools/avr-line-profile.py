@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Line profile of the ATmega bench: avr_bench's --pc-cycles output mapped onto
+source lines by avr-addr2line.
+
+    tools/avr-line-profile.py --elf bench.elf --pc-cycles pc.txt [--top 40]
+
+bench.elf must carry debug lines (-g; -g does not change the code avr-gcc
+emits, so its cycles are the bench image's). tools/avr-line-profile.sh builds
+one and runs it. Prints the cycles per call of the profiled function charged to
+each source line (inlined code is charged to the line it came from), most
+first, and the same summed per function (the function the code is in, after
+inlining). libgcc's routines (no line information) are charged to their symbol.
+"""
+import argparse
+import bisect
+import collections
+import os
+import subprocess
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--elf", required=True)
+    ap.add_argument("--pc-cycles", required=True, help="avr_bench --pc-cycles FILE")
+    ap.add_argument("--top", type=int, default=40)
+    ap.add_argument("--addr2line", default="avr-addr2line")
+    ap.add_argument("--nm", default="avr-nm")
+    args = ap.parse_args()
+
+    rows = []
+    with open(args.pc_cycles) as f:
+        for line in f:
+            addr, cycles = line.split()
+            rows.append((addr, float(cycles)))
+    if not rows:
+        sys.exit("no cycles in " + args.pc_cycles)
+    out = subprocess.run([args.addr2line, "-f", "-e", args.elf] + [a for a, _ in rows],
+                         check=True, capture_output=True, text=True).stdout.splitlines()
+    if len(out) != 2 * len(rows):
+        sys.exit("addr2line gave %d lines for %d addresses" % (len(out), len(rows)))
+    # the code symbols, for the libgcc routines (no line information: addr2line
+    # would name the last line before them)
+    symbols = []
+    for line in subprocess.run([args.nm, "-n", "--defined-only", args.elf], check=True, capture_output=True,
+                               text=True).stdout.splitlines():
+        fields = line.split()
+        if len(fields) == 3 and fields[1] in "tTwW":
+            symbols.append((int(fields[0], 16), fields[2]))
+    starts = [a for a, _ in symbols]
+    per_line = collections.Counter()
+    per_func = collections.Counter()
+    total = 0.0
+    for i, (_, cycles) in enumerate(rows):
+        func, where = out[2 * i], out[2 * i + 1]
+        where = where.split(" ")[0]
+        k = bisect.bisect_right(starts, int(rows[i][0], 16)) - 1
+        holder = symbols[k][1] if k >= 0 else "?"
+        if holder.startswith("__"):
+            func, where = holder, "libgcc:0"
+        path, _, number = where.rpartition(":")
+        per_line["%s:%s (%s)" % (os.path.basename(path) or "?", number, func)] += cycles
+        per_func[func] += cycles
+        total += cycles
+    print("cycles per call: %.0f" % total)
+    print("\nby source line (function of the code), top %d:" % args.top)
+    for key, cycles in per_line.most_common(args.top):
+        print("  %8.0f %5.1f %%  %s" % (cycles, 100.0 * cycles / total, key))
+    print("\nby function (after inlining), top %d:" % args.top)
+    for key, cycles in per_func.most_common(args.top):
+        print("  %8.0f %5.1f %%  %s" % (cycles, 100.0 * cycles / total, key))
+
+
+if __name__ == "__main__":
+    main()
