@@ -259,25 +259,66 @@ static uint32_t shr_u32(uint32_t x, int n)
 #endif
 }
 
-/* floor(sqrt(m)) of a 32-bit m by the digit-by-digit method: 16 rounds of
- * 32-bit operations, no division. */
-static uint32_t isqrt_u32(uint32_t m)
+/* floor(sqrt(m)) of a 32-bit m, and m - floor(sqrt(m))^2 in *remainder, by
+ * the digit-by-digit method: each of 16 rounds brings down two bits of m and
+ * sets one bit of the root (the root so far R, doubled, takes the bit 1 when
+ * the remainder holds 2 (2R) + 1 = (2R + 1)^2 - (2R)^2). The first eight
+ * rounds read only m's top half; their root stays below 2^8 and their
+ * remainder, at most 2R, below 2^10 after the two bits come in: 16-bit
+ * arithmetic (the ATmega's two-byte operations). The last eight work in 32
+ * bits (remainder below 2^19). */
+static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
 {
-    uint32_t root = 0u;
-    uint32_t bit = (uint32_t)1u << 30;
-    while (bit > m) {
-        bit >>= 2;
-    }
-    while (bit != 0u) {
-        if (m >= root + bit) {
-            m -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
+    uint16_t bits = (uint16_t)(m >> 16);
+    uint16_t root = 0u;
+    uint16_t rest = 0u;
+    for (uint8_t round = 0u; round < 8u; round++) {
+#if defined(__AVR__)
+        fc_avr_shift_in2_16(&rest, &bits);
+#else
+        rest = (uint16_t)((uint16_t)(rest << 2) | (bits >> 14));
+        bits = (uint16_t)(bits << 2);
+#endif
+        root = (uint16_t)(root << 1);
+        const uint16_t trial = (uint16_t)((uint16_t)(root << 1) | 1u);
+        if (rest >= trial) {
+            rest = (uint16_t)(rest - trial);
+            root |= 1u;
         }
-        bit >>= 2;
     }
+    bits = (uint16_t)m;
+    uint32_t rest_wide = rest;
+    for (uint8_t round = 0u; round < 8u; round++) {
+#if defined(__AVR__)
+        fc_avr_shift_in2_32(&rest_wide, &bits);
+#else
+        rest_wide = (rest_wide << 2) | (bits >> 14);
+        bits = (uint16_t)(bits << 2);
+#endif
+        root = (uint16_t)(root << 1);
+        const uint32_t trial = ((uint32_t)root << 1) | 1u;
+        if (rest_wide >= trial) {
+            rest_wide -= trial;
+            root |= 1u;
+        }
+    }
+    *remainder = rest_wide;
     return root;
+}
+
+/* 2^15 r + floor(l / 2^17) for r < 2^17: the 40 bits r:l[31..16] shifted
+ * right by one (on the ATmega whole bytes by moves, then one bit of the five
+ * bytes, instead of two shift loops of 15 and 17 rounds). */
+static uint32_t heron_numerator(uint32_t r, uint32_t l)
+{
+#if defined(__AVR__)
+    uint32_t word = (r << 16) | (l >> 16);
+    uint8_t top = (uint8_t)(r >> 16);
+    FC_AVR_SHR40(word, top, 1);
+    return word;
+#else
+    return (r << 15) + (l >> 17);
+#endif
 }
 
 /* floor(n / s) for s in [2^15, 2^16) and n / s < 2^17: the first quotient
@@ -362,10 +403,10 @@ static uint32_t sqrt_rounded_wide(fc_fx_wide v)
         l <<= 1;
         n += 1;
     }
-    const uint32_t s = isqrt_u32(m); /* in [2^15, 2^16) */
-    const uint32_t r = m - (uint32_t)(uint16_t)s * (uint16_t)s; /* <= 2 s < 2^17; 16 x 16 bits */
+    uint32_t r;
+    const uint32_t s = isqrt_u32(m, &r); /* s in [2^15, 2^16), r = m - s^2 <= 2 s < 2^17 */
     /* (2^32 r + l) / (2^17 s) = (2^15 r + l / 2^17) / s: the numerator fits 32 bits */
-    const uint32_t heron = heron_quotient((r << 15) + (l >> 17), s);
+    const uint32_t heron = heron_quotient(heron_numerator(r, l), s);
     const uint32_t top = s << 16;
     uint32_t root = top + heron < top ? UINT32_MAX : top + heron;
     root = shr_u32(root, n);
