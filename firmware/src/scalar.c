@@ -260,25 +260,24 @@ static uint32_t shr_u32(uint32_t x, int n)
 }
 
 /* floor(sqrt(m)) of a 32-bit m, and m - floor(sqrt(m))^2 in *remainder, by
- * the digit-by-digit method: each of 16 rounds brings down two bits of m and
- * sets one bit of the root (the root so far R, doubled, takes the bit 1 when
- * the remainder holds 2 (2R) + 1 = (2R + 1)^2 - (2R)^2). The first eight
- * rounds read only m's top half; their root stays below 2^8 and their
- * remainder, at most 2R, below 2^10 after the two bits come in: 16-bit
- * arithmetic (the ATmega's two-byte operations). The last eight work in 32
- * bits (remainder below 2^19). */
+ * the digit-by-digit method: 16 rounds, each setting one bit of the root
+ * from two bits of m.
+ * On the ATmega each round brings the next two bits of m into the remainder
+ * (the root so far R, doubled, takes the bit 1 when the remainder holds
+ * 2 (2R) + 1 = (2R + 1)^2 - (2R)^2): the first eight rounds read only m's top
+ * half, and their root stays below 2^8 and their remainder, at most 2R, below
+ * 2^10 after the two bits come in, so they run in 16-bit arithmetic (the
+ * ATmega's two-byte operations); the last eight in 32 bits (remainder below
+ * 2^19). Elsewhere the same rounds with the bit moving down a 32-bit m (fewer
+ * instructions where every operation is 32 bits wide). */
 static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
 {
+#if defined(__AVR__)
     uint16_t bits = (uint16_t)(m >> 16);
     uint16_t root = 0u;
     uint16_t rest = 0u;
     for (uint8_t round = 0u; round < 8u; round++) {
-#if defined(__AVR__)
         fc_avr_shift_in2_16(&rest, &bits);
-#else
-        rest = (uint16_t)((uint16_t)(rest << 2) | (bits >> 14));
-        bits = (uint16_t)(bits << 2);
-#endif
         root = (uint16_t)(root << 1);
         const uint16_t trial = (uint16_t)((uint16_t)(root << 1) | 1u);
         if (rest >= trial) {
@@ -289,12 +288,7 @@ static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
     bits = (uint16_t)m;
     uint32_t rest_wide = rest;
     for (uint8_t round = 0u; round < 8u; round++) {
-#if defined(__AVR__)
         fc_avr_shift_in2_32(&rest_wide, &bits);
-#else
-        rest_wide = (rest_wide << 2) | (bits >> 14);
-        bits = (uint16_t)(bits << 2);
-#endif
         root = (uint16_t)(root << 1);
         const uint32_t trial = ((uint32_t)root << 1) | 1u;
         if (rest_wide >= trial) {
@@ -304,6 +298,19 @@ static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
     }
     *remainder = rest_wide;
     return root;
+#else
+    uint32_t root = 0u;
+    for (uint32_t bit = (uint32_t)1u << 30; bit != 0u; bit >>= 2) {
+        if (m >= root + bit) {
+            m -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+    }
+    *remainder = m;
+    return (uint16_t)root;
+#endif
 }
 
 /* 2^15 r + floor(l / 2^17) for r < 2^17: the 40 bits r:l[31..16] shifted
