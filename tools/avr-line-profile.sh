@@ -10,7 +10,7 @@
 # Builds the preset's library again with -g (same code: -g changes no
 # instruction) under build/line-profile/PRESET, links bench_avr.c as
 # tools/bench.sh does, runs avr_bench --profile fc_controller_step
-# --pc-cycles, and maps the addresses onto lines (tools/avr-line-profile.py).
+# --pc-cycles, and maps the addresses onto lines (tools/line-profile.py).
 # Needs what tools/bench.sh needs (tools/install-deps.sh).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -35,4 +35,4 @@ cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/platform/atme
 "$out/avr_bench" --elf "$out/bench.elf" --time fc_controller_step --profile fc_controller_step \
   --pc-cycles "$out/pc-cycles.txt" >"$out/run.txt"
 grep -E '^(CYCLES|DIGEST)' "$out/run.txt"
-python3 "$root/tools/avr-line-profile.py" --elf "$out/bench.elf" --pc-cycles "$out/pc-cycles.txt" --top "$top"
+python3 "$root/tools/line-profile.py" --elf "$out/bench.elf" --pc-cycles "$out/pc-cycles.txt" --top "$top"

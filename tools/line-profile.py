@@ -1,12 +1,17 @@
 #!/usr/bin/env python3
-"""Line profile of the ATmega bench: avr_bench's --pc-cycles output mapped onto
-source lines by avr-addr2line.
+"""Line profile of a bench image: cycles per instruction address mapped onto
+source lines by addr2line.
 
-    tools/avr-line-profile.py --elf bench.elf --pc-cycles pc.txt [--top 40]
+    tools/line-profile.py --elf bench.elf --pc-cycles pc.txt [--top 40]
+        ATmega2560: avr_bench's --pc-cycles output ("0xADDRESS cycles_per_call")
+    tools/line-profile.py --elf bench.elf --pcprof plugin.txt --calls 16 \
+        --addr2line arm-none-eabi-addr2line --nm arm-none-eabi-nm
+        Cortex-M4F: the QEMU plugin's PCPROF lines ("PCPROF address insns
+        est_cycles", summed over the timed calls; divided by --calls)
 
-bench.elf must carry debug lines (-g; -g does not change the code avr-gcc
-emits, so its cycles are the bench image's). tools/avr-line-profile.sh builds
-one and runs it. Prints the cycles per call of the profiled function charged to
+bench.elf must carry debug lines (-g; -g does not change the code gcc emits,
+so its cycles are the bench image's). tools/avr-line-profile.sh builds one for
+the ATmega and runs it. Prints the cycles per call of the profiled function charged to
 each source line (inlined code is charged to the line it came from), most
 first, and the same summed per function (the function the code is in, after
 inlining). libgcc's routines (no line information) are charged to their symbol.
@@ -22,19 +27,29 @@ import sys
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--elf", required=True)
-    ap.add_argument("--pc-cycles", required=True, help="avr_bench --pc-cycles FILE")
+    source = ap.add_mutually_exclusive_group(required=True)
+    source.add_argument("--pc-cycles", help="avr_bench --pc-cycles FILE")
+    source.add_argument("--pcprof", help="the M4F plugin's output file (PCPROF lines)")
+    ap.add_argument("--calls", type=int, default=1, help="timed calls the PCPROF sums are over")
     ap.add_argument("--top", type=int, default=40)
     ap.add_argument("--addr2line", default="avr-addr2line")
     ap.add_argument("--nm", default="avr-nm")
     args = ap.parse_args()
 
     rows = []
-    with open(args.pc_cycles) as f:
-        for line in f:
-            addr, cycles = line.split()
-            rows.append((addr, float(cycles)))
+    if args.pc_cycles:
+        with open(args.pc_cycles) as f:
+            for line in f:
+                addr, cycles = line.split()
+                rows.append((addr, float(cycles)))
+    else:
+        with open(args.pcprof) as f:
+            for line in f:
+                fields = line.split()
+                if len(fields) == 4 and fields[0] == "PCPROF":
+                    rows.append(("0x" + fields[1], float(fields[3]) / args.calls))
     if not rows:
-        sys.exit("no cycles in " + args.pc_cycles)
+        sys.exit("no cycles in " + (args.pc_cycles or args.pcprof))
     out = subprocess.run([args.addr2line, "-f", "-e", args.elf] + [a for a, _ in rows],
                          check=True, capture_output=True, text=True).stdout.splitlines()
     if len(out) != 2 * len(rows):
