@@ -532,8 +532,10 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
      * 1.3e-3 of 1/sqrt(m); the knots (Q14) minus their difference times the
      * position in the segment (Q16), a 16 x 16-bit product, gives Q30 */
     uint16_t knot_start, knot_end;
-    rsqrt_knots(((uint32_t)m_q30 >> RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
-    const uint16_t position_q16 = (uint16_t)((uint32_t)m_q30 >> (RSQRT_SEGMENT_SHIFT - 16));
+    /* (the constant shifts by fc_fx_extract: a C shift by 25 or 9 is a loop of
+     * that many rounds on the ATmega at -Os) */
+    rsqrt_knots(fc_fx_extract((uint32_t)m_q30, 0u, RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
+    const uint16_t position_q16 = (uint16_t)fc_fx_extract((uint32_t)m_q30, 0u, RSQRT_SEGMENT_SHIFT - 16);
     const uint32_t drop_q30 = (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
     const int shift_to_y = RSQRT_KNOT_FRAC + 16 - RSQRT_Y_FRAC; /* Q30 to Q29 */
     int32_t y = (int32_t)((((uint32_t)knot_start << 16) - drop_q30) >> shift_to_y);
@@ -550,13 +552,14 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     for (int i = 0; i < RSQRT_NEWTON_STEPS; i++) {
         const fc_fx_wide yy = fc_fx_umul_wide((uint32_t)y, (uint32_t)y);
         const uint32_t y2_low = fc_fx_extract(yy.low, yy.high, 2 * RSQRT_Y_FRAC - 30);
-        const uint32_t y2_top = yy.high >> (2 * RSQRT_Y_FRAC - 30); /* bits 32.. of y2 */
+        const uint32_t y2_top = fc_fx_extract(yy.high, 0u, 2 * RSQRT_Y_FRAC - 30); /* bits 32.. of y2 */
         fc_fx_wide my2 = fc_fx_umul_wide((uint32_t)m_q30, y2_low);
         my2.high += (uint32_t)m_q30 * y2_top;
         const uint32_t my2_q30 = fc_fx_extract(my2.low, my2.high, 30);
         const uint32_t three_q30 = (uint32_t)3u << 30;
         /* 3 - m y^2 > 0 (m y^2 <= 1.003); kept at 0 if it were not */
-        const uint32_t corr_q30 = (my2.high >> 30) == 0u && my2_q30 <= three_q30 ? three_q30 - my2_q30 : 0u;
+        const uint32_t corr_q30 =
+            my2.high < ((uint32_t)1u << 30) && my2_q30 <= three_q30 ? three_q30 - my2_q30 : 0u;
         const fc_fx_wide next = fc_fx_umul_wide((uint32_t)y, corr_q30);
         y = (int32_t)fc_fx_extract(next.low, next.high, 31); /* y (3 - m y^2) / 2 */
     }

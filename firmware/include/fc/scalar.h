@@ -597,6 +597,16 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
     if (shift > 0 && shift < 32) {
         /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^shift) + bit shift-1
          * of a: rounded to nearest in 32 bits, and never beyond the range */
+#if defined(__AVR__)
+        if (__builtin_constant_p(shift)) {
+            /* the same value with the shift by whole bytes and a few bits
+             * (fc_fx_extract; a C shift by a constant is a loop at -Os):
+             * h = floor(a / 2^(shift-1)), then floor(h / 2) + bit 0 of h */
+            const uint32_t sign = a < 0 ? UINT32_MAX : 0u;
+            const int32_t half = shift == 1 ? a : (int32_t)fc_fx_extract((uint32_t)a, sign, shift - 1);
+            return (half >> 1) + (half & 1);
+        }
+#endif
         /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
          * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
         return (a >> shift) + ((a >> (shift - 1)) & 1);
@@ -608,6 +618,11 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
             ar->saturated = 1u;
             return a > 0 ? FC_REAL_MAX : FC_REAL_MIN;
         }
+#if defined(__AVR__)
+        if (__builtin_constant_p(shift)) {
+            return (fc_real)fc_fx_extract(0u, (uint32_t)a, 32 + shift); /* a 2^-shift, by bytes */
+        }
+#endif
         return (fc_real)((uint32_t)a << (-shift));
     }
     return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, shift));
