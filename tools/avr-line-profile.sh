@@ -10,7 +10,8 @@
 # Builds the preset's library again with -g (same code: -g changes no
 # instruction) under build/line-profile/PRESET, links bench_avr.c as
 # tools/bench.sh does, runs avr_bench --profile fc_controller_step
-# --pc-cycles, and maps the addresses onto lines (tools/line-profile.py).
+# --pc-cycles, prints the most frequent call edges (CALLER callee caller
+# calls-per-step) and maps the addresses onto lines (tools/line-profile.py).
 # Needs what tools/bench.sh needs (tools/install-deps.sh).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -35,4 +36,5 @@ cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/platform/atme
 "$out/avr_bench" --elf "$out/bench.elf" --time fc_controller_step --profile fc_controller_step \
   --pc-cycles "$out/pc-cycles.txt" >"$out/run.txt"
 grep -E '^(CYCLES|DIGEST)' "$out/run.txt"
+grep '^CALLER' "$out/run.txt" | head -n 20
 python3 "$root/tools/line-profile.py" --elf "$out/bench.elf" --pc-cycles "$out/pc-cycles.txt" --top "$top"

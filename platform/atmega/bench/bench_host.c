@@ -150,6 +150,36 @@ static const char *const class_names[CLASS_COUNT] = {
     "other ALU"};
 static uint64_t g_class_cycles[CLASS_COUNT];
 
+/* calls counted by (callee, caller) during the profiled calls (CALLER lines) */
+#define MAX_CALL_EDGES 1024
+typedef struct call_edge {
+    const char *callee, *caller; /* names: g_funcs is sorted again before the output */
+    uint64_t calls;
+} call_edge;
+static call_edge g_edges[MAX_CALL_EDGES];
+static unsigned g_nedges;
+
+static void edge_count(const prof_fn *callee_fn, const prof_fn *caller_fn)
+{
+    const char *callee = callee_fn->name;
+    const char *caller = caller_fn != NULL ? caller_fn->name : "?";
+    for (unsigned i = 0; i < g_nedges; i++) {
+        if (g_edges[i].callee == callee && g_edges[i].caller == caller) {
+            g_edges[i].calls++;
+            return;
+        }
+    }
+    if (g_nedges < MAX_CALL_EDGES) {
+        g_edges[g_nedges++] = (call_edge){callee, caller, 1u};
+    }
+}
+
+static int edge_cmp_calls(const void *a, const void *b)
+{
+    const call_edge *x = a, *y = b;
+    return x->calls > y->calls ? -1 : x->calls < y->calls;
+}
+
 /* cycles of the profiled calls per instruction word of the flash (--pc-cycles) */
 #define FLASH_WORDS (256u * 1024u / 2u)
 static uint64_t g_pc_cycles[FLASH_WORDS];
@@ -183,6 +213,12 @@ static enum insn_class insn_class_of(uint16_t op)
         return CLASS_FLOW;
     }
     return CLASS_OTHER;
+}
+
+/* CALL, RCALL, ICALL, EICALL */
+static bool is_call(uint16_t op)
+{
+    return (op & 0xFE0Eu) == 0x940Eu || (op & 0xF000u) == 0xD000u || op == 0x9509u || op == 0x9519u;
 }
 
 int main(int argc, char **argv)
@@ -242,6 +278,7 @@ int main(int argc, char **argv)
         }
     }
     prof_fn *prev_fn = NULL;
+    uint16_t prev_opcode = 0u;
 
     static elf_firmware_t fw;
     if (!sim_read_atmega2560(elf_path, &fw)) {
@@ -301,9 +338,18 @@ int main(int argc, char **argv)
                 f->cycles += avr->cycle - before;
                 if (f != prev_fn && pc == f->addr) {
                     f->calls++;
+                    /* entered by a call (not a jump): its return address is on top */
+                    if (is_call(prev_opcode)) {
+                        uint32_t ret = 0;
+                        for (int i = 1; i <= avr->address_size; i++) {
+                            ret = (ret << 8) | avr->data[sp + i];
+                        }
+                        edge_count(f, prof_find(ret * 2u));
+                    }
                 }
             }
             prev_fn = f;
+            prev_opcode = opcode;
         }
         if (state == cpu_Done || state == cpu_Crashed) {
             break;
@@ -342,6 +388,13 @@ int main(int argc, char **argv)
         for (int c = 0; c < CLASS_COUNT; c++) {
             printf("CLASS %s %.0f %.1f\n", class_names[c], (double)g_class_cycles[c] / profiled->n,
                    total > 0 ? 100.0 * (double)g_class_cycles[c] / (double)total : 0.0);
+        }
+    }
+    if (profiled != NULL && profiled->n > 0) {
+        qsort(g_edges, g_nedges, sizeof g_edges[0], edge_cmp_calls);
+        for (unsigned i = 0; i < g_nedges; i++) {
+            printf("CALLER %s %s %.2f\n", g_edges[i].callee, g_edges[i].caller,
+                   (double)g_edges[i].calls / profiled->n);
         }
     }
     if (profiled != NULL && profiled->n > 0 && pc_cycles_path != NULL) {
