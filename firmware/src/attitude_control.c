@@ -2,8 +2,6 @@
  * One source for both backends; the math is written out in the header. */
 #include "fc/attitude_control.h"
 
-#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
-
 /* Parameter ranges: inside the fixed format of each field, in both backends
  * (so the float build cannot overflow to inf either). */
 #define MAX_DT_S FC_C(1.0f, DT)
@@ -14,7 +12,10 @@
 /* Rates beyond this are out of range (a gyro reads up to 35 rad/s). */
 #define MAX_RATE_RADPS FC_C(100.0f, RATE)
 /* Below this |w^2 + z^2| of the error the heading is undefined (header). */
-#define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT)
+#define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT16_SQ)
+
+/* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
+_Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
 /* A held moment below this is zero (fixed rounding would stall the decay). */
 #define HOLD_ZERO_NM FC_C(1.0e-6f, MOMENT)
 
@@ -115,27 +116,24 @@ static bool rate_valid(fc_vec3 r)
     return fc_vec3_within(r, MAX_RATE_RADPS);
 }
 
-/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. */
-static fc_vec3 attitude_error(fc_arith *ar, fc_quat q, fc_quat qd)
+/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. In
+ * fixed the quaternions are UNIT16: 16-bit products, each exact in 32 bits. */
+static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
 {
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
-    const fc_quat e = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, qd), q));
+    const fc_quat16 e = fc_quat16_shortest(fc_quat16_conj_mul(ar, qd, q));
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
-    const fc_real n_sq = fc_dot2(ar, e.w, e.w, e.z, e.z, UNIT_X_UNIT);
-    fc_real c = FC_INT(1, UNIT);
-    fc_real s = FC_INT(0, UNIT);
+    const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
+    fc_real16 c = FC_INT16(1, UNIT16);
+    fc_real16 s = FC_INT16(0, UNIT16);
     if (n_sq >= MIN_HEADING_NORM_SQ) {
-        /* 1/N in [1, 100]: RATIO */
-        const fc_real inv_n = fc_rsqrt(ar, n_sq, FC_UNIT_FRAC, FC_RATIO_FRAC);
-        c = fc_mul(ar, e.w, inv_n, FC_SHIFT(UNIT, RATIO, UNIT));
-        s = fc_mul(ar, e.z, inv_n, FC_SHIFT(UNIT, RATIO, UNIT));
+        fc_unit2_16(ar, e.w, e.z, n_sq, &c, &s);
     }
     /* tilt: the vector part (x, y) turned by -psi_e/2, i.e. the vector part of
-     * the reduced-attitude quaternion; products of UNIT values taken to ANGLE */
-    const int to_angle = FC_SHIFT(UNIT, UNIT, ANGLE);
-    const fc_real half_tx = fc_dot2(ar, e.x, c, e.y, s, to_angle);
-    const fc_real half_ty = fc_dot2(ar, e.y, c, fc_neg(ar, e.x), s, to_angle);
-    const fc_real half_hz = fc_convert(ar, s, FC_UNIT_FRAC, FC_ANGLE_FRAC);
+     * the reduced-attitude quaternion; products of UNIT16 values are ANGLEs */
+    const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
+    const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
+    const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
     return fc_vec3_make(fc_add(ar, half_tx, half_tx), fc_add(ar, half_ty, half_ty),
                         fc_add(ar, half_hz, half_hz));
 }
@@ -209,8 +207,8 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 
     bool q_ok = false;
     bool qd_ok = false;
-    const fc_quat q = fc_quat_normalize(ar, in->attitude, &q_ok);
-    const fc_quat qd = fc_quat_normalize(ar, in->attitude_desired, &qd_ok);
+    const fc_quat16 q = fc_quat16_normalize(ar, in->attitude, &q_ok);
+    const fc_quat16 qd = fc_quat16_normalize(ar, in->attitude_desired, &qd_ok);
     const fc_vec3 rate = in->rate_radps;
     fc_vec3 rate_ff = in->rate_ff_radps;
     if (!rate_valid(rate_ff)) {

@@ -84,6 +84,66 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
     return quat_scale(ar, q, inv_norm, FC_SHIFT(UNIT, RATIO, UNIT));
 }
 
+/* |q|^2 of a UNIT16 quaternion this close to 1 is unit length at 16 bits: a
+ * unit quaternion rounded to UNIT16 lands within sum_i 2 |q_i| 2^-15 +
+ * 4 2^-30 <= 2^-13 + 2^-28 of it (sum_i |q_i| <= 2), a 32-bit one that is
+ * unit to a few Q30 LSB within 2^-24 more. Such a q is within 2^-14 of unit
+ * length: 1 UNIT16 LSB at most on a component. */
+#define UNIT16_LENGTH_SQ_TOLERANCE                                                                    \
+    (((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 13)) + ((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 24))) /* 2^-13 + 2^-24 */
+
+static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
+{
+    const fc_quat16 r = {fc_narrow16(ar, q.w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
+    return r;
+}
+
+fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
+{
+#if FC_NUMERIC_FIXED
+    /* unit already at 16 bits (the usual case: a quaternion normalised
+     * upstream): no 32-bit square. A component of 2 or more would saturate
+     * the rounding: that q takes the long way. The squares sum unsigned
+     * (each below 2^30, four below 2^32). */
+    fc_arith probe = {0u};
+    const fc_quat16 r = quat16_round(&probe, q);
+    const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
+                             (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
+    const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
+    const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
+    if (probe.saturated == 0u && off <= UNIT16_LENGTH_SQ_TOLERANCE) {
+        *ok = true;
+        return r;
+    }
+#endif
+    return quat16_round(ar, fc_quat_normalize(ar, q, ok));
+}
+
+fc_quat16 fc_quat16_conj_mul(fc_arith *ar, fc_quat16 p, fc_quat16 q)
+{
+    /* (2.8) with p's vector part negated; the products of two UNIT16 values
+     * are UNIT16_SQ, each sum rounded once to UNIT16 */
+    const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+    const fc_quat16 r = {
+        fc_dot4_16(ar, p.w, q.w, p.x, q.x, p.y, q.y, p.z, q.z, sq, to),
+        fc_dot4_16(ar, p.w, q.x, fc_neg16(p.x), q.w, fc_neg16(p.y), q.z, p.z, q.y, sq, to),
+        fc_dot4_16(ar, p.w, q.y, p.x, q.z, fc_neg16(p.y), q.w, fc_neg16(p.z), q.x, sq, to),
+        fc_dot4_16(ar, p.w, q.z, fc_neg16(p.x), q.y, p.y, q.x, fc_neg16(p.z), q.w, sq, to)};
+    return r;
+}
+
+fc_quat16 fc_quat16_shortest(fc_quat16 q)
+{
+    if (q.w < FC_INT16(0, UNIT16)) {
+        const fc_quat16 r = {fc_neg16(q.w), fc_neg16(q.x), fc_neg16(q.y), fc_neg16(q.z)};
+        return r;
+    }
+    return q;
+}
+
 fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q)
 {
     if (q.w < FC_INT(0, UNIT)) {

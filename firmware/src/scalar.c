@@ -567,6 +567,75 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     return fc_convert(ar, y, RSQRT_Y_FRAC + j, frac_out);
 }
 
+/*
+ * (c, s) = (a, b) / N, N = sqrt(n_sq), in 16-bit products: n_sq = m 4^-k with
+ * m in [1/4, 1) (k = -1..6: n_sq is at least 2^-14 and, the components of a
+ * rounded unit quaternion, below 4), y0 = fc_rsqrt's chord for 1/sqrt(m)
+ * (within 1.3e-3), one Newton step y = y0 + y0 (1 - m y0^2) / 2 (within
+ * 2.5e-6, plus the roundings of its 16-bit operands), then c = a y 2^k.
+ *   m       Q28 in 32 bits, and Q16 in 16 for the step
+ *   y0, y   Q15 unsigned, in (1, 2) (2 itself, at m = 1/4, held at 2 - 2^-15)
+ *   m y0    Q31, its top half t Q15; t y0 = m y0^2 Q30; d = 1 - m y0^2 Q30,
+ *           below 2^-8.5 in magnitude, taken to Q22 in 16 bits
+ *   a y     Q29 (below 2^30: a <= N), c = a y 2^k Q29 rounded to UNIT16
+ */
+#define UNIT2_M_FRAC FC_UNIT16_SQ_FRAC
+#define UNIT2_Y_FRAC 15
+#define UNIT2_D16_FRAC 22
+
+static void unit2_scaled(fc_arith *ar, fc_real16 v, uint16_t y_q15, int k, fc_real16 *out)
+{
+    int32_t v_y = (int32_t)v * (int32_t)y_q15; /* Q14 x Q15 = Q29 */
+    if (k < 0) {
+        v_y /= 2; /* k = -1 (n_sq in [1, 4)) */
+    }
+    for (int i = 0; i < k; i++) {
+        v_y *= 2; /* |c| <= 1: stays below 2^30 */
+    }
+    *out = fc_narrow16(ar, v_y, FC_UNIT16_FRAC + UNIT2_Y_FRAC, FC_UNIT16_FRAC);
+}
+
+void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out)
+{
+    /* m = n_sq 4^k in [1/4, 1): Q28 in [2^26, 2^28) */
+    uint32_t m = n_sq > 0 ? (uint32_t)n_sq : 1u;
+    int k = 0;
+    if (m >= (uint32_t)1u << UNIT2_M_FRAC) {
+        m >>= 2;
+        k = -1;
+    }
+    while (m < (uint32_t)1u << (UNIT2_M_FRAC - 2)) {
+        m <<= 2;
+        k++;
+    }
+    /* first guess: the chord over m's segment (1/32 of [1/4, 1): 2^23 in
+     * Q28), knots Q14, position Q16: y0 in Q30, then Q15 */
+    uint16_t knot_start, knot_end;
+    rsqrt_knots(fc_fx_extract(m, 0u, UNIT2_M_FRAC - 5) - 8u, &knot_start, &knot_end);
+    const uint16_t position_q16 = (uint16_t)fc_fx_extract(m, 0u, UNIT2_M_FRAC - 5 - 16);
+    const uint32_t y0_q30 = ((uint32_t)knot_start << 16) - (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
+    const uint32_t y0_wide = fc_fx_extract(y0_q30, 0u, 30 - UNIT2_Y_FRAC);
+    const uint16_t y0 = y0_wide > UINT16_MAX ? UINT16_MAX : (uint16_t)y0_wide;
+    /* one Newton step */
+    /* m to Q16 and m y0 to Q15, each rounded (m below 1 - 2^-17 keeps Q16 in 16 bits) */
+    const uint32_t m_rounded = m + ((uint32_t)1u << (UNIT2_M_FRAC - 17));
+    const uint16_t m_q16 = m_rounded >= (uint32_t)1u << UNIT2_M_FRAC
+                               ? UINT16_MAX
+                               : (uint16_t)fc_fx_extract(m_rounded, 0u, UNIT2_M_FRAC - 16);
+    const uint32_t t_q31 = (uint32_t)m_q16 * y0 + ((uint32_t)1u << 15);
+    const uint16_t t_q15 = (uint16_t)(t_q31 >> 16); /* m y0 < 1.002: below 2^16 */
+    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - (uint32_t)t_q15 * y0); /* 1 - m y0^2 */
+    /* |d| < 2^-8.5: below 2^13.5 in Q22 (a floor, by a byte move) */
+    const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
+    /* y0 d / 2: Q15 x Q22 = Q37, the half Q38, rounded to Q15 */
+    const int32_t half_step_q38 = (int32_t)d_q22 * (int32_t)y0 + ((int32_t)1 << (UNIT2_D16_FRAC));
+    const int32_t y = (int32_t)y0 + (int32_t)fc_fx_extract((uint32_t)half_step_q38,
+                                                            half_step_q38 < 0 ? UINT32_MAX : 0u,
+                                                            UNIT2_D16_FRAC + 1);
+    const uint16_t y_q15 = y > UINT16_MAX ? UINT16_MAX : (uint16_t)y;
+    unit2_scaled(ar, a, y_q15, k, c_out);
+    unit2_scaled(ar, b, y_q15, k, s_out);
+}
 
 /* sin and cos of r in [-pi/4, pi/4], r and results in Q30 (Taylor to r^9 and r^10,
  * truncation below 2e-11). */

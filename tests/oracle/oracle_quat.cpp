@@ -137,6 +137,82 @@ bool check_mul()
     return check.summary();
 }
 
+// ---- the 16-bit attitude-error product (fc_quat16) ------------------------
+// p* (x) q with p and q made 16-bit by fc_quat16_normalize, against Eigen's
+// p.conjugate() * q of the 32-bit inputs (normalised in double), in UNIT16
+// LSB (2^-14) in fixed.
+//
+// fixed: each input component rounded to UNIT16 (0.5 LSB) and the product's
+//   four 16 x 16 products summed exactly and rounded once (0.5 LSB): the
+//   inputs' roundings reach a component through sum_i |q_i| <= 2 of them,
+//   0.5 + 2 (0.5 + 0.5) = 2.5 LSB at most; an input accepted as unit at 16
+//   bits is not rescaled (|q|^2 within 2^-12), which moves nothing here, the
+//   inputs being unit to 2e-9. Measured 1.6 LSB; bound 2.5 LSB.
+// float: fc_quat_normalize and fc_quat_mul of the conjugate; bound 1e-6 as
+//   quat_mul's.
+double quat16_error(const fc_quat16 &got, const Quaterniond &want)
+{
+#if FC_NUMERIC_FIXED
+    const int frac = FC_UNIT16_FRAC;
+    const Quaterniond g(std::ldexp(got.w, -frac), std::ldexp(got.x, -frac), std::ldexp(got.y, -frac),
+                        std::ldexp(got.z, -frac));
+#else
+    const int frac = FC_UNIT16_FRAC;
+    const Quaterniond g(got.w, got.x, got.y, got.z);
+#endif
+    return error_units((g.coeffs() - want.coeffs()).cwiseAbs().maxCoeff(), frac);
+}
+
+bool check_quat16_conj_mul()
+{
+    const double bound = pick(2.5, 1e-6);
+    Check check("quat16_conj_mul", kFixed ? "LSB(Q14)" : "abs", bound_text(2.5, 1e-6));
+    rng.seed(seed_for("quat16_conj_mul"));
+    for (int i = 0; i < kCases; i++) {
+        const fc_quat p = random_quat(1.0), q = random_quat(1.0);
+        fc_arith ar = {0u};
+        bool p_ok = false, q_ok = false;
+        const fc_quat16 p16 = fc_quat16_normalize(&ar, p, &p_ok);
+        const fc_quat16 q16 = fc_quat16_normalize(&ar, q, &q_ok);
+        const fc_quat16 got = fc_quat16_conj_mul(&ar, p16, q16);
+        const Quaterniond want = to_eigen(p).normalized().conjugate() * to_eigen(q).normalized();
+        const auto describe = [&] { return "p " + show(p) + " q " + show(q) + " want " + show(want); };
+        if (!p_ok || !q_ok) {
+            check.fail("not ok, " + describe());
+        }
+        check.record(quat16_error(got, want), bound, describe);
+        expect_no_saturation(check, ar, describe);
+    }
+    return check.summary();
+}
+
+// fc_quat16_normalize of quaternions of any length in (0.05, 1.9): a unit
+// quaternion at 16 bits, the direction of q. fixed: the 32-bit normalisation
+// (fc_quat_normalize: a few Q30 LSB) then one rounding to UNIT16, 0.5 LSB;
+// but a q whose rounding is unit at 16 bits (|q|^2 within 2^-13 + 2^-24 of
+// 1) is passed as it is, up to 2^-14 long or short: 1 LSB more. Measured
+// 0.94 LSB; bound 1.5 LSB. float: as fc_quat_normalize, bound 1e-6.
+bool check_quat16_normalize()
+{
+    const double bound = pick(1.5, 1e-6);
+    Check check("quat16_normalize", kFixed ? "LSB(Q14)" : "abs", bound_text(1.5, 1e-6));
+    rng.seed(seed_for("quat16_normalize"));
+    for (int i = 0; i < kCases; i++) {
+        const fc_quat q = random_quat(uniform(0.05, 1.9));
+        fc_arith ar = {0u};
+        bool ok = false;
+        const fc_quat16 got = fc_quat16_normalize(&ar, q, &ok);
+        const Quaterniond want = to_eigen(q).normalized();
+        const auto describe = [&] { return "q " + show(q) + " want " + show(want); };
+        if (!ok) {
+            check.fail("not ok, " + describe());
+        }
+        check.record(quat16_error(got, want), bound, describe);
+        expect_no_saturation(check, ar, describe);
+    }
+    return check.summary();
+}
+
 // ---- rotation of a vector ------------------------------------------------
 // Reference: Eigen's q * v with q normalised in double, i.e. the rotation that
 // q stands for (Eigen's q * v assumes a unit q; fc_quat_rotate_inv against
@@ -364,6 +440,11 @@ int main(int argc, char **argv)
     if (run("mul")) {
         known = true;
         ok &= check_mul();
+    }
+    if (run("quat16")) {
+        known = true;
+        ok &= check_quat16_conj_mul();
+        ok &= check_quat16_normalize();
     }
     if (run("rotate")) {
         known = true;

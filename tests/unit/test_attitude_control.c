@@ -7,7 +7,9 @@
  * Tolerance of a moment component (moment_tol):
  *   float: J_i * 1e-4 rad/s^2 + 1e-6 |M|      (single precision through ~100 rad/s^2)
  *   fixed: J_i * 4 LSB of GAIN (6.1e-5 rad/s^2: two roundings of the angular
- *          acceleration, Q16) + 2 LSB of MOMENT (1.2e-7 N m)
+ *          acceleration, Q16) + J_i kp_i ERROR_TOL_RAD (the attitude error,
+ *          formed in 16 bits: 3.9e-4 rad up to 90 deg of tilt error) + 2 LSB
+ *          of MOMENT (1.2e-7 N m)
  * The closed loops fly a rigid body integrated in double (explicit Euler at
  * 1 kHz) with the controller at 500 Hz, once with the library and once with
  * ref_law in the same plant, and compare the two.
@@ -20,6 +22,7 @@
 #include <math.h>
 #include <cmocka.h>
 #include "fc/attitude_control.h"
+#include "test_support.h"
 
 /* ---- conversions (test side only; exact in double) ------------------- */
 
@@ -203,26 +206,54 @@ static void ref_law(const ref_params *p, dq q, dq qd, const double w[3], const d
     }
 }
 
-static double moment_tol(double j, double m_ref)
+/* Tolerance of the attitude error (rad), for a tilt error N = cos(tilt_e / 2)
+ * away from upside down: the heading split divides by N, so its rounding
+ * grows as 1/N. Fixed: the error is formed from the quaternions in UNIT16
+ * (fc/quat.h: fc_quat16, LSB 2^-14 = 6.1e-5), within 4.5 LSB / N
+ * (test_error_accuracy: 4.0 seen); float within 1e-6 / N (2.7e-7 seen). */
+static double error_tol_at(double n)
+{
+    return (FC_NUMERIC_FIXED ? 4.5 * ldexp(1.0, -FC_UNIT16_FRAC) : 1e-6) / n;
+}
+
+/* ... and for the tilt errors of the tests below, up to 90 deg (N >= 0.707) */
+#define ERROR_TOL_RAD error_tol_at(0.7071)
+
+/* Tolerance of a moment component (the header's comment), plus in fixed the
+ * attitude error's through kp, for the error's N. */
+static double moment_tol_at(double j, double kp, double m_ref, double n)
 {
 #if FC_NUMERIC_FIXED
     (void)m_ref;
-    return j * 4.0 * ldexp(1.0, -FC_GAIN_FRAC) + 2.0 * ldexp(1.0, -FC_MOMENT_FRAC);
+    return j * (4.0 * ldexp(1.0, -FC_GAIN_FRAC) + kp * error_tol_at(n)) + 2.0 * ldexp(1.0, -FC_MOMENT_FRAC);
 #else
+    (void)kp;
+    (void)n;
     return j * 1e-4 + 1e-6 * fabs(m_ref);
 #endif
 }
 
-static void assert_moment_near(const fc_vec3 *m, const double ref[3], const double j[3])
+/* ... for tilt errors up to 90 deg */
+static double moment_tol(double j, double kp, double m_ref)
+{
+    return moment_tol_at(j, kp, m_ref, 0.7071);
+}
+
+static void assert_moment_near_at(const fc_vec3 *m, const double ref[3], const ref_params *r, double n)
 {
     const double got[3] = {DMOM(m->x), DMOM(m->y), DMOM(m->z)};
     for (int i = 0; i < 3; i++) {
-        const double tol = moment_tol(j[i], ref[i]);
+        const double tol = moment_tol_at(r->j[i], r->kp[i], ref[i], n);
         if (!(fabs(got[i] - ref[i]) <= tol)) {
             print_error("axis %d: moment %.9g, reference %.9g, tolerance %.3g\n", i, got[i], ref[i], tol);
             fail();
         }
     }
+}
+
+static void assert_moment_near(const fc_vec3 *m, const double ref[3], const ref_params *r)
+{
+    assert_moment_near_at(m, ref, r, 0.7071);
 }
 
 static fc_attitude_control_input make_input(dq q, dq qd, const double w[3], const double wff[3])
@@ -377,7 +408,7 @@ static void test_error_sign(void **state)
         double ref[3], raw[3];
         ref_law(&r, from_fc(to_fc(q)), from_fc(to_fc(qd)), held_w, kZero3, kZero3, ref, raw);
         for (int k = 0; k < 4; k++) {
-            assert_moment_near(&m[k], ref, r.j);
+            assert_moment_near(&m[k], ref, &r);
         }
         /* the direction: the P part opposes the error axis for 150 deg, follows it for 210 */
         double no_rate[3];
@@ -421,9 +452,48 @@ static void test_error_is_2_9_in_body_frame(void **state)
     /* the body error axis is (1, -1, 0)/sqrt 2 with 2 sin(35/2 deg) */
     const double mag = 2.0 * sin(17.5 * kDeg) / sqrt(2.0);
     for (int i = 0; i < 3; i++) {
-        assert_true(fabs(got[i] - expect[i]) < 1e-6);
+        assert_true(fabs(got[i] - expect[i]) < ERROR_TOL_RAD);
     }
-    assert_true(fabs(got[0] - mag) < 1e-6 && fabs(got[1] + mag) < 1e-6 && fabs(got[2]) < 1e-6);
+    assert_true(fabs(got[0] - mag) < ERROR_TOL_RAD && fabs(got[1] + mag) < ERROR_TOL_RAD &&
+                fabs(got[2]) < ERROR_TOL_RAD);
+}
+
+/* The error against ref_error for random attitude pairs, every tilt and
+ * heading error, within error_tol_at(N). */
+static void test_error_accuracy(void **state)
+{
+    (void)state;
+    const fc_attitude_control_params p = hexa_params();
+    fc_attitude_control c;
+    ts_rng rng = ts_rng_seed(4242u);
+    double worst = 0.0;
+    for (int k = 0; k < 20000; k++) {
+        double v[8];
+        for (int i = 0; i < 8; i++) {
+            v[i] = (double)ts_rand_u32(&rng) / 4294967296.0 * 2.0 - 1.0;
+        }
+        const dq q = dq_normalize(dq_make(v[0], v[1], v[2], v[3]));
+        const dq qd = dq_normalize(dq_make(v[4], v[5], v[6], v[7]));
+        assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+        const fc_attitude_control_input in = make_input(q, qd, kZero3, kZero3);
+        fc_attitude_control_output out;
+        (void)fc_attitude_control_step(&c, &in, &out);
+        /* the reference from the quaternions as the backend holds them */
+        double ref[3];
+        ref_error(from_fc(in.attitude), from_fc(in.attitude_desired), ref);
+        const double got[3] = {D(out.attitude_error_rad.x, FC_ANGLE_FRAC), D(out.attitude_error_rad.y, FC_ANGLE_FRAC),
+                               D(out.attitude_error_rad.z, FC_ANGLE_FRAC)};
+        /* N = cos(tilt_e / 2): the heading split divides by it */
+        const dq e_ref = dq_mul(dq_conj(from_fc(in.attitude_desired)), from_fc(in.attitude));
+        const double n = sqrt(e_ref.w * e_ref.w + e_ref.z * e_ref.z);
+        for (int i = 0; i < 3; i++) {
+            const double e = fabs(got[i] - ref[i]) * n; /* N >= 0.01: the heading split's threshold */
+            worst = e > worst ? e : worst;
+        }
+    }
+    print_message("attitude error (%s): worst %.3g rad x N over 20000 pairs (tolerance %.3g)\n",
+                  FC_NUMERIC_FIXED ? "fixed" : "float", worst, error_tol_at(1.0));
+    assert_true(worst <= error_tol_at(1.0));
 }
 
 /* A pure heading error gives a pure z moment, also about a tilted desired
@@ -445,13 +515,13 @@ static void test_pure_yaw(void **state)
             fc_attitude_control_output out;
             const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
             assert_int_equal(st, FC_STEP_OK);
-            const double zero_tol = moment_tol(r.j[0], 0.0);
+            const double zero_tol = moment_tol(r.j[0], r.kp[0], 0.0);
             assert_true(fabs(DMOM(out.moment_nm.x)) <= zero_tol);
             assert_true(fabs(DMOM(out.moment_nm.y)) <= zero_tol);
             /* Mz = -Jz kp_z 2 sin(psi/2) */
             const double mz = -r.j[2] * r.kp[2] * 2.0 * sin(psi[k] / 2.0);
-            assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], mz) + 1e-6 * r.j[2] * r.kp[2]);
-            assert_true(fabs(D(out.attitude_error_rad.z, FC_ANGLE_FRAC) - 2.0 * sin(psi[k] / 2.0)) < 1e-6);
+            assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], r.kp[2], mz) + 1e-6 * r.j[2] * r.kp[2]);
+            assert_true(fabs(D(out.attitude_error_rad.z, FC_ANGLE_FRAC) - 2.0 * sin(psi[k] / 2.0)) < ERROR_TOL_RAD);
         }
     }
 }
@@ -481,23 +551,23 @@ static void test_tilt_heading_split(void **state)
             double held_w[3], ref[3], raw[3];
             rates_held(w, held_w);
             ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, kZero3, kZero3, ref, raw);
-            assert_moment_near(&out.moment_nm, ref, r.j);
+            assert_moment_near(&out.moment_nm, ref, &r);
             /* the tilt error is 2 sin(20 deg) whatever the heading error */
             const double ex = D(out.attitude_error_rad.x, FC_ANGLE_FRAC);
             const double ey = D(out.attitude_error_rad.y, FC_ANGLE_FRAC);
-            assert_true(fabs(sqrt(ex * ex + ey * ey) - 2.0 * sin(20.0 * kDeg)) < 1e-6);
+            assert_true(fabs(sqrt(ex * ex + ey * ey) - 2.0 * sin(20.0 * kDeg)) < ERROR_TOL_RAD);
             if (k == 0) {
                 m_tilt_only = out.moment_nm;
             } else {
                 /* the tilt axis in the body turns with the heading, its size does not */
                 const double a0 = hypot(DMOM(m_tilt_only.x), DMOM(m_tilt_only.y));
                 const double a1 = hypot(DMOM(out.moment_nm.x), DMOM(out.moment_nm.y));
-                assert_true(fabs(a0 - a1) <= 2.0 * moment_tol(r.j[0], a0));
+                assert_true(fabs(a0 - a1) <= 2.0 * moment_tol(r.j[0], r.kp[0], a0));
                 /* heading error -1 rad -> error.z = -2 sin(0.5); Mz = -Jz (kp w e_z + kd wz) */
                 const double ez = D(out.attitude_error_rad.z, FC_ANGLE_FRAC);
-                assert_true(fabs(ez + 2.0 * sin(0.5)) < 1e-6);
+                assert_true(fabs(ez + 2.0 * sin(0.5)) < ERROR_TOL_RAD);
                 const double mz = -r.j[2] * (r.kp[2] * r.yaw_weight * ez + r.kd[2] * held_w[2]);
-                assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], mz) + 1e-6);
+                assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], r.kp[2], mz) + 1e-6);
             }
         }
     }
@@ -529,15 +599,15 @@ static void test_short_budget_tilt_first(void **state)
         const fc_step_status st_both = fc_attitude_control_step(&c, &in_both, &out_both);
         /* roll and pitch keep their full moment (the same as without the heading error) */
         assert_true(fabs(DMOM(out_both.moment_nm.x) - DMOM(out_tilt.moment_nm.x)) <=
-                    2.0 * moment_tol(r.j[0], 1.0));
+                    2.0 * moment_tol(r.j[0], r.kp[0], 1.0));
         assert_true(fabs(DMOM(out_both.moment_nm.y) - DMOM(out_tilt.moment_nm.y)) <=
-                    2.0 * moment_tol(r.j[1], 1.0));
+                    2.0 * moment_tol(r.j[1], r.kp[1], 1.0));
         /* yaw gets its own budget and no more */
         assert_true(out_both.moment_nm.z == fc_neg(&c.ar, p.moment_limit_nm.z));
         assert_true((st_both & FC_STEP_OUTPUT_LIMITED) != 0u);
         double ref[3], raw[3];
         ref_law(&r, from_fc(in_both.attitude), qd, kZero3, kZero3, kZero3, ref, raw);
-        assert_moment_near(&out_both.moment_nm, ref, r.j);
+        assert_moment_near(&out_both.moment_nm, ref, &r);
         if (t == 0) {
             /* inside the budget: roll/pitch untouched, only yaw clamped */
             assert_int_equal(st_tilt & FC_STEP_OUTPUT_LIMITED, 0);
@@ -548,7 +618,9 @@ static void test_short_budget_tilt_first(void **state)
             assert_true((st_tilt & FC_STEP_OUTPUT_LIMITED) != 0u);
             const double mx = DMOM(out_both.moment_nm.x), my = DMOM(out_both.moment_nm.y);
             assert_true(fabs(fabs(mx) - 1.0) <= 2.0 * ldexp(1.0, -FC_MOMENT_FRAC) + 1e-6);
-            assert_true(fabs(my / mx - tan(30.0 * kDeg)) < 1e-5);
+            /* the tilt axis' direction to the error's rounding over its size
+             * 2 sin(tilt/2); d tan / d angle = 1.34 at 30 deg */
+            assert_true(fabs(my / mx - tan(30.0 * kDeg)) < 1e-5 + 1.34 * ERROR_TOL_RAD / (2.0 * sin(tilts[t] / 2.0)));
             assert_true(fabs(my) < 1.0);
         }
         /* always inside the limits */
@@ -593,7 +665,7 @@ static void test_integral_hold(void **state)
     /* the held integral still acts: at zero error the moment is -J ki I */
     step_with(&c, dq_make(1.0, 0.0, 0.0, 0.0), 0u, &out);
     const double m_expect = -r.j[0] * r.ki[0] * D(held.x, FC_ANGLE_FRAC);
-    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], m_expect) + 1e-7);
+    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], r.kp[0], m_expect) + 1e-7);
     /* released, it integrates again */
     fc_attitude_control_hold_integral(&c, false);
     step_with(&c, q, 0u, &out);
@@ -627,18 +699,18 @@ static void test_integral_anti_windup(void **state)
     assert_true(c.integral_rad_s.x == FC_INT(0, ANGLE));
     /* yaw and pitch bits do not stop roll... */
     step_with(&c, q, FC_SAT_PITCH_NEG | FC_SAT_YAW_NEG | FC_SAT_ROLL_POS, &out);
-    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - ex * r.dt) < 1e-7);
+    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - ex * r.dt) < r.dt * ERROR_TOL_RAD + 1e-7);
     /* ...and without any bit it integrates e dt per step */
     for (int k = 0; k < 9; k++) {
         step_with(&c, q, 0u, &out);
     }
-    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 1e-6);
+    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 10.0 * r.dt * ERROR_TOL_RAD + 1e-6);
     const double m_before = DMOM(out.moment_nm.x);
     /* the moment includes -Jx ki I */
     step_with(&c, q, 0u, &out);
     const double i_used = 10.0 * ex * r.dt;
     const double m_expect = -r.j[0] * (r.kp[0] * ex + r.ki[0] * i_used);
-    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], m_expect) + 1e-7);
+    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], r.kp[0], m_expect) + 1e-7);
     assert_true(DMOM(out.moment_nm.x) < m_before);
 
     /* unwinding is allowed in the saturated direction's opposite: a negative
@@ -775,7 +847,7 @@ static void test_bad_input(void **state)
     double held_w[3], ref[3], raw[3];
     rates_held(w, held_w);
     ref_law(&r, from_fc(good.attitude), qd, held_w, kZero3, kZero3, ref, raw);
-    assert_moment_near(&out.moment_nm, ref, r.j);
+    assert_moment_near(&out.moment_nm, ref, &r);
 }
 
 /* ---- against the double reference ------------------------------------- */
@@ -809,7 +881,10 @@ static void test_matches_reference(void **state)
             rates_held(wff, held_ff);
             ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, held_ff, kZero3, ref,
                     raw);
-            assert_moment_near(&out.moment_nm, ref, r.j);
+            /* errors of any size here: the tolerance at this pair's N */
+            const dq e = dq_mul(dq_conj(from_fc(in.attitude_desired)), from_fc(in.attitude));
+            const double n = sqrt(e.w * e.w + e.z * e.z);
+            assert_moment_near_at(&out.moment_nm, ref, &r, n > 0.01 ? n : 0.01);
         }
     }
 }
@@ -831,7 +906,7 @@ static void test_gyroscopic_term(void **state)
     rates_held(w, hw);
     const double gyro[3] = {(r.j[2] - r.j[1]) * hw[1] * hw[2], (r.j[0] - r.j[2]) * hw[2] * hw[0],
                             (r.j[1] - r.j[0]) * hw[0] * hw[1]};
-    assert_moment_near(&out.moment_nm, gyro, r.j);
+    assert_moment_near(&out.moment_nm, gyro, &r);
     assert_true(fabs(gyro[0] + 0.804) < 1e-7 && fabs(gyro[1] + 0.536) < 1e-7 && gyro[2] == 0.0);
 }
 
@@ -989,6 +1064,7 @@ int main(void)
         cmocka_unit_test(test_bad_params),
         cmocka_unit_test(test_error_sign),
         cmocka_unit_test(test_error_is_2_9_in_body_frame),
+        cmocka_unit_test(test_error_accuracy),
         cmocka_unit_test(test_pure_yaw),
         cmocka_unit_test(test_tilt_heading_split),
         cmocka_unit_test(test_short_budget_tilt_first),

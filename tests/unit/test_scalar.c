@@ -997,6 +997,51 @@ static void test_rsqrt_q29_accuracy(void **state)
 #endif
 }
 
+/* fc_unit2_16: (c, s) against (a, b) / hypot(a, b) in double, over a grid of
+ * UNIT16 pairs from the threshold 2^-14 of n_sq to components of 1.001 (n_sq
+ * to 2: the k = -1 branch), and every pair of small ones near the threshold. */
+static void unit2_check(int a, int b, double *worst)
+{
+    const fc_real16 a16 = FC_NUMERIC_FIXED ? (fc_real16)a : (fc_real16)((double)a / 16384.0);
+    const fc_real16 b16 = FC_NUMERIC_FIXED ? (fc_real16)b : (fc_real16)((double)b / 16384.0);
+    const fc_real n_sq = fc_dot2_16(a16, a16, b16, b16);
+    fc_arith ar = {0};
+    fc_real16 c = 0, s = 0;
+    fc_unit2_16(&ar, a16, b16, n_sq, &c, &s);
+    const double n = sqrt((double)a * a + (double)b * b);
+    /* the results in UNIT16 LSB in both backends */
+    const double got_c = FC_NUMERIC_FIXED ? (double)c : (double)c * 16384.0;
+    const double got_s = FC_NUMERIC_FIXED ? (double)s : (double)s * 16384.0;
+    const double err = fmax(fabs(got_c - 16384.0 * a / n), fabs(got_s - 16384.0 * b / n));
+    *worst = err > *worst ? err : *worst;
+    assert_int_equal(ar.saturated, 0);
+}
+
+static void test_unit2_16(void **state)
+{
+    (void)state;
+    double worst = 0.0;
+    unsigned cases = 0u;
+    for (int a = -16400; a <= 16400; a += 37) {
+        for (int b = -16400; b <= 16400; b += 41) {
+            if ((double)a * a + (double)b * b >= 16384.0) {
+                unit2_check(a, b, &worst);
+                cases++;
+            }
+        }
+    }
+    for (int a = -160; a <= 160; a++) {
+        for (int b = -160; b <= 160; b++) {
+            if ((double)a * a + (double)b * b >= 16384.0) {
+                unit2_check(a, b, &worst);
+                cases++;
+            }
+        }
+    }
+    print_message("unit2_16: %u pairs, worst %.4f UNIT16 LSB\n", cases, worst);
+    assert_true(worst <= (FC_NUMERIC_FIXED ? 1.02 : 0.01)); /* fixed: 1.011 seen */
+}
+
 static void test_rsqrt_exact(void **state)
 {
     (void)state;
@@ -1537,6 +1582,7 @@ int main(void)
         cmocka_unit_test(test_rsqrt),
         cmocka_unit_test(test_rsqrt_exact),
         cmocka_unit_test(test_rsqrt_q29_accuracy),
+        cmocka_unit_test(test_unit2_16),
         cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),

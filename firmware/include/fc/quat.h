@@ -50,6 +50,30 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok);
 /* The same rotation with w >= 0 (the shortest path: rotation angle <= pi). */
 fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q);
 
+/*
+ * A unit quaternion in the 16-bit format (fc/scalar.h: UNIT16 in fixed,
+ * 6.1e-5 a component; float as fc_quat), for the attitude error: its product
+ * is 16 products of 16 bits. Made by fc_quat16_normalize (or as the product
+ * of two such), so its components stay within 1 + 2^-13 and the sums of
+ * fc_quat16_conj_mul within 32 bits.
+ */
+typedef struct fc_quat16 {
+    fc_real16 w, x, y, z;
+} fc_quat16;
+
+/* fc_quat_normalize(q) in the 16-bit format, the same *ok. Fixed: q rounded
+ * to UNIT16 as it is when that has |q|^2 within 2^-13 + 2^-24 of 1 (any unit
+ * quaternion does: its rounding moves |q|^2 by 2^-13 at most), else
+ * normalised in 32 bits first; components within 1.5 UNIT16 LSB of q/|q|.
+ * Float: fc_quat_normalize. */
+fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok);
+
+/* p* (x) q (2.8), each component one rounding; p, q from fc_quat16_normalize. */
+fc_quat16 fc_quat16_conj_mul(fc_arith *ar, fc_quat16 p, fc_quat16 q);
+
+/* The same rotation with w >= 0. */
+fc_quat16 fc_quat16_shortest(fc_quat16 q);
+
 /* q (x) [0, v] (x) q*: v from body to world; v of any format. */
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v);
 

@@ -41,6 +41,17 @@
  *   GAIN       16   [-32768, 32768)   1.5e-5       controller gains of mixed units
  *   MAT        24   [-128, 128)       6.0e-8       entries of the allocation matrices
  *
+ * and, for the signals of the inner loop that need 15 bits and not 31
+ * (fc_real16: int16_t in fixed, float in float):
+ *
+ *   UNIT16     14   [-2, 2)           6.1e-5       the attitude error's quaternions
+ *                                                  (fc_quat16), its half-heading c, s
+ *
+ * A product of two fc_real16 is exact in an fc_real, in the format whose FRAC
+ * is the sum of theirs (UNIT16 x UNIT16: UNIT16_SQ, Q28), and so is the sum of
+ * two such products: one 16 x 16 -> 32 multiply (4 MULs on the ATmega against
+ * 16 for fc_mul), no rounding and no range check.
+ *
  * Functions of the form fc_xxx(&ar, ...) may saturate in fixed; the others
  * cannot. Division and square root are kept out of hot paths: reciprocals of
  * constants are computed at init (fixed division is a 64-bit divide).
@@ -79,6 +90,9 @@
 #define FC_RATIO_FRAC 24
 #define FC_GAIN_FRAC 16
 #define FC_MAT_FRAC 24
+/* 16-bit formats (fc_real16, below) */
+#define FC_UNIT16_FRAC 14
+#define FC_UNIT16_SQ_FRAC 28 /* a product of two UNIT16 values: 2 x 14 */
 
 /* Right shift of a product: operand formats A and B, result format OUT. */
 #define FC_SHIFT(A, B, OUT) (FC_##A##_FRAC + FC_##B##_FRAC - FC_##OUT##_FRAC)
@@ -634,6 +648,61 @@ FC_FX_INLINE bool fc_is_finite(fc_real a)
     return true;
 }
 
+/* ---- 16-bit values (fc_real16; formats in the table above) --------------- */
+typedef int16_t fc_real16;
+#define FC_REAL16_MAX INT16_MAX /* symmetric as fc_real: -INT16_MAX is the least */
+/* An integer constant in 16-bit format KIND (exact). */
+#define FC_INT16(N, KIND) ((fc_real16)((N) * (1 << FC_##KIND##_FRAC)))
+
+/* x (format frac_from) in the 16-bit format frac_to <= frac_from: rounded to
+ * nearest (fc_convert) and saturated at +-FC_REAL16_MAX. */
+FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
+{
+    const fc_real r = frac_from == frac_to ? x : fc_convert(ar, x, frac_from, frac_to);
+    if (r > FC_REAL16_MAX || r < -FC_REAL16_MAX) {
+        ar->saturated = 1u;
+        return r > 0 ? FC_REAL16_MAX : -FC_REAL16_MAX;
+    }
+    return (fc_real16)r;
+}
+
+/* x (16-bit format frac_from) in the 32-bit format frac_to >= frac_from,
+ * exactly (|x| < 2^15: a shift of up to 16 bits stays inside 32). */
+FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
+{
+    fc_arith never = {0u};
+    return frac_from == frac_to ? (fc_real)x : fc_convert(&never, (fc_real)x, frac_from, frac_to);
+}
+
+/* a b and a0 b0 + a1 b1, exact (below 2^31 in magnitude for operands within
+ * +-FC_REAL16_MAX), in the format whose FRAC is the sum of the operands'. */
+FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
+{
+    return (fc_real)a * b;
+}
+
+FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
+{
+    return (fc_real)a0 * b0 + (fc_real)a1 * b1;
+}
+
+/* a0 b0 + .. + a3 b3 rounded to nearest into the 16-bit format frac_to
+ * (frac_to < the products' FRAC), saturated at +-FC_REAL16_MAX; the sum is
+ * formed exactly, so the operands must keep it below 2^31 (UNIT16 values
+ * within +-1.4: each product below 2^29). */
+FC_FX_INLINE fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1,
+                                  fc_real16 a2, fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products,
+                                  int frac_to)
+{
+    const fc_real sum = (fc_real)a0 * b0 + (fc_real)a1 * b1 + (fc_real)a2 * b2 + (fc_real)a3 * b3;
+    return fc_narrow16(ar, sum, frac_products, frac_to);
+}
+
+FC_FX_INLINE fc_real16 fc_neg16(fc_real16 a)
+{
+    return (fc_real16)-a; /* never -INT16_MIN: the range is symmetric */
+}
+
 #else
 /* ======================================================================= */
 /* float backend                                                           */
@@ -769,6 +838,51 @@ static inline bool fc_is_finite(fc_real a)
     return __builtin_isfinite(a);
 }
 
+/* ---- 16-bit values: float here too, the same expressions as fc_real's ---- */
+typedef float fc_real16;
+#define FC_REAL16_MAX FC_REAL_MAX
+#define FC_INT16(N, KIND) ((fc_real16)(N))
+
+static inline fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
+{
+    (void)ar;
+    (void)frac_from;
+    (void)frac_to;
+    return x;
+}
+
+static inline fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
+{
+    (void)frac_from;
+    (void)frac_to;
+    return x;
+}
+
+static inline fc_real fc_mul16(fc_real16 a, fc_real16 b)
+{
+    return a * b;
+}
+
+static inline fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
+{
+    return a0 * b0 + a1 * b1;
+}
+
+static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1,
+                                   fc_real16 a2, fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products,
+                                   int frac_to)
+{
+    (void)ar;
+    (void)frac_products;
+    (void)frac_to;
+    return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+static inline fc_real16 fc_neg16(fc_real16 a)
+{
+    return -a;
+}
+
 #endif /* FC_NUMERIC_FIXED */
 
 /* ---- backend-neutral helpers ------------------------------------------ */
@@ -858,6 +972,24 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
 
 /* 1/sqrt(x): x in format frac_in, result in format frac_out; x <= 0 saturates. */
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
+#endif
+
+/* (c, s) = (a, b) / sqrt(a^2 + b^2) for UNIT16 a and b, given their n_sq =
+ * fc_dot2_16(a, a, b, b) (UNIT16_SQ) of at least 2^-14; c and s UNIT16. Fixed:
+ * 1/sqrt from fc_rsqrt's table and one Newton step, in 16 x 16-bit products
+ * (no 64-bit one): c and s within 1.02 UNIT16 LSB of the exact ratio
+ * (test_scalar.test_unit2_16: worst 1.011 over 762,064 pairs). Float:
+ * fc_rsqrt and two products. */
+#if FC_NUMERIC_FIXED
+void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out);
+#else
+static inline void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out,
+                               fc_real16 *s_out)
+{
+    const fc_real inv_n = fc_rsqrt(ar, n_sq, FC_UNIT16_SQ_FRAC, FC_RATIO_FRAC);
+    *c_out = a * inv_n;
+    *s_out = b * inv_n;
+}
 #endif
 
 /* fc_hypot3(a, b, c) <= limit (limit >= 0), the same answer as that comparison;
