@@ -823,12 +823,12 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         saturation = allocate_linear(a, demand.thrust_n, demand.moment_nm, v);
     }
 
-    /* u = v^(1/r) */
+    /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
     for (int i = 0; i < a->rotor_count; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         const fc_real v_unit = fc_convert(&a->ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
         const fc_real u = (r->flags & ROTOR_SQRT) != 0u
-                              ? fc_sqrt(&a->ar, v_unit, FC_UNIT_FRAC)
+                              ? fc_sqrt_unit16(&a->ar, v_unit)
                               : fc_pow_unit(&a->ar, v_unit, r->inv_thrust_exponent);
         out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
     }

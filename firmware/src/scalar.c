@@ -448,6 +448,23 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
     return (fc_real)sqrt_rounded_wide(scaled);
 }
 
+fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
+{
+    (void)ar;
+    if (x_unit <= 0) {
+        return 0;
+    }
+    /* x in Q32 (1 itself held as 2^32 - 1, whose root rounds to 2^16 all the
+     * same), its 16-bit root rounded: floor s with remainder r = m - s^2 is
+     * rounded up iff m > (s + 1/2)^2 = s^2 + s + 1/4, i.e. r > s */
+    const uint32_t m = x_unit >= FC_INT(1, UNIT) ? UINT32_MAX : (uint32_t)x_unit << (32 - FC_UNIT_FRAC);
+    uint32_t remainder;
+    const uint32_t root_q16 = isqrt_u32(m, &remainder);
+    const uint32_t rounded_q16 = remainder > root_q16 ? root_q16 + 1u : root_q16;
+    /* Q16 to UNIT: at most 2^16 << 14 = 2^30 (1 exactly); by bytes on the ATmega */
+    return (fc_real)fc_fx_extract(0u, rounded_q16, 32 - (FC_UNIT_FRAC - 16));
+}
+
 /* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits
  * unsigned. One copy (its three products are the flash of a few hundred
  * bytes on the ATmega) for fc_hypot3 and fc_hypot3_within. */

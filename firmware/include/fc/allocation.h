@@ -106,7 +106,9 @@
  * Formats (fixed backend): axes and speeds UNIT; positions LENGTH; l x d LEVER;
  * thrusts FORCE; moments and Q_max MOMENT; exponents RATIO; D A, P and row
  * scales in MAT and GAIN (2^e, e in [-16, 14], exact); the allocation's
- * internal v, t, a R, b Y in RATIO (v in [0, 1], resolution 6e-8).
+ * internal v, t, a R, b Y in RATIO (v in [0, 1], resolution 6e-8). The
+ * speeds of rotors with r = 2 are v's roots to 16 bits (fc_sqrt_unit16:
+ * within 2^-17 of sqrt(v), the resolution of a 16-bit motor command).
  * Range limits checked at init (both backends): |l| components <= 16 m,
  * 0 < T_max <= 250 N, |Q_max| <= 16 N m, each row of A summed in absolute value
  * <= 1500 N (F_z) and <= 100 N m (moments), the largest entry of each row >=

@@ -974,6 +974,20 @@ fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c);
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
 #endif
 
+/* sqrt(x) for a UNIT x in [0, 1] (x <= 0 gives 0, x > 1 gives 1), as a UNIT
+ * value to 16 bits: in fixed the root of x in Q32 (32 bits) rounded to Q16,
+ * within 2^-17 of sqrt(x): the resolution of a 16-bit motor command, for
+ * the rotor speeds of the allocation (a 30-bit root takes a 64-bit radicand,
+ * some 4 times the ATmega's cycles). Float: fc_sqrt. */
+#if FC_NUMERIC_FIXED
+fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit);
+#else
+static inline fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
+{
+    return fc_sqrt(ar, x_unit, FC_UNIT_FRAC);
+}
+#endif
+
 /* (c, s) = (a, b) / sqrt(a^2 + b^2) for UNIT16 a and b, given their n_sq =
  * fc_dot2_16(a, a, b, b) (UNIT16_SQ) of at least 2^-14; c and s UNIT16. Fixed:
  * 1/sqrt from fc_rsqrt's table and one Newton step, in 16 x 16-bit products
