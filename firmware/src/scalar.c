@@ -604,7 +604,9 @@ static void unit2_scaled(fc_arith *ar, fc_real16 v, uint16_t y_q15, int k, fc_re
 {
     int32_t v_y = (int32_t)v * (int32_t)y_q15; /* Q14 x Q15 = Q29 */
     if (k < 0) {
-        v_y /= 2; /* k = -1 (n_sq in [1, 4)) */
+        /* k = -1 (n_sq in [1, 4)): halved, a floor (the rounding below is
+         * at bit 14; a C division by 2 is a libgcc call on the ATmega) */
+        v_y = (int32_t)fc_fx_extract((uint32_t)v_y, v_y < 0 ? UINT32_MAX : 0u, 1);
     }
     for (int i = 0; i < k; i++) {
         v_y *= 2; /* |c| <= 1: stays below 2^30 */

@@ -658,6 +658,16 @@ typedef int16_t fc_real16;
  * nearest (fc_convert) and saturated at +-FC_REAL16_MAX. */
 FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
 {
+    if (frac_from - frac_to == 16) {
+        /* the high half, plus bit 15 for the rounding (no 32-bit shift) */
+        const int16_t high = (int16_t)(uint16_t)((uint32_t)x >> 16);
+        const bool up = ((uint32_t)x & 0x8000u) != 0u;
+        if ((up && high == INT16_MAX) || (!up && high == INT16_MIN)) {
+            ar->saturated = 1u;
+            return high < 0 ? -FC_REAL16_MAX : FC_REAL16_MAX;
+        }
+        return (fc_real16)(high + (up ? 1 : 0));
+    }
     const fc_real r = frac_from == frac_to ? x : fc_convert(ar, x, frac_from, frac_to);
     if (r > FC_REAL16_MAX || r < -FC_REAL16_MAX) {
         ar->saturated = 1u;
