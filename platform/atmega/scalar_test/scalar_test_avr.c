@@ -13,8 +13,9 @@
  * fc_dot2_inline, the products compact units inline at their hot sites);
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
- * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) against the
- * digit-by-digit square root of the uint64_t value rounded to nearest, and
+ * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
+ * (16-bit rounds) against the digit-by-digit square root of the uint64_t
+ * value rounded to nearest, and
  * fc_hypot3_within against that root compared; the out-of-line products of
  * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
  * shift narrowed by bytes and bits) against the int64_t form.
@@ -166,6 +167,7 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_DOT2_OUTLINE 15u
 #define OP_DOT3_OUTLINE 16u
 #define OP_DOT4_OUTLINE 17u
+#define OP_SQRT_UNIT16 18u
 
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
@@ -178,6 +180,14 @@ static void compare_functions(const int32_t *a, const int32_t *b)
     value = fc_sqrt(&got, a[1], frac);
     const int32_t want_sqrt = a[1] > 0 ? (int32_t)ref_sqrt((uint64_t)a[1] << frac) : 0;
     check(OP_SQRT, (uint8_t)frac, value, got.saturated, want_sqrt, 0u);
+    /* the 16-bit root of a UNIT value: sqrt(x 2^2) of Q32 rounded to Q16,
+     * then Q30 (x of 1 and above: 1) */
+    got.saturated = 0u;
+    value = fc_sqrt_unit16(&got, a[1]);
+    const int32_t want_unit16 = a[1] <= 0 ? 0
+                                : a[1] >= FC_INT(1, UNIT) ? FC_INT(1, UNIT)
+                                                          : (int32_t)(ref_sqrt((uint64_t)a[1] << 2) << 14);
+    check(OP_SQRT_UNIT16, 0u, value, got.saturated, want_unit16, 0u);
     got.saturated = 0u;
     value = fc_hypot3(&got, a[2], b[2], a[3]);
     const uint64_t sum = (uint64_t)((int64_t)a[2] * a[2]) + (uint64_t)((int64_t)b[2] * b[2]) +
