@@ -997,6 +997,60 @@ static void test_rsqrt_q29_accuracy(void **state)
 #endif
 }
 
+/* The 16-bit values (fixed): fc_narrow16 rounds to nearest (half up, as
+ * fc_convert) and saturates at +-INT16_MAX with the flag, at the shifts the
+ * library uses (16 by the high half, 15 and 14 by fc_convert); fc_widen16 is
+ * exact; fc_dot4_16 is the exact sum rounded once. Float: the same values. */
+#if FC_NUMERIC_FIXED
+static void narrow16_check(int32_t x, int shift, fc_real16 got, uint8_t got_sat)
+{
+    const double exact = floor((double)x / ldexp(1.0, shift) + 0.5);
+    const double want = exact > 32767.0 ? 32767.0 : (exact < -32767.0 ? -32767.0 : exact);
+    if ((double)got != want || got_sat != (exact > 32767.0 || exact < -32767.0 ? 1 : 0)) {
+        print_error("narrow16 of %ld by %d: %d (flag %u), expected %.0f\n", (long)x, shift, (int)got,
+                    (unsigned)got_sat, want);
+        fail();
+    }
+}
+#endif
+
+static void test_real16(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(1616u);
+    for (int i = 0; i < 200000; i++) {
+        int32_t x = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 24u);
+        if (i < 8) {
+            const int32_t edges[8] = {INT32_MAX, -INT32_MAX, 0x7FFF7FFF, 0x7FFF8000, -0x7FFF8000, -0x7FFF8001,
+                                      0x8000, -0x8000};
+            x = edges[i];
+        }
+        fc_arith a16 = {0}, a15 = {0}, a14 = {0};
+        const fc_real16 n16 = fc_narrow16(&a16, x, 30, 14);
+        const fc_real16 n15 = fc_narrow16(&a15, x, 28, 13);
+        const fc_real16 n14 = fc_narrow16(&a14, x, 28, 14);
+        narrow16_check(x, 16, n16, a16.saturated);
+        narrow16_check(x, 15, n15, a15.saturated);
+        narrow16_check(x, 14, n14, a14.saturated);
+        const fc_real16 h = (fc_real16)(x % 32768);
+        assert_int_equal(fc_widen16(h, 14, 30), (int32_t)h * 65536);
+        assert_int_equal(fc_widen16(h, 12, 28), (int32_t)h * 65536);
+    }
+    /* a quaternion product's component: four products summed exactly, one rounding */
+    fc_arith ar = {0};
+    const fc_real16 r = fc_dot4_16(&ar, 16384, 16384, -8192, 8191, 3, 5, -1, 16383, 28, 14);
+    const double exact = (16384.0 * 16384.0 - 8192.0 * 8191.0 + 15.0 - 16383.0) / 16384.0;
+    assert_true((double)r == floor(exact + 0.5));
+    assert_int_equal(ar.saturated, 0);
+#else
+    fc_arith ar = {0};
+    assert_true(fc_narrow16(&ar, 0.75f, FC_UNIT_FRAC, FC_UNIT16_FRAC) == 0.75f);
+    assert_true(fc_widen16(0.75f, FC_UNIT16_FRAC, FC_UNIT_FRAC) == 0.75f);
+    assert_true(fc_dot4_16(&ar, 0.5f, 0.5f, 0.25f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, 28, 14) == 0.5f);
+#endif
+}
+
 /* fc_unit2_16: (c, s) against (a, b) / hypot(a, b) in double, over a grid of
  * UNIT16 pairs from the threshold 2^-14 of n_sq to components of 1.001 (n_sq
  * to 2: the k = -1 branch), and every pair of small ones near the threshold. */
@@ -1582,6 +1636,7 @@ int main(void)
         cmocka_unit_test(test_rsqrt),
         cmocka_unit_test(test_rsqrt_exact),
         cmocka_unit_test(test_rsqrt_q29_accuracy),
+        cmocka_unit_test(test_real16),
         cmocka_unit_test(test_unit2_16),
         cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),

@@ -15,7 +15,8 @@
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
  * (16-bit rounds) against the digit-by-digit square root of the uint64_t
- * value rounded to nearest, and
+ * value rounded to nearest, fc_narrow16 (shifts 14, 15, 16) against the
+ * rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared; the out-of-line products of
  * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
  * shift narrowed by bytes and bits) against the int64_t form.
@@ -168,6 +169,36 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_DOT3_OUTLINE 16u
 #define OP_DOT4_OUTLINE 17u
 #define OP_SQRT_UNIT16 18u
+#define OP_NARROW16 19u
+
+/* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
+static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
+{
+    const int32_t r = ref_narrow(ar, (int64_t)x, shift);
+    if (r > INT16_MAX || r < -INT16_MAX) {
+        ar->saturated = 1u;
+        return r > 0 ? INT16_MAX : -INT16_MAX;
+    }
+    return r;
+}
+
+/* fc_narrow16 at the shifts the library uses, each a constant: 16 (the high
+ * half and bit 15), 15 and 14 (fc_convert) */
+static void compare_narrow16(int32_t x)
+{
+    fc_arith got16 = {0u}, got15 = {0u}, got14 = {0u}, want = {0u};
+    const int32_t n16 = fc_narrow16(&got16, x, 30, 14);
+    const int32_t n15 = fc_narrow16(&got15, x, 28, 13);
+    const int32_t n14 = fc_narrow16(&got14, x, 28, 14);
+    int32_t r = ref_narrow16(&want, x, 16);
+    check(OP_NARROW16, 16u, n16, got16.saturated, r, want.saturated);
+    want.saturated = 0u;
+    r = ref_narrow16(&want, x, 15);
+    check(OP_NARROW16, 15u, n15, got15.saturated, r, want.saturated);
+    want.saturated = 0u;
+    r = ref_narrow16(&want, x, 14);
+    check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
+}
 
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
@@ -188,6 +219,8 @@ static void compare_functions(const int32_t *a, const int32_t *b)
                                 : a[1] >= FC_INT(1, UNIT) ? FC_INT(1, UNIT)
                                                           : (int32_t)(ref_sqrt((uint64_t)a[1] << 2) << 14);
     check(OP_SQRT_UNIT16, 0u, value, got.saturated, want_unit16, 0u);
+    compare_narrow16(a[2]);
+    compare_narrow16(a[2] >> (rng_next() % 24u)); /* and values near the 16-bit range */
     got.saturated = 0u;
     value = fc_hypot3(&got, a[2], b[2], a[3]);
     const uint64_t sum = (uint64_t)((int64_t)a[2] * a[2]) + (uint64_t)((int64_t)b[2] * b[2]) +
