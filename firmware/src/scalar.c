@@ -530,6 +530,21 @@ static void rsqrt_knots(uint32_t k, uint16_t *at_start, uint16_t *at_end)
     *at_end = FC_ROM_READ_U16(&knot_q14[k + 1u]);
 }
 
+/* The first guess of 1/sqrt(m), m in [1/4, 1) in Q30: the chord of 1/sqrt
+ * over m's segment of the table, within 1.3e-3; the knots (Q14) minus their
+ * difference times the position in the segment (Q16), a 16 x 16-bit
+ * product, give Q30. (The constant shifts by fc_fx_extract: a C shift by 25
+ * or 9 is a loop of that many rounds on the ATmega at -Os.) Inlined in its
+ * two callers: a call costs the ATmega's step some 60 cycles. */
+static inline __attribute__((always_inline)) uint32_t rsqrt_chord_q30(uint32_t m_q30)
+{
+    uint16_t knot_start, knot_end;
+    rsqrt_knots(fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
+    const uint16_t position_q16 = (uint16_t)fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT - 16);
+    const uint32_t drop_q30 = (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
+    return ((uint32_t)knot_start << 16) - drop_q30;
+}
+
 fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 {
     if (x <= 0) {
@@ -545,17 +560,8 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
     const int32_t m_q30 = s >= 0 ? (int32_t)shl_u32((uint32_t)x, s) : (int32_t)shr_u32((uint32_t)x, -s);
     const int j = (30 - s - frac_in) / 2; /* x = m * 2^(2j) */
 
-    /* first guess: the chord of 1/sqrt over m's segment of the table, within
-     * 1.3e-3 of 1/sqrt(m); the knots (Q14) minus their difference times the
-     * position in the segment (Q16), a 16 x 16-bit product, gives Q30 */
-    uint16_t knot_start, knot_end;
-    /* (the constant shifts by fc_fx_extract: a C shift by 25 or 9 is a loop of
-     * that many rounds on the ATmega at -Os) */
-    rsqrt_knots(fc_fx_extract((uint32_t)m_q30, 0u, RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
-    const uint16_t position_q16 = (uint16_t)fc_fx_extract((uint32_t)m_q30, 0u, RSQRT_SEGMENT_SHIFT - 16);
-    const uint32_t drop_q30 = (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
     const int shift_to_y = RSQRT_KNOT_FRAC + 16 - RSQRT_Y_FRAC; /* Q30 to Q29 */
-    int32_t y = (int32_t)((((uint32_t)knot_start << 16) - drop_q30) >> shift_to_y);
+    int32_t y = (int32_t)(rsqrt_chord_q30((uint32_t)m_q30) >> shift_to_y);
 
     /* two Newton steps take 1.3e-3 to 3.4e-6 and then to the Q29 resolution:
      * at most 1.01 LSB from 1/sqrt(m) over all 805,306,368 values of m (an
@@ -627,16 +633,11 @@ void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16
         m <<= 2;
         k++;
     }
-    /* first guess: the chord over m's segment (1/32 of [1/4, 1): 2^23 in
-     * Q28), knots Q14, position Q16: y0 in Q30, then Q15 */
-    uint16_t knot_start, knot_end;
-    rsqrt_knots(fc_fx_extract(m, 0u, UNIT2_M_FRAC - 5) - 8u, &knot_start, &knot_end);
-    const uint16_t position_q16 = (uint16_t)fc_fx_extract(m, 0u, UNIT2_M_FRAC - 5 - 16);
-    const uint32_t y0_q30 = ((uint32_t)knot_start << 16) - (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
-    const uint32_t y0_wide = fc_fx_extract(y0_q30, 0u, 30 - UNIT2_Y_FRAC);
+    /* first guess: fc_rsqrt's chord (m in Q30 below 2^30), then Q15 */
+    const uint32_t y0_wide = fc_fx_extract(rsqrt_chord_q30(m << (30 - UNIT2_M_FRAC)), 0u, 30 - UNIT2_Y_FRAC);
     const uint16_t y0 = y0_wide > UINT16_MAX ? UINT16_MAX : (uint16_t)y0_wide;
-    /* one Newton step */
-    /* m to Q16 and m y0 to Q15, each rounded (m below 1 - 2^-17 keeps Q16 in 16 bits) */
+    /* one Newton step: m to Q16 and m y0 to Q15, each rounded (m below
+     * 1 - 2^-17 keeps Q16 in 16 bits) */
     const uint32_t m_rounded = m + ((uint32_t)1u << (UNIT2_M_FRAC - 17));
     const uint16_t m_q16 = m_rounded >= (uint32_t)1u << UNIT2_M_FRAC
                                ? UINT16_MAX

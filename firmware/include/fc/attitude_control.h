@@ -29,9 +29,9 @@
  * is on 2 x (vector part), not on the rotation vector: identical to first order
  * (2 sin(a/2) = a (1 - a^2/24): 4.5 % short at 60 deg), no trigonometry in the
  * step, and the error saturates by itself at large angles, so a big error asks
- * for a bounded angular acceleration. The split costs one 1/sqrt (division-free
- * in fixed: fc_unit2_16); the only division in the step is the budget's ratio, and only when
- * the roll/pitch moment is clamped. N^2 < 1e-4 (tilt error
+ * for a bounded angular acceleration. The split costs one 1/sqrt
+ * (division-free in fixed: fc_unit2_16); the only division in the step is the
+ * budget's ratio, and only when the roll/pitch moment is clamped. N^2 < 1e-4 (tilt error
  * within 1.2 deg of upside down) leaves the heading undefined: the heading part
  * is then zero and the tilt part is 2 (x, y, 0).
  *
