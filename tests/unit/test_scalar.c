@@ -930,6 +930,39 @@ static void test_sqrt_hypot3_exact(void **state)
 #endif
 }
 
+/* fixed: fc_sqrt_unit16 (the 16-bit root of x in Q32 from a table's chord
+ * and exact steps, scalar.c's isqrt_u32) is the root of x 4 rounded to Q16,
+ * for x of every bit length (the radicands below 2^30 that isqrt_u32
+ * normalises by pairs of bits) and a sweep of [0, 1]; an exhaustive host run
+ * of isqrt_u32 over all 2^32 radicands found no error. */
+static void test_sqrt_unit16_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(1616u);
+    fc_arith ar = {0};
+    unsigned cases = 0u;
+    for (uint32_t x = 0u; x <= (uint32_t)FC_INT(1, UNIT); x += 4099u) {
+        const fc_real got = fc_sqrt_unit16(&ar, (fc_real)x);
+        assert_int_equal((uint32_t)got, reference_sqrt_rounded((uint64_t)x << 2) << (FC_UNIT_FRAC - 16));
+        cases++;
+    }
+    for (int bits = 1; bits <= 30; bits++) {
+        for (int i = 0; i < 2000; i++) {
+            uint32_t x = ts_rand_u32(&rng) >> (32 - bits);
+            if (i < 2) {
+                x = i == 0 ? ((uint32_t)1u << (bits - 1)) : ((uint32_t)1u << bits) - 1u;
+            }
+            const fc_real got = fc_sqrt_unit16(&ar, (fc_real)x);
+            assert_int_equal((uint32_t)got, reference_sqrt_rounded((uint64_t)x << 2) << (FC_UNIT_FRAC - 16));
+            cases++;
+        }
+    }
+    assert_int_equal(ar.saturated, 0);
+    print_message("sqrt_unit16 exact: %u cases\n", cases);
+#endif
+}
+
 /* fixed: fc_rsqrt (products in 32-bit halves, a table in program memory on
  * the ATmega) gives bit for bit the values of its int64_t form (below), for
  * every pair of formats in use and inputs of every bit length. The reference's
@@ -1633,6 +1666,7 @@ int main(void)
         cmocka_unit_test(test_sqrt),
         cmocka_unit_test(test_hypot3),
         cmocka_unit_test(test_sqrt_hypot3_exact),
+        cmocka_unit_test(test_sqrt_unit16_exact),
         cmocka_unit_test(test_rsqrt),
         cmocka_unit_test(test_rsqrt_exact),
         cmocka_unit_test(test_rsqrt_q29_accuracy),

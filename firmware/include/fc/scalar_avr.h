@@ -151,29 +151,6 @@ static inline __attribute__((always_inline)) void fc_avr_mul_u32(uint32_t a, uin
         }                                                                                     \
     } while (0)
 
-/* rest:bits shifted left by two bits, bits 16 wide: its top two bits enter
- * rest at the bottom (the digit-by-digit square root of scalar.c), for a
- * 16-bit and a 32-bit rest: LSL/ROL, 4 and 6 cycles a bit, where the C
- * (rest << 2) | (bits >> 14) is a shift loop. */
-#define FC_AVR_SHL16_INTO16_1 "lsl %A1\n\trol %B1\n\trol %A0\n\trol %B0\n\t"
-#define FC_AVR_SHL16_INTO32_1 "lsl %A1\n\trol %B1\n\trol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
-static inline __attribute__((always_inline)) void fc_avr_shift_in2_16(uint16_t *rest, uint16_t *bits)
-{
-    uint16_t r = *rest, b = *bits;
-    __asm__(FC_AVR_SHL16_INTO16_1 FC_AVR_SHL16_INTO16_1 : "+r"(r), "+r"(b));
-    *rest = r;
-    *bits = b;
-}
-
-static inline __attribute__((always_inline)) void fc_avr_shift_in2_32(uint32_t *rest, uint16_t *bits)
-{
-    uint32_t r = *rest;
-    uint16_t b = *bits;
-    __asm__(FC_AVR_SHL16_INTO32_1 FC_AVR_SHL16_INTO32_1 : "+r"(r), "+r"(b));
-    *rest = r;
-    *bits = b;
-}
-
 /*
  * ROUNDS rounds of restoring division (the divisions and square roots of
  * scalar.c): each round shifts rem:low left by one bit and, when rem >= d,

@@ -14,8 +14,9 @@
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
- * (16-bit rounds) against the digit-by-digit square root of the uint64_t
- * value rounded to nearest, fc_narrow16 (shifts 14, 15, 16) against the
+ * (a table's chord made exact by steps) against the digit-by-digit square
+ * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
+ * 16) against the
  * rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared; the out-of-line products of
  * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
