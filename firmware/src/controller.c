@@ -432,7 +432,10 @@ static fc_step_status estimator_step(fc_controller *ctl, const fc_controller_inp
     return fc_attitude_estimator_step(&ctl->estimator, &in->imu, est) | heading_status;
 }
 
-/* The attitude in use: the filter's, or the platform's if it is a usable quaternion. */
+/* The attitude in use: the filter's, or the platform's if it is a usable
+ * quaternion. The platform's is taken at the attitude law's resolution
+ * (fc_quat16_normalize: UNIT16 in fixed, 6.1e-5 a component), which for a
+ * quaternion already unit is its rounding, with no 32-bit square. */
 static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *in, const fc_attitude_estimate *est,
                                fc_step_status *status)
 {
@@ -440,12 +443,12 @@ static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *i
         return est->attitude;
     }
     bool ok = false;
-    const fc_quat q = fc_quat_normalize(&ctl->ar, in->attitude_external, &ok);
+    const fc_quat16 q = fc_quat16_normalize(&ctl->ar, in->attitude_external, &ok);
     if (!ok) {
         *status |= FC_STEP_BAD_INPUT;
         return ctl->last_attitude;
     }
-    return q;
+    return fc_quat16_widen(q);
 }
 
 /* k_h = cos(roll) cos(pitch): the world-z component of the body z axis, 1 - 2(x^2 + y^2). */

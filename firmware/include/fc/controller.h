@@ -97,7 +97,9 @@ typedef struct fc_controller_params {
     bool use_external_attitude;         /* the platform's estimate instead of the filter: the
                                          * filter then only checks the IMU and forms the rate,
                                          * gyro - b with b as init left it (0), so the platform's
-                                         * gyro must be calibrated; heading_rad goes unused */
+                                         * gyro must be calibrated; heading_rad goes unused; the
+                                         * attitude is taken in UNIT16 (fixed: 6.1e-5 a component),
+                                         * the attitude law's resolution */
     fc_attitude_estimator_params estimator;
     fc_attitude_control_params attitude;
     fc_allocation_params allocation;

@@ -68,6 +68,14 @@ typedef struct fc_quat16 {
  * Float: fc_quat_normalize. */
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok);
 
+/* q in the 32-bit format (UNIT), exactly (inlined: four shifts). */
+static inline fc_quat fc_quat16_widen(fc_quat16 q)
+{
+    const int from = FC_UNIT16_FRAC, to = FC_UNIT_FRAC;
+    return fc_quat_make(fc_widen16(q.w, from, to), fc_widen16(q.x, from, to), fc_widen16(q.y, from, to),
+                        fc_widen16(q.z, from, to));
+}
+
 /* p* (x) q (2.8), each component one rounding; p, q from fc_quat16_normalize. */
 fc_quat16 fc_quat16_conj_mul(fc_arith *ar, fc_quat16 p, fc_quat16 q);
 
