@@ -433,9 +433,9 @@ static fc_step_status estimator_step(fc_controller *ctl, const fc_controller_inp
 }
 
 /* The attitude in use: the filter's, or the platform's if it is a usable
- * quaternion. The platform's is taken at the attitude law's resolution
- * (fc_quat16_normalize: UNIT16 in fixed, 6.1e-5 a component), which for a
- * quaternion already unit is its rounding, with no 32-bit square. */
+ * quaternion, taken at the attitude law's resolution (fc_quat16_normalize:
+ * UNIT16 in fixed, 6.1e-5 a component; for a quaternion already unit its
+ * rounding, with no 32-bit square). */
 static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *in, const fc_attitude_estimate *est,
                                fc_step_status *status)
 {

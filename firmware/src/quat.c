@@ -84,6 +84,9 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
     return quat_scale(ar, q, inv_norm, FC_SHIFT(UNIT, RATIO, UNIT));
 }
 
+#if FC_NUMERIC_FIXED
+/* fc_quat16_normalize in fixed (float: fc/quat.h) */
+
 /* |q|^2 of a UNIT16 quaternion this close to 1 is unit length at 16 bits: a
  * unit quaternion rounded to UNIT16 lands within sum_i 2 |q_i| 2^-15 +
  * 4 2^-30 <= 2^-13 + 2^-28 of it (sum_i |q_i| <= 2), a 32-bit one that is
@@ -103,7 +106,6 @@ static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
 
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
-#if FC_NUMERIC_FIXED
     /* unit already at 16 bits (the usual case: a quaternion normalised
      * upstream): no 32-bit square. A component of 2 or more would saturate
      * the rounding: that q takes the long way. The squares sum unsigned
@@ -118,9 +120,9 @@ fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
         *ok = true;
         return r;
     }
-#endif
     return quat16_round(ar, fc_quat_normalize(ar, q, ok));
 }
+#endif
 
 fc_quat16 fc_quat16_conj_mul(fc_arith *ar, fc_quat16 p, fc_quat16 q)
 {

@@ -276,10 +276,15 @@ static uint32_t shr_u32(uint32_t x, int n)
 #endif
 }
 
-/* The table of isqrt_u32's first guess: 2^16 sqrt(t) at the knots
- * t = 1/4 + k/128, k = 0..96, rounded, less 2^15 (0 to 2^15: 16 bits). */
 #define SQRT_SEGMENT_SHIFT 25 /* M in [2^30, 2^32) cut into segments of 2^25 */
-static const uint16_t sqrt_knot_q16[97] FC_ROM_TABLE = {
+
+/* The knots of isqrt_u32's first guess that enclose segment k (0..95) of M:
+ * 2^16 sqrt(t) at t = 1/4 + k/128 and at the next knot, rounded, less 2^15
+ * (0 to 2^15: 16 bits). The root is exact whatever they hold: a wrong knot
+ * would cost steps, not a wrong value. */
+static void sqrt_knots(uint8_t k, uint16_t *at_start, uint16_t *at_end)
+{
+    static const uint16_t knot_q16[97] FC_ROM_TABLE = {
         0, 508, 1008, 1502, 1988, 2467, 2940, 3407, 3868, 4323, 4772, 5217, 5656, 6090, 6519, 6944,
         7364, 7780, 8192, 8600, 9003, 9403, 9799, 10191, 10580, 10965, 11347, 11726, 12101, 12474,
         12843, 13209, 13573, 13934, 14291, 14647, 14999, 15349, 15697, 16041, 16384, 16724, 17062,
@@ -287,7 +292,11 @@ static const uint16_t sqrt_knot_q16[97] FC_ROM_TABLE = {
         21572, 21879, 22186, 22490, 22793, 23094, 23394, 23691, 23988, 24283, 24576, 24868, 25158,
         25447, 25735, 26021, 26305, 26589, 26871, 27151, 27431, 27709, 27985, 28261, 28535, 28808,
         29080, 29351, 29620, 29889, 30156, 30422, 30687, 30951, 31214, 31475, 31736, 31995, 32254,
-        32511, 32768};
+        32511, 32768
+    };
+    *at_start = FC_ROM_READ_U16(&knot_q16[k]);
+    *at_end = FC_ROM_READ_U16(&knot_q16[k + 1u]);
+}
 
 /* floor(sqrt(m)) of a 32-bit m, and m - floor(sqrt(m))^2 in *remainder:
  *   M = m 4^k in [2^30, 2^32)                (normalised by pairs of bits)
@@ -320,8 +329,8 @@ static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
      * ATmega at -Os: fc_fx_extract's bytes) */
     const uint8_t segment = (uint8_t)(fc_fx_extract(big_m, 0u, SQRT_SEGMENT_SHIFT) - 32u);
     const uint16_t position_q16 = (uint16_t)fc_fx_extract(big_m, 0u, SQRT_SEGMENT_SHIFT - 16);
-    const uint16_t knot_start = FC_ROM_READ_U16(&sqrt_knot_q16[segment]);
-    const uint16_t knot_end = FC_ROM_READ_U16(&sqrt_knot_q16[segment + 1u]);
+    uint16_t knot_start, knot_end;
+    sqrt_knots(segment, &knot_start, &knot_end);
     const uint32_t rise_q16 = (uint32_t)(uint16_t)(knot_end - knot_start) * position_q16;
     uint16_t root = (uint16_t)(32768u + knot_start + (uint16_t)(rise_q16 >> 16));
     /* the steps: (S - 1)^2 = S^2 - 2 S + 1, and (S + 1)^2 <= M compared

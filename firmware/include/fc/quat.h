@@ -57,23 +57,38 @@ fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q);
  * of two such), so its components stay within 1 + 2^-13 and the sums of
  * fc_quat16_conj_mul within 32 bits.
  */
+#if FC_NUMERIC_FIXED
 typedef struct fc_quat16 {
     fc_real16 w, x, y, z;
 } fc_quat16;
+#else
+typedef fc_quat fc_quat16; /* the same floats: no copies between the two */
+#endif
 
 /* fc_quat_normalize(q) in the 16-bit format, the same *ok. Fixed: q rounded
  * to UNIT16 as it is when that has |q|^2 within 2^-13 + 2^-24 of 1 (any unit
  * quaternion does: its rounding moves |q|^2 by 2^-13 at most), else
  * normalised in 32 bits first; components within 1.5 UNIT16 LSB of q/|q|.
- * Float: fc_quat_normalize. */
+ * Float: fc_quat_normalize itself (inlined). */
+#if FC_NUMERIC_FIXED
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok);
+#else
+static inline fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
+{
+    return fc_quat_normalize(ar, q, ok);
+}
+#endif
 
-/* q in the 32-bit format (UNIT), exactly (inlined: four shifts). */
+/* q in the 32-bit format (UNIT), exactly (inlined: four shifts; float: q). */
 static inline fc_quat fc_quat16_widen(fc_quat16 q)
 {
+#if FC_NUMERIC_FIXED
     const int from = FC_UNIT16_FRAC, to = FC_UNIT_FRAC;
     return fc_quat_make(fc_widen16(q.w, from, to), fc_widen16(q.x, from, to), fc_widen16(q.y, from, to),
                         fc_widen16(q.z, from, to));
+#else
+    return q;
+#endif
 }
 
 /* p* (x) q (2.8), each component one rounding; p, q from fc_quat16_normalize. */
