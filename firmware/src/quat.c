@@ -1,6 +1,8 @@
 /* quat.c - unit quaternions (fc/quat.h). One source for both backends. */
 #include "fc/quat.h"
 
+#include <stddef.h>
+
 /* shift of a product of two UNIT values giving a UNIT value */
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
@@ -205,6 +207,14 @@ void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real 
     *angle_rad = fc_add(ar, half_angle, half_angle);
 }
 
+/* A level of fc_quat_from_rotation_vector's series: 1 - a2 c inner, UNIT;
+ * no inner (NULL) is 1, with no product by it. */
+static fc_real series_level(fc_arith *ar, fc_real a2, fc_real c, const fc_real *inner)
+{
+    const fc_real term = fc_mul(ar, a2, c, UNIT_X_UNIT);
+    return fc_sub(ar, FC_INT(1, UNIT), inner != NULL ? fc_mul(ar, term, *inner, UNIT_X_UNIT) : term);
+}
+
 fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
 {
     /* a^2 first: the branch is taken on a^2 < 1/4, so the small angles of a
@@ -216,21 +226,30 @@ fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
     fc_real cos_half;          /* cos(a/2), UNIT */
     fc_real sin_half_over_a;   /* sin(a/2)/a, UNIT */
     if (probe.saturated == 0u && a2 < FC_C(0.25f, UNIT)) {
-        /* series in a^2 (truncation below 4e-10 for a < 0.5 rad); no division,
-         * and exact at a = 0 where sin(a/2)/a is 0/0 */
-        /* cos(a/2) = 1 - a^2/8 (1 - a^2/48 (1 - a^2/120)) */
-        fc_real acc = fc_sub(ar, FC_INT(1, UNIT), fc_mul(ar, a2, FC_C(1.0f / 120.0f, UNIT), UNIT_X_UNIT));
-        acc = fc_sub(ar, FC_INT(1, UNIT),
-                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 48.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
-        cos_half = fc_sub(ar, FC_INT(1, UNIT),
-                          fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 8.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
-        /* sin(a/2)/a = 1/2 (1 - a^2/24 (1 - a^2/80 (1 - a^2/168))) */
-        acc = fc_sub(ar, FC_INT(1, UNIT), fc_mul(ar, a2, FC_C(1.0f / 168.0f, UNIT), UNIT_X_UNIT));
-        acc = fc_sub(ar, FC_INT(1, UNIT),
-                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 80.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
-        acc = fc_sub(ar, FC_INT(1, UNIT),
-                     fc_mul(ar, fc_mul(ar, a2, FC_C(1.0f / 24.0f, UNIT), UNIT_X_UNIT), acc, UNIT_X_UNIT));
-        sin_half_over_a = fc_mul(ar, acc, FC_C(0.5f, UNIT), UNIT_X_UNIT);
+        /* series in a^2, nested (no division, and exact at a = 0 where
+         * sin(a/2)/a is 0/0):
+         *   cos(a/2)   = 1 - a^2/8 (1 - a^2/48 (1 - a^2/120))
+         *   sin(a/2)/a = 1/2 (1 - a^2/24 (1 - a^2/80 (1 - a^2/168)))
+         * cut after the last level that reaches 2^-45 (1/2^15 of a UNIT LSB):
+         * all three for a < 0.5 rad (truncation below 4e-10), two below
+         * a^2 = 2^-10 (a < 0.031 rad, 16 rad/s over a 2 ms step: a^6/46080 <
+         * 2^-45), one below 2^-20 (a < 1e-3: a^4/384 < 2^-48); 11, 7 and 3
+         * products */
+        const bool third = a2 >= FC_C(1.0f / 1024.0f, UNIT);
+        const bool second = a2 >= FC_C(1.0f / 1048576.0f, UNIT);
+        fc_real cos_inner = FC_INT(1, UNIT);
+        fc_real sin_inner = FC_INT(1, UNIT);
+        if (third) {
+            cos_inner = series_level(ar, a2, FC_C(1.0f / 120.0f, UNIT), NULL);
+            sin_inner = series_level(ar, a2, FC_C(1.0f / 168.0f, UNIT), NULL);
+        }
+        if (second) {
+            cos_inner = series_level(ar, a2, FC_C(1.0f / 48.0f, UNIT), third ? &cos_inner : NULL);
+            sin_inner = series_level(ar, a2, FC_C(1.0f / 80.0f, UNIT), third ? &sin_inner : NULL);
+        }
+        cos_half = series_level(ar, a2, FC_C(1.0f / 8.0f, UNIT), second ? &cos_inner : NULL);
+        sin_inner = series_level(ar, a2, FC_C(1.0f / 24.0f, UNIT), second ? &sin_inner : NULL);
+        sin_half_over_a = fc_mul(ar, sin_inner, FC_C(0.5f, UNIT), UNIT_X_UNIT);
     } else {
         const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
         const fc_real half_angle = fc_mul(ar, angle, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));

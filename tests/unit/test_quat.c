@@ -746,22 +746,26 @@ static void test_from_rotation_vector(void **state)
     assert_int_equal(ar.saturated, 0);
 }
 
-/* Both branches meet at 0.5 rad: the step across the switch is the one of
- * the exact function. */
+/* The branches meet at 0.5 rad, and the series' cuts at 2^-10 and 2^-5 rad
+ * (a^2 = 2^-20, 2^-10): the step across each switch is the one of the exact
+ * function. */
 static void test_rotation_vector_continuity(void **state)
 {
     (void)state;
     fc_arith ar = {0};
     const dvec axes[] = {{1.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, {1.0 / 3.0, 2.0 / 3.0, -2.0 / 3.0}};
-    ts_check c = ts_check_begin("continuity at 0.5 rad");
-    for (size_t k = 0; k < sizeof axes / sizeof axes[0]; k++) {
+    const double switches[] = {1.0 / 1024.0, 1.0 / 32.0, 0.5};
+    ts_check c = ts_check_begin("continuity at 2^-10, 2^-5 and 0.5 rad");
+    for (size_t k = 0; k < sizeof axes / sizeof axes[0] * 3u; k++) {
+        const dvec axis = axes[k / 3u];
+        const double at = switches[k % 3u];
         for (int d = 1; d <= 64; d *= 2) {
-            /* d ANGLE LSB (or d float steps) below and above 0.5 rad */
+            /* d ANGLE LSB (or d float steps) below and above the switch */
             const double step = ts_resolution(FC_ANGLE_FRAC) * d;
             dvec rlo, rhi;
-            const double alo = 0.5 - step, ahi = 0.5 + step;
-            const fc_vec3 tlo = vec_in(axes[k].x * alo, axes[k].y * alo, axes[k].z * alo, FC_ANGLE_FRAC, &rlo);
-            const fc_vec3 thi = vec_in(axes[k].x * ahi, axes[k].y * ahi, axes[k].z * ahi, FC_ANGLE_FRAC, &rhi);
+            const double alo = at - step, ahi = at + step;
+            const fc_vec3 tlo = vec_in(axis.x * alo, axis.y * alo, axis.z * alo, FC_ANGLE_FRAC, &rlo);
+            const fc_vec3 thi = vec_in(axis.x * ahi, axis.y * ahi, axis.z * ahi, FC_ANGLE_FRAC, &rhi);
             const fc_quat qlo = fc_quat_from_rotation_vector(&ar, tlo);
             const fc_quat qhi = fc_quat_from_rotation_vector(&ar, thi);
             /* each side against the exact function */
