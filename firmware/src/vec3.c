@@ -1,24 +1,10 @@
 /* vec3.c - three-vectors (fc/vec3.h). One source for both backends. */
 #include "fc/vec3.h"
 
-fc_vec3 fc_vec3_add(fc_arith *ar, fc_vec3 a, fc_vec3 b)
-{
-    return fc_vec3_make(fc_add(ar, a.x, b.x), fc_add(ar, a.y, b.y), fc_add(ar, a.z, b.z));
-}
-
-fc_vec3 fc_vec3_sub(fc_arith *ar, fc_vec3 a, fc_vec3 b)
-{
-    return fc_vec3_make(fc_sub(ar, a.x, b.x), fc_sub(ar, a.y, b.y), fc_sub(ar, a.z, b.z));
-}
-
 fc_vec3 fc_vec3_neg(fc_arith *ar, fc_vec3 v)
 {
     return fc_vec3_make(fc_neg(ar, v.x), fc_neg(ar, v.y), fc_neg(ar, v.z));
 }
-
-
-
-
 
 fc_real fc_vec3_norm(fc_arith *ar, fc_vec3 v, int frac)
 {
