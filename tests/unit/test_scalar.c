@@ -935,6 +935,14 @@ static void test_sqrt_hypot3_exact(void **state)
  * for x of every bit length (the radicands below 2^30 that isqrt_u32
  * normalises by pairs of bits) and a sweep of [0, 1]; an exhaustive host run
  * of isqrt_u32 over all 2^32 radicands found no error. */
+#if FC_NUMERIC_FIXED
+static void assert_sqrt_unit16_exact(fc_arith *ar, uint32_t x)
+{
+    const fc_real got = fc_sqrt_unit16(ar, (fc_real)x);
+    assert_int_equal((uint32_t)got, reference_sqrt_rounded((uint64_t)x << 2) << (FC_UNIT_FRAC - 16));
+}
+#endif
+
 static void test_sqrt_unit16_exact(void **state)
 {
     (void)state;
@@ -943,20 +951,17 @@ static void test_sqrt_unit16_exact(void **state)
     fc_arith ar = {0};
     unsigned cases = 0u;
     for (uint32_t x = 0u; x <= (uint32_t)FC_INT(1, UNIT); x += 4099u) {
-        const fc_real got = fc_sqrt_unit16(&ar, (fc_real)x);
-        assert_int_equal((uint32_t)got, reference_sqrt_rounded((uint64_t)x << 2) << (FC_UNIT_FRAC - 16));
+        assert_sqrt_unit16_exact(&ar, x);
         cases++;
     }
     for (int bits = 1; bits <= 30; bits++) {
+        /* the least and the largest x of this bit length, then random ones */
+        assert_sqrt_unit16_exact(&ar, (uint32_t)1u << (bits - 1));
+        assert_sqrt_unit16_exact(&ar, ((uint32_t)1u << bits) - 1u);
         for (int i = 0; i < 2000; i++) {
-            uint32_t x = ts_rand_u32(&rng) >> (32 - bits);
-            if (i < 2) {
-                x = i == 0 ? ((uint32_t)1u << (bits - 1)) : ((uint32_t)1u << bits) - 1u;
-            }
-            const fc_real got = fc_sqrt_unit16(&ar, (fc_real)x);
-            assert_int_equal((uint32_t)got, reference_sqrt_rounded((uint64_t)x << 2) << (FC_UNIT_FRAC - 16));
-            cases++;
+            assert_sqrt_unit16_exact(&ar, ts_rand_u32(&rng) >> (32 - bits));
         }
+        cases += 2002u;
     }
     assert_int_equal(ar.saturated, 0);
     print_message("sqrt_unit16 exact: %u cases\n", cases);
