@@ -201,8 +201,19 @@ static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
     if (high >= d) {
         return UINT32_MAX; /* N / D >= 2^32 */
     }
-    /* 32 rounds: low becomes the quotient, high the remainder */
-    fc_avr_divide_rounds(&high, &low, d, 32u);
+    /* 32 rounds: low becomes the quotient, high the remainder. Eight rounds
+     * whose remainder stays below d set no bit and only shift high:low by a
+     * byte: those are moves (a quotient below 2^24 skips 8 rounds, below
+     * 2^16 16, ...) */
+    uint8_t rounds = 32u;
+    while (rounds != 0u && high < ((uint32_t)1u << 24) && ((high << 8) | (low >> 24)) < d) {
+        high = (high << 8) | (low >> 24);
+        low <<= 8;
+        rounds = (uint8_t)(rounds - 8u);
+    }
+    if (rounds != 0u) {
+        fc_avr_divide_rounds(&high, &low, d, rounds);
+    }
     const uint32_t quotient = low;
     const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
     return rounded < quotient ? UINT32_MAX : rounded;
