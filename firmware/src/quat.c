@@ -1,8 +1,6 @@
 /* quat.c - unit quaternions (fc/quat.h). One source for both backends. */
 #include "fc/quat.h"
 
-#include <stddef.h>
-
 /* shift of a product of two UNIT values giving a UNIT value */
 #define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
 
@@ -207,12 +205,13 @@ void fc_quat_to_axis_angle(fc_arith *ar, fc_quat q, fc_vec3 *axis_unit, fc_real 
     *angle_rad = fc_add(ar, half_angle, half_angle);
 }
 
-/* A level of fc_quat_from_rotation_vector's series: 1 - a2 c inner, UNIT;
- * no inner (NULL) is 1, with no product by it. */
-static fc_real series_level(fc_arith *ar, fc_real a2, fc_real c, const fc_real *inner)
+/* A level of fc_quat_from_rotation_vector's series: 1 - a2 c v, UNIT, v the
+ * value of the level inside it; without one (nested false) v is 1, with no
+ * product by it. */
+static fc_real series_level(fc_arith *ar, fc_real a2, fc_real c, bool nested, fc_real v)
 {
     const fc_real term = fc_mul(ar, a2, c, UNIT_X_UNIT);
-    return fc_sub(ar, FC_INT(1, UNIT), inner != NULL ? fc_mul(ar, term, *inner, UNIT_X_UNIT) : term);
+    return fc_sub(ar, FC_INT(1, UNIT), nested ? fc_mul(ar, term, v, UNIT_X_UNIT) : term);
 }
 
 fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
@@ -237,19 +236,19 @@ fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad)
          * products */
         const bool third = a2 >= FC_C(1.0f / 1024.0f, UNIT);
         const bool second = a2 >= FC_C(1.0f / 1048576.0f, UNIT);
-        fc_real cos_inner = FC_INT(1, UNIT);
-        fc_real sin_inner = FC_INT(1, UNIT);
+        fc_real cos_tail = FC_INT(1, UNIT);
+        fc_real sin_tail = FC_INT(1, UNIT);
         if (third) {
-            cos_inner = series_level(ar, a2, FC_C(1.0f / 120.0f, UNIT), NULL);
-            sin_inner = series_level(ar, a2, FC_C(1.0f / 168.0f, UNIT), NULL);
+            cos_tail = series_level(ar, a2, FC_C(1.0f / 120.0f, UNIT), false, cos_tail);
+            sin_tail = series_level(ar, a2, FC_C(1.0f / 168.0f, UNIT), false, sin_tail);
         }
         if (second) {
-            cos_inner = series_level(ar, a2, FC_C(1.0f / 48.0f, UNIT), third ? &cos_inner : NULL);
-            sin_inner = series_level(ar, a2, FC_C(1.0f / 80.0f, UNIT), third ? &sin_inner : NULL);
+            cos_tail = series_level(ar, a2, FC_C(1.0f / 48.0f, UNIT), third, cos_tail);
+            sin_tail = series_level(ar, a2, FC_C(1.0f / 80.0f, UNIT), third, sin_tail);
         }
-        cos_half = series_level(ar, a2, FC_C(1.0f / 8.0f, UNIT), second ? &cos_inner : NULL);
-        sin_inner = series_level(ar, a2, FC_C(1.0f / 24.0f, UNIT), second ? &sin_inner : NULL);
-        sin_half_over_a = fc_mul(ar, sin_inner, FC_C(0.5f, UNIT), UNIT_X_UNIT);
+        cos_half = series_level(ar, a2, FC_C(1.0f / 8.0f, UNIT), second, cos_tail);
+        sin_tail = series_level(ar, a2, FC_C(1.0f / 24.0f, UNIT), second, sin_tail);
+        sin_half_over_a = fc_mul(ar, sin_tail, FC_C(0.5f, UNIT), UNIT_X_UNIT);
     } else {
         const fc_real angle = fc_vec3_norm(ar, theta_rad, FC_ANGLE_FRAC);
         const fc_real half_angle = fc_mul(ar, angle, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE));
