@@ -133,8 +133,16 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     }
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
         const fc_fx_wide quarters = fc_fx_quarters2(a0, b0, a1, b1);
-        /* and its 36 (the fifth) */
-        return shift == 36 ? fc_fx_narrow_quarters(ar, quarters, 36) : narrow_quarters_runtime(ar, quarters, shift);
+        /* and its 36 (the fifth); 32 is the allocation's ratio comparison
+         * (the hexa's saturated steps, 1.9 calls a step) */
+        switch (shift) {
+        case 36:
+            return fc_fx_narrow_quarters(ar, quarters, 36);
+        case 32:
+            return fc_fx_narrow_quarters(ar, quarters, 32);
+        default:
+            return narrow_quarters_runtime(ar, quarters, shift);
+        }
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
@@ -523,8 +531,12 @@ fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
  * bytes on the ATmega) for fc_hypot3 and fc_hypot3_within. */
 static __attribute__((noinline)) fc_fx_wide sum_of_squares(fc_real a, fc_real b, fc_real c)
 {
-    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b), cc = fc_fx_mul_wide(c, c);
-    return fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(aa, bb), cc);
+    const fc_fx_wide aa = fc_fx_mul_wide(a, a), bb = fc_fx_mul_wide(b, b);
+    const fc_fx_wide ab = fc_fx_add_wide_wrap(aa, bb);
+    if (c == 0) {
+        return ab; /* a plane vector (the controller's horizontal error): one product fewer */
+    }
+    return fc_fx_add_wide_wrap(ab, fc_fx_mul_wide(c, c));
 }
 
 fc_real fc_hypot3(fc_arith *ar, fc_real a, fc_real b, fc_real c)
