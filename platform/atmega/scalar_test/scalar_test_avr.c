@@ -16,8 +16,7 @@
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
  * (a table's chord made exact by steps) against the digit-by-digit square
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
- * 16) against the
- * rounded value saturated at +-INT16_MAX, and
+ * 16) against the rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared; the out-of-line products of
  * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
  * shift narrowed by bytes and bits) against the int64_t form.
