@@ -651,6 +651,21 @@ static double check_pinv(const char *what, const fc_mat *a, const dmat *ra)
     return tol_p;
 }
 
+/* A mixer of orthogonal rows or columns of +-1 (Hadamard): its
+ * pseudo-inverse is its transpose over k (k = rows x cols / min(rows, cols)),
+ * to 1 MAT LSB (the Cholesky solve takes a square root). */
+static void check_pinv_scaled_transpose(const fc_mat *h, const dmat *rh, double k)
+{
+    fc_arith ar = {0};
+    fc_mat p;
+    assert_int_equal(fc_mat_pinv(&ar, h, &p), FC_MAT_OK);
+    for (int i = 0; i < h->cols; i++) {
+        for (int j = 0; j < h->rows; j++) {
+            TS_ASSERT_CLOSE(ts_val(p.a[i][j], FC_MAT_FRAC), rh->a[j][i] / k, 1.0 / 16777216.0);
+        }
+    }
+}
+
 static void test_pinv_wide(void **state)
 {
     (void)state;
@@ -669,15 +684,7 @@ static void test_pinv_wide(void **state)
                           1, -1, -1, 1, 1, -1, -1, 1, -1, 1, -1, 1, -1, 1, -1, 1};
     dmat rh;
     const fc_mat h = mat_in(4, 8, hv, &rh);
-    fc_arith ar = {0};
-    fc_mat p;
-    assert_int_equal(fc_mat_pinv(&ar, &h, &p), FC_MAT_OK);
-    for (int i = 0; i < 8; i++) {
-        for (int j = 0; j < 4; j++) {
-            TS_ASSERT_CLOSE(ts_val(p.a[i][j], FC_MAT_FRAC), rh.a[j][i] / 8.0, 1.0 / 16777216.0); /* 1 MAT LSB: the
-                                                                 * Cholesky solve takes a square root */
-        }
-    }
+    check_pinv_scaled_transpose(&h, &rh, 8.0);
     (void)check_pinv("pinv Hadamard 4x8", &h, &rh);
 }
 
@@ -707,15 +714,7 @@ static void test_pinv_square(void **state)
     const float hv[16] = {1, 1, 1, 1, -1, -1, 1, 1, 1, -1, -1, 1, -1, 1, -1, 1};
     dmat rh;
     const fc_mat h = mat_in(4, 4, hv, &rh);
-    fc_arith ar = {0};
-    fc_mat p;
-    assert_int_equal(fc_mat_pinv(&ar, &h, &p), FC_MAT_OK);
-    for (int i = 0; i < 4; i++) {
-        for (int j = 0; j < 4; j++) {
-            TS_ASSERT_CLOSE(ts_val(p.a[i][j], FC_MAT_FRAC), rh.a[j][i] / 4.0, 1.0 / 16777216.0); /* 1 MAT LSB: the
-                                                                 * Cholesky solve takes a square root */
-        }
-    }
+    check_pinv_scaled_transpose(&h, &rh, 4.0);
 }
 
 static void test_pinv_tall(void **state)
@@ -751,15 +750,7 @@ static void test_pinv_tall(void **state)
     }
     dmat rh;
     const fc_mat h = mat_in(8, 4, tv, &rh);
-    fc_arith ar = {0};
-    fc_mat p;
-    assert_int_equal(fc_mat_pinv(&ar, &h, &p), FC_MAT_OK);
-    for (int i = 0; i < 4; i++) {
-        for (int j = 0; j < 8; j++) {
-            TS_ASSERT_CLOSE(ts_val(p.a[i][j], FC_MAT_FRAC), rh.a[j][i] / 8.0, 1.0 / 16777216.0); /* 1 MAT LSB: the
-                                                                 * Cholesky solve takes a square root */
-        }
-    }
+    check_pinv_scaled_transpose(&h, &rh, 8.0);
     (void)check_pinv("pinv Hadamard 8x4", &h, &rh);
 }
 
