@@ -666,6 +666,24 @@ static void check_pinv_scaled_transpose(const fc_mat *h, const dmat *rh, double 
     }
 }
 
+/* A of full rank: its pseudo-inverse is a one-sided inverse, A A+ = I
+ * when A is wide or square, A+ A = I when it is tall; tol_p is check_pinv's
+ * tolerance on A+, times the longer side and the largest |a_ij|. */
+static void check_pinv_inverts(const char *name, const fc_mat *a, const dmat *ra, double tol_p)
+{
+    fc_arith ar = {0};
+    fc_mat p;
+    assert_int_equal(fc_mat_pinv(&ar, a, &p), FC_MAT_OK);
+    const dmat rp = dval(&p);
+    const bool wide = a->rows <= a->cols;
+    const dmat prod = wide ? dmul(ra, &rp) : dmul(&rp, ra);
+    const dmat id = didentity(wide ? a->rows : a->cols);
+    const double longer_side = (double)(wide ? a->cols : a->rows);
+    ts_check c = ts_check_begin(name);
+    close_mat(&c, &prod, &id, longer_side * dmax_abs(ra) * tol_p, wide ? "A A+" : "A+ A");
+    ts_check_end(&c);
+}
+
 static void test_pinv_wide(void **state)
 {
     (void)state;
@@ -700,15 +718,7 @@ static void test_pinv_square(void **state)
         }
         const double tol_p = check_pinv("pinv 4x4", &a, &ra);
         /* square and full rank: the pseudo-inverse is the inverse */
-        fc_arith ar = {0};
-        fc_mat p;
-        assert_int_equal(fc_mat_pinv(&ar, &a, &p), FC_MAT_OK);
-        const dmat rp = dval(&p);
-        const dmat prod = dmul(&ra, &rp);
-        const dmat id = didentity(4);
-        ts_check c = ts_check_begin("pinv 4x4: A A+ = I");
-        close_mat(&c, &prod, &id, 4.0 * dmax_abs(&ra) * tol_p, "A A+");
-        ts_check_end(&c);
+        check_pinv_inverts("pinv 4x4: A A+ = I", &a, &ra, tol_p);
     }
     /* the 4x4 X-quadrotor mixer (Hadamard): A+ = A^T / 4 exactly */
     const float hv[16] = {1, 1, 1, 1, -1, -1, 1, 1, 1, -1, -1, 1, -1, 1, -1, 1};
@@ -729,15 +739,7 @@ static void test_pinv_tall(void **state)
         }
         const double tol_p = check_pinv("pinv 6x4", &a, &ra);
         /* full column rank: A+ A = I */
-        fc_arith ar = {0};
-        fc_mat p;
-        assert_int_equal(fc_mat_pinv(&ar, &a, &p), FC_MAT_OK);
-        const dmat rp = dval(&p);
-        const dmat prod = dmul(&rp, &ra);
-        const dmat id = didentity(4);
-        ts_check c = ts_check_begin("pinv 6x4: A+ A = I");
-        close_mat(&c, &prod, &id, 6.0 * dmax_abs(&ra) * tol_p, "A+ A");
-        ts_check_end(&c);
+        check_pinv_inverts("pinv 6x4: A+ A = I", &a, &ra, tol_p);
     }
     /* the transposed 4x8 Hadamard mixer, 8x4: orthogonal columns, A+ = A^T / 8 exactly */
     const float hv[32] = {1, 1, 1, 1, 1, 1, 1, 1,  -1, -1, 1, 1, -1, -1, 1, 1,
