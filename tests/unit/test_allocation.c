@@ -64,32 +64,29 @@ static fc_allocation_demand demand_make(float thrust_n, float mx, float my, floa
     return d;
 }
 
-static float achieved(const fc_allocation_output *out, int row)
+/* Row k of a wrench [F_z; M_x; M_y; M_z] in N or N m. */
+static float wrench_row(fc_real thrust_n, fc_vec3 moment_nm, int row)
 {
     switch (row) {
     case 0:
-        return to_f(out->thrust_n, FC_FORCE_FRAC);
+        return to_f(thrust_n, FC_FORCE_FRAC);
     case 1:
-        return to_f(out->moment_nm.x, FC_MOMENT_FRAC);
+        return to_f(moment_nm.x, FC_MOMENT_FRAC);
     case 2:
-        return to_f(out->moment_nm.y, FC_MOMENT_FRAC);
+        return to_f(moment_nm.y, FC_MOMENT_FRAC);
     default:
-        return to_f(out->moment_nm.z, FC_MOMENT_FRAC);
+        return to_f(moment_nm.z, FC_MOMENT_FRAC);
     }
+}
+
+static float achieved(const fc_allocation_output *out, int row)
+{
+    return wrench_row(out->thrust_n, out->moment_nm, row);
 }
 
 static float demanded(const fc_allocation_demand *d, int row)
 {
-    switch (row) {
-    case 0:
-        return to_f(d->thrust_n, FC_FORCE_FRAC);
-    case 1:
-        return to_f(d->moment_nm.x, FC_MOMENT_FRAC);
-    case 2:
-        return to_f(d->moment_nm.y, FC_MOMENT_FRAC);
-    default:
-        return to_f(d->moment_nm.z, FC_MOMENT_FRAC);
-    }
+    return wrench_row(d->thrust_n, d->moment_nm, row);
 }
 
 static float row_lsb(int row)
