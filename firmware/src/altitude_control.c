@@ -297,6 +297,7 @@ void fc_altitude_control_reset(fc_altitude_control *c)
 fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitude_control_params *p)
 {
     c->ready = false;
+    c->hold = false;
     c->ar.saturated = 0u;
     c->p = *p;
     if (!altitude_params_valid(p)) {
@@ -542,6 +543,11 @@ static bool input_valid(const fc_altitude_control_input *in)
            fc_within(in->tilt_cos, FC_INT(1, RATIO));
 }
 
+void fc_altitude_control_hold(fc_altitude_control *c, bool hold)
+{
+    c->hold = hold;
+}
+
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out)
 {
@@ -552,12 +558,13 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     fc_arith *ar = &c->ar;
     ar->saturated = 0u;
     const fc_altitude_control_params *p = &c->p;
-    if (!input_valid(in)) {
-        /* hold the last thrust command: the filters and Theta are not fed garbage */
+    if (c->hold || !input_valid(in)) {
+        /* hold the last thrust command: the filters and Theta are not fed
+         * garbage, nor a frozen error to adapt and wind up on */
         safe_output(c, out);
         out->thrust_n = c->last_thrust_n;
         out->vertical_force_n = c->last_thrust_n;
-        return FC_STEP_BAD_INPUT;
+        return c->hold ? FC_STEP_DEGRADED : FC_STEP_BAD_INPUT;
     }
     fc_step_status status = FC_STEP_OK;
     safe_output(c, out);

@@ -52,6 +52,8 @@ void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_re
     p->accel_trust_band_mps2 = FC_C(2.0f, ACCEL);
     p->gyro_range_radps = FC_C(35.0f, RATE);              /* 2000 deg/s */
     p->accel_range_mps2 = FC_C(16.0f * 9.80665f, ACCEL); /* 16 g */
+    p->gyro_jump_radps = FC_INT(2, RATE);
+    p->gyro_accel_max_radps2 = FC_INT(1000, GAIN);
     p->alignment_samples = 100u;
     p->heading_weight = FC_INT(1, RATIO);
     p->heading_hold_s = FC_C(0.1f, DT);
@@ -90,6 +92,11 @@ static bool params_in_range(const fc_attitude_estimator_params *p)
         !(p->accel_range_mps2 > p->gravity_mps2)) {
         return false;
     }
+    if (!fc_in_range(p->gyro_jump_radps, FC_INT(0, RATE), FC_INT(100, RATE)) ||
+        !(p->gyro_accel_max_radps2 > FC_INT(0, GAIN)) ||
+        !fc_in_range(p->gyro_accel_max_radps2, FC_INT(0, GAIN), FC_INT(30000, GAIN))) {
+        return false;
+    }
     return p->alignment_samples >= 1u && p->alignment_samples <= 32767u;
 }
 
@@ -99,6 +106,9 @@ static void reset_state(fc_attitude_estimator *est)
     est->attitude = fc_quat_identity();
     est->gyro_bias_fine = fc_vec3_zero();
     est->rate_radps = fc_vec3_zero();
+    est->last_gyro_radps = fc_vec3_zero();
+    est->gyro_slack_radps = FC_INT(0, RATE);
+    est->have_gyro = false;
     est->alignment_sum[0] = fc_acc_zero();
     est->alignment_sum[1] = fc_acc_zero();
     est->alignment_sum[2] = fc_acc_zero();
@@ -158,7 +168,8 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     const fc_real inv_n = fc_div(&ar, FC_INT(1, GAIN), FC_INT(p->alignment_samples, GAIN),
                                  FC_DIV_SHIFT(GAIN, GAIN, UNIT));
     const fc_real bias_limit = fc_convert(&ar, p->gyro_bias_limit_radps, FC_RATE_FRAC, FC_UNIT_FRAC);
-    if (ar.saturated != 0u) {
+    const fc_real slack_step = fc_mul(&ar, p->gyro_accel_max_radps2, p->dt_s, FC_SHIFT(GAIN, DT, RATE));
+    if (ar.saturated != 0u || slack_step > FC_INT(100, RATE)) {
         return FC_INIT_BAD_PARAM;
     }
 
@@ -169,15 +180,44 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
     est->heading_hold_steps = heading_hold_steps;
+    est->gyro_slack_step_radps = slack_step;
     est->ready = true;
     return FC_INIT_OK;
 }
 
 /* ---- the step ---------------------------------------------------------- */
 
-static bool gyro_valid(const fc_attitude_estimator *est, fc_vec3 gyro)
+/* |a - b| <= slack on each axis, as b - slack <= a <= b + slack: a bound
+ * that leaves RATE saturates to its edge, which a sample inside the gyro
+ * range (<= 100 rad/s) cannot pass, so the comparison is exact and its
+ * saturation is not the step's. */
+static bool within_of(fc_vec3 a, fc_vec3 b, fc_real slack)
 {
-    return fc_vec3_within(gyro, est->p.gyro_range_radps);
+    fc_arith scratch = {0u};
+    return fc_in_range(a.x, fc_sub(&scratch, b.x, slack), fc_add(&scratch, b.x, slack)) &&
+           fc_in_range(a.y, fc_sub(&scratch, b.y, slack), fc_add(&scratch, b.y, slack)) &&
+           fc_in_range(a.z, fc_sub(&scratch, b.z, slack), fc_add(&scratch, b.z, slack));
+}
+
+/* Inside the range, and (after the first, unless gyro_jump is 0) no further
+ * from the last good sample than the airframe can turn in the time since:
+ * the slack grows by gyro_accel_max dt a step and starts again from
+ * gyro_jump at each good one. */
+static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
+{
+    fc_arith *ar = &est->ar;
+    const fc_real slack = fc_min(fc_add(ar, est->gyro_slack_radps, est->gyro_slack_step_radps), FC_INT(100, RATE));
+    const bool checked = est->have_gyro && est->p.gyro_jump_radps > FC_INT(0, RATE);
+    const bool ok = fc_vec3_within(gyro, est->p.gyro_range_radps) &&
+                    (!checked || within_of(gyro, est->last_gyro_radps, slack));
+    if (ok) {
+        est->last_gyro_radps = gyro;
+        est->have_gyro = true;
+        est->gyro_slack_radps = est->p.gyro_jump_radps;
+    } else {
+        est->gyro_slack_radps = slack;
+    }
+    return ok;
 }
 
 /* A valid accelerometer sample: inside its range, and a direction (its
@@ -296,6 +336,8 @@ static void write_safe_output(fc_attitude_estimate *out)
     out->gyro_bias_radps = fc_vec3_zero();
     out->accel_weight = FC_INT(0, RATIO);
     out->aligned = false;
+    out->gyro_ok = false;
+    out->accel_ok = false;
 }
 
 /* The sample's checks, shared by both steps: a valid gyro sample, corrected
@@ -344,10 +386,13 @@ static bool step_begins(fc_attitude_estimator *est, fc_attitude_estimate *out)
     return true;
 }
 
-static fc_step_status step_ends(fc_attitude_estimator *est, fc_attitude_estimate *out, fc_step_status status)
+static fc_step_status step_ends(fc_attitude_estimator *est, sample_check sample, fc_attitude_estimate *out,
+                                fc_step_status status)
 {
     if (out != NULL) {
         write_output(est, &est->ar, out);
+        out->gyro_ok = sample.gyro_ok;
+        out->accel_ok = sample.accel_ok;
     }
     if (est->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
@@ -381,7 +426,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     if (est->heading_steps_left > 0u) {
         est->heading_steps_left--; /* one step older */
     }
-    return step_ends(est, out, status);
+    return step_ends(est, sample, out, status);
 }
 
 fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const fc_imu_sample *imu,
@@ -392,5 +437,5 @@ fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const
     }
     const sample_check sample = check_sample(est, imu, false);
     est->accel_weight = FC_INT(0, RATIO);
-    return step_ends(est, out, sample_status(sample));
+    return step_ends(est, sample, out, sample_status(sample));
 }

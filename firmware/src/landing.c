@@ -169,6 +169,13 @@ static void start_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_r
     enter(lm, FC_LANDING_ABORT, reason);
 }
 
+void fc_landing_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_reason reason)
+{
+    if (lm->ready) {
+        start_abort(lm, in, reason);
+    }
+}
+
 /* ---------------------------------------------------------------------- */
 /* one step                                                                */
 /* ---------------------------------------------------------------------- */

@@ -24,7 +24,9 @@
  * us and mN are integer arithmetic.
  *
  * Arming: the image starts disarmed (command DISARM, ESCs at 1000 us) and arms
- * on "ARM1" over USART0 ("ARM0" disarms). It refuses to arm while the IMU
+ * on "ARM1" over USART0 ("ARM0" disarms), once the controller's own arming
+ * checks pass (the attitude filter aligned: 2 s at 50 Hz; telemetry's armed
+ * bit is the controller's). It refuses to arm while the IMU
  * read fails and disarms after 0.1 s of IMU loss; while the IMU is missing
  * the controller keeps stepping on the at-rest sample (hal_imu_at_rest), so
  * the estimator stays defined and the loop keeps its rate. There is no
@@ -411,7 +413,7 @@ int main(void)
         if (--frame_countdown == 0u) {
             frame_countdown = TM_FRAME_LOOPS;
             const uint8_t status = (uint8_t)(status_const | (imu_ok ? 0u : TM_STATUS_IMU_ERROR) |
-                                             (armed ? TM_STATUS_ARMED : 0u) |
+                                             (armed && g_out.telemetry.armed ? TM_STATUS_ARMED : 0u) |
                                              (armed && g_out.motors_on ? TM_STATUS_MOTORS_ON : 0u));
             send_frame(&stats, fc_status, status, esc_us);
         }

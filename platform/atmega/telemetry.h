@@ -65,7 +65,7 @@
 /* platform status bits (byte 34) */
 #define TM_STATUS_IMU_ERROR (1u << 0)   /* the last IMU read failed: the controller got the
                                          * at-rest sample (level, no rotation) */
-#define TM_STATUS_ARMED (1u << 1)       /* command TRACK_PAD (armed over the UART) */
+#define TM_STATUS_ARMED (1u << 1)       /* armed over the UART and by the controller's checks */
 #define TM_STATUS_MOTORS_ON (1u << 2)   /* the controller drives the motors */
 #define TM_STATUS_FIXED (1u << 3)       /* fixed-point backend (else float) */
 #define TM_STATUS_INIT_FAILED (1u << 4) /* fc_controller_init did not return FC_INIT_OK */

@@ -44,6 +44,12 @@
 #endif
 
 #define DEG (3.14159265358979323846 / 180.0)
+/* a gyro sample that is bad input: NaN in float, beyond the 35 rad/s range in fixed */
+#if FC_NUMERIC_FIXED
+#define NAN_OR_BEYOND 60.0
+#else
+#define NAN_OR_BEYOND NAN
+#endif
 #define G_MPS2 9.81
 #define DT_S 0.002
 
@@ -1079,6 +1085,7 @@ static void test_no_saturation_at_range_limits(void **state)
 {
     (void)state;
     fc_attitude_estimator_params p = default_params();
+    p.gyro_jump_radps = FC_INT(0, RATE); /* full-scale rates of either sign, step to step */
     run_extremes(&p, 35.0, 16.0 * 9.80665, "defaults, 35 rad/s and 16 g on every axis, headings at w_h 1");
     /* the widest parameters: w_c = 10, Kp = 20, bias limit 0.8, ranges 100 rad/s and 256 m/s2 */
     p.dt_s = FC_C(0.005f, DT);
@@ -1104,10 +1111,50 @@ static void test_no_saturation_at_range_limits(void **state)
     run_extremes(&p, 100.0, 256.0, "dt 19 ms, w_c 5 rad/s, Kp 20 rad/s, 100 rad/s and 256 m/s2");
 }
 
+/* A gyro sample that jumps further than gyro_jump + gyro_accel_max t from the
+ * last good one is a glitch: bad input, not used (the rate stays the last good
+ * one inside the filter, gyro_ok says not to fly on it); the next sample
+ * that agrees is taken. The defaults: 2 rad/s + 1000 rad/s^2 x 2 ms = 4 rad/s. */
+static void test_gyro_glitch_rejected(void **state)
+{
+    (void)state;
+    fc_attitude_estimator_params p = default_params();
+    fc_attitude_estimator est;
+    assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+    align_at(&est, dq_from_rpy(0, 0, 0));
+    fc_attitude_estimate out;
+    fc_imu_sample s = sample(0.5, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_step(&est, &s, &out) & FC_STEP_BAD_INPUT, 0u);
+    assert_true(out.gyro_ok);
+    /* 30 rad/s inside the 35 rad/s range, 29.5 from the last: rejected */
+    s = sample(30.0, 0, 0, 0, 0, G_MPS2);
+    assert_true((fc_attitude_estimator_step(&est, &s, &out) & FC_STEP_BAD_INPUT) != 0u);
+    assert_false(out.gyro_ok);
+    assert_true(out.accel_ok);
+    assert_true(fabs(from_fc(out.rate_radps.x, FC_RATE_FRAC) - 0.5) < 1e-3);
+    /* back near the last good one: taken */
+    s = sample(0.6, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_step(&est, &s, &out) & FC_STEP_BAD_INPUT, 0u);
+    assert_true(out.gyro_ok);
+    /* a change of 3.9 rad/s in one step is inside 4 rad/s: taken */
+    s = sample(4.5, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_step(&est, &s, &out) & FC_STEP_BAD_INPUT, 0u);
+    /* ten bad steps later the slack is 2 + 11 x 2 = 24 rad/s: a change of 20 is taken */
+    s = sample(NAN_OR_BEYOND, 0, 0, 0, 0, G_MPS2);
+    for (int k = 0; k < 10; k++) {
+        (void)fc_attitude_estimator_step(&est, &s, &out);
+        assert_false(out.gyro_ok);
+    }
+    s = sample(24.5, 0, 0, 0, 0, G_MPS2);
+    assert_int_equal(fc_attitude_estimator_step(&est, &s, &out) & FC_STEP_BAD_INPUT, 0u);
+    assert_true(out.gyro_ok);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_default_params_init),
+        cmocka_unit_test(test_gyro_glitch_rejected),
         cmocka_unit_test(test_bad_params_rejected),
         cmocka_unit_test(test_reinit_with_bad_params),
         cmocka_unit_test(test_alignment_from_tilted_gravity),

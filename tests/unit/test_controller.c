@@ -16,6 +16,12 @@
 
 #define F(x, KIND) fc_from_float((float)(x), FC_##KIND##_FRAC)
 #define D(x, KIND) ((double)fc_to_float((x), FC_##KIND##_FRAC))
+/* a bad value: NaN in float, beyond the input range in fixed */
+#if FC_NUMERIC_FIXED
+#define NAN_OR_LIMIT 3000.0
+#else
+#define NAN_OR_LIMIT NAN
+#endif
 
 static fc_controller_inputs level_at_rest(double z_m)
 {
@@ -33,6 +39,18 @@ static fc_controller_inputs level_at_rest(double z_m)
     in.yaw_setpoint_rad = F(0, ANGLE);
     in.command = FC_COMMAND_TRACK_PAD;
     return in;
+}
+
+/* Disarmed steps until the attitude filter has aligned (arming waits for it). */
+static void align_disarmed(fc_controller *ctl, fc_controller_inputs in)
+{
+    in.command = FC_COMMAND_DISARM;
+    fc_controller_outputs out;
+    for (unsigned k = 0u; k < ctl->p.estimator.alignment_samples; k++) {
+        (void)fc_controller_step(ctl, &in, &out);
+        assert_false(out.motors_on);
+    }
+    assert_true(ctl->estimator.aligned);
 }
 
 /* The defaults of an airframe and variant at 500 Hz, initialised. */
@@ -75,10 +93,16 @@ static void test_disarmed_motors_off(void **state)
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         assert_true(out.rotor_speed[i] == FC_INT(0, UNIT));
     }
-    /* armed: speeds inside [u_min, 1] for the six rotors, 0 above */
+    /* arming waits for the filter's alignment, with its reason */
     in.command = FC_COMMAND_TRACK_PAD;
-    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_REFUSED) != 0u);
+    assert_false(out.motors_on);
+    assert_int_equal(out.telemetry.arming_blocked_by, FC_ARMING_NOT_ALIGNED);
+    align_disarmed(&ctl, in);
+    /* armed: speeds inside [u_min, 1] for the six rotors, 0 above */
+    assert_int_equal(fc_controller_step(&ctl, &in, &out) & FC_STEP_REFUSED, 0u);
     assert_true(out.motors_on);
+    assert_int_equal(out.telemetry.arming_blocked_by, FC_ARMING_OK);
     for (int i = 0; i < 6; i++) {
         assert_true(out.rotor_speed[i] >= p.allocation.rotor[i].speed_min);
         assert_true(out.rotor_speed[i] <= FC_INT(1, UNIT));
@@ -116,6 +140,7 @@ static void test_bad_input_is_safe(void **state)
     init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE);
     fc_controller_inputs in = level_at_rest(1.0);
     fc_controller_outputs out;
+    align_disarmed(&ctl, in);
     (void)fc_controller_step(&ctl, &in, &out);
 #if !FC_NUMERIC_FIXED
     in.position_m.z = NAN;
@@ -141,10 +166,11 @@ static void test_bad_input_is_safe(void **state)
 }
 
 /* Inputs bad for longer than failsafe.bad_input_hold_s: FAILSAFE (level, a
- * descent below hover thrust); a vehicle that does not descend (here: the IMU
- * says at rest, as on the ground) has its motors stopped; good inputs again
- * and a new command fly again. */
-static void test_failsafe_when_inputs_stay_bad(void **state)
+ * descent below hover thrust). Here the IMU says at rest, as on the ground,
+ * and there is no range finder: the land detector sees a vehicle that does
+ * not move while the loop pushes it down, ramps the thrust down and stops
+ * the motors at LANDED; arming again needs a DISARM first. */
+static void test_failsafe_lands_on_the_ground(void **state)
 {
     (void)state;
     static fc_controller ctl;
@@ -152,14 +178,15 @@ static void test_failsafe_when_inputs_stay_bad(void **state)
     init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC);
     fc_controller_inputs in = level_at_rest(1.0);
     fc_controller_outputs out;
+    align_disarmed(&ctl, in);
     for (int k = 0; k < 500; k++) {
         (void)fc_controller_step(&ctl, &in, &out);
     }
-    const double hover_n = 4.0 * 9.81;
     in.velocity_mps.x = F(1000, VEL); /* beyond the physical range: bad (saturates in fixed) */
     bool entered = false, stopped = false;
-    double failsafe_thrust_n = 0.0;
-    for (int k = 0; k < 2000; k++) { /* 4 s */
+    double first_failsafe_thrust_n = 0.0, hover_n = 0.0;
+    int entered_at = 0;
+    for (int k = 0; k < 3000; k++) { /* 6 s */
         const fc_step_status st = fc_controller_step(&ctl, &in, &out);
         assert_true((st & FC_STEP_BAD_INPUT) != 0u);
         if (k < 240) {
@@ -168,12 +195,15 @@ static void test_failsafe_when_inputs_stay_bad(void **state)
         }
         if (out.telemetry.landing_state == FC_LANDING_FAILSAFE && !entered) {
             entered = true;
+            entered_at = k;
+            first_failsafe_thrust_n = D(out.thrust_n, FORCE);
+            hover_n = D(out.telemetry.vertical.hover_thrust_n, FORCE);
             assert_int_equal(out.telemetry.landing_reason, FC_REASON_INPUTS_LOST);
+            assert_int_equal(out.telemetry.failsafe_cause, FC_FAILSAFE_INPUTS_LOST);
             assert_true(out.telemetry.landing_changed);
             assert_true((st & FC_STEP_DEGRADED) != 0u);
         }
         if (entered && out.motors_on) {
-            failsafe_thrust_n = D(out.thrust_n, FORCE);
             /* level setpoint */
             assert_true(fabs(D(out.telemetry.attitude_setpoint.x, UNIT)) < 1e-6);
             assert_true(fabs(D(out.telemetry.attitude_setpoint.y, UNIT)) < 1e-6);
@@ -182,14 +212,25 @@ static void test_failsafe_when_inputs_stay_bad(void **state)
             stopped = true;
             assert_int_equal(out.telemetry.landing_state, FC_LANDING_LANDED);
             assert_int_equal(out.telemetry.landing_reason, FC_REASON_FAILSAFE_LANDED);
+            assert_int_equal(out.telemetry.land_state, FC_LAND_LANDED);
+            print_message("failsafe: motors off %.2f s after it began\n", (k - entered_at) * 0.002);
+            /* contact (0.35 s) + the ramp from below 0.9 to 0.3 hover (<= 0.6 s) +
+             * maybe landed and landed (0.6 s), with the hover thrust's */
+            assert_true((k - entered_at) * 0.002 <= 0.35 + 0.6 + 0.6 + 0.1);
             break;
         }
     }
-    print_message("failsafe thrust %.2f N (hover %.2f N)\n", failsafe_thrust_n, hover_n);
+    /* the descent's first step from rest: T_h (1 + (k_p (-descent) + k_i (-descent) dt) / g),
+     * the learnt hover thrust (its nominal 39.24 N within its bounds) */
+    print_message("failsafe thrust %.2f N (learnt hover %.2f N)\n", first_failsafe_thrust_n, hover_n);
     assert_true(entered && stopped);
-    assert_true(failsafe_thrust_n < hover_n && failsafe_thrust_n > 0.5 * hover_n);
-    /* good inputs, disarm, arm again: flying */
+    assert_true(hover_n >= 0.5 * 39.24 && hover_n <= 1.5 * 39.24);
+    assert_true(fabs(first_failsafe_thrust_n - hover_n * (1.0 - (2.0 + 0.002) * 0.5 / 9.81)) < 1e-3 * hover_n);
+    /* good inputs and a command that arms: refused until a DISARM */
     in = level_at_rest(1.0);
+    assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_REFUSED) != 0u);
+    assert_false(out.motors_on);
+    assert_int_equal(out.telemetry.arming_blocked_by, FC_ARMING_AWAIT_DISARM);
     in.command = FC_COMMAND_DISARM;
     (void)fc_controller_step(&ctl, &in, &out);
     assert_false(out.motors_on);
@@ -197,6 +238,108 @@ static void test_failsafe_when_inputs_stay_bad(void **state)
     (void)fc_controller_step(&ctl, &in, &out);
     assert_true(out.motors_on);
     assert_int_equal(out.telemetry.landing_state, FC_LANDING_IDLE);
+}
+
+/* A fresh range sample that puts the gear 3 m up keeps the motors running
+ * whatever else the land detector sees (here: an IMU at rest, as if on the
+ * ground, and a descent that pushes down). */
+static void test_failsafe_never_stops_with_the_gear_up(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
+    fc_controller_inputs in = level_at_rest(3.0);
+    in.range_m = F(3.0, LENGTH);
+    fc_controller_outputs out;
+    align_disarmed(&ctl, in);
+    for (int k = 0; k < 10000; k++) { /* 20 s: 0.5 s of hold, then the failsafe */
+        in.range_fresh = k % 10 == 0;
+        if (k == 100) {
+            in.position_m.z = F(NAN_OR_LIMIT, LENGTH);
+        }
+        (void)fc_controller_step(&ctl, &in, &out);
+        assert_true(out.motors_on);
+    }
+    assert_int_equal(out.telemetry.landing_state, FC_LANDING_FAILSAFE);
+    assert_int_equal(out.telemetry.land_state, FC_LAND_AIRBORNE);
+}
+
+/* An unknown command keeps the mode (here: flying), with its status bit. */
+static void test_unknown_command_keeps_the_mode(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC);
+    fc_controller_inputs in = level_at_rest(1.0);
+    fc_controller_outputs out;
+    align_disarmed(&ctl, in);
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true(out.motors_on);
+    in.command = (fc_controller_command)FC_COMMAND_COUNT;
+    const fc_step_status st = fc_controller_step(&ctl, &in, &out);
+    assert_true((st & FC_STEP_REFUSED) != 0u);
+    assert_true(out.telemetry.command_refused);
+    assert_true(out.motors_on);
+    in.command = (fc_controller_command)200;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true(out.motors_on);
+    in.command = FC_COMMAND_DISARM;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_false(out.motors_on);
+    /* disarmed, an unknown command keeps it disarmed */
+    in.command = (fc_controller_command)7;
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_false(out.motors_on);
+}
+
+/* Arming needs usable inputs for the command: no position, no arming. */
+static void test_arming_needs_the_inputs(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
+    fc_controller_inputs in = level_at_rest(0.0);
+    fc_controller_outputs out;
+    align_disarmed(&ctl, in);
+    in.position_m.x = F(NAN_OR_LIMIT, LENGTH);
+    in.command = FC_COMMAND_LAND;
+    for (int k = 0; k < 1000; k++) {
+        assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_REFUSED) != 0u);
+        assert_false(out.motors_on);
+        assert_int_equal(out.telemetry.arming_blocked_by, FC_ARMING_INPUTS_BAD);
+    }
+    in.position_m.x = F(0, LENGTH);
+    (void)fc_controller_step(&ctl, &in, &out);
+    assert_true(out.motors_on);
+}
+
+/* The checks across modules at init, each with its own result. */
+static void test_inconsistent_params_rejected(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.gravity_mps2 = F(30.0, ACCEL);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_GRAVITY_MISMATCH);
+    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.estimator.gravity_mps2 = F(3.0, ACCEL);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_GRAVITY_MISMATCH);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.mass_kg = F(50.0, MASS);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_MASS_MISMATCH);
+    /* a consistent 40 g: the Crazyflie's 0.48 N is under 1.5 x its 0.39 N weight */
+    fc_controller_set_mass(&p, F(0.04, MASS));
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_THRUST_TOO_LOW);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.altitude.thrust_max_n = F(4.8, FORCE); /* 10 x the rotors' 0.48 N */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_THRUST_ABOVE_ROTORS);
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.altitude.thrust_max_n = F(0.3, FORCE); /* under 1.5 x 0.265 N */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_THRUST_TOO_LOW);
 }
 
 /* ---- a small 6-DOF check of the composition --------------------------- */
@@ -326,6 +469,7 @@ static void test_position_loop_once_a_major_frame(void **state)
     init_at_500_hz(&ctl, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
     fc_controller_inputs in = level_at_rest(0.5);
     fc_controller_outputs out;
+    align_disarmed(&ctl, in); /* a whole number of major frames: the next step is frame 0 */
     in.command = FC_COMMAND_DISARM;
     (void)fc_controller_step(&ctl, &in, &out); /* frame 0 disarmed: the loop does not run */
     in.command = FC_COMMAND_TRACK_PAD;
@@ -441,7 +585,8 @@ static void test_external_attitude_skips_the_filter(void **state)
     const fc_step_status bad = fc_controller_step(&ctl, &in, &out);
     assert_true((bad & FC_STEP_BAD_INPUT) != 0u);
     assert_true((out.telemetry.estimator_status & FC_STEP_BAD_INPUT) != 0u);
-    assert_true(fabs(D(out.telemetry.rate_radps.x, RATE) - 0.2) < 1e-6); /* the last good rate */
+    /* never the last good rate: the platform's attitude did not move, so 0 */
+    assert_true(fabs(D(out.telemetry.rate_radps.x, RATE)) < 1e-6);
 }
 
 int main(void)
@@ -451,7 +596,11 @@ int main(void)
         cmocka_unit_test(test_disarmed_motors_off),
         cmocka_unit_test(test_bad_params_not_ready),
         cmocka_unit_test(test_bad_input_is_safe),
-        cmocka_unit_test(test_failsafe_when_inputs_stay_bad),
+        cmocka_unit_test(test_failsafe_lands_on_the_ground),
+        cmocka_unit_test(test_failsafe_never_stops_with_the_gear_up),
+        cmocka_unit_test(test_unknown_command_keeps_the_mode),
+        cmocka_unit_test(test_arming_needs_the_inputs),
+        cmocka_unit_test(test_inconsistent_params_rejected),
         cmocka_unit_test(test_hexa_tracks_the_4_4_reference),
         cmocka_unit_test(test_outer_group_divider),
         cmocka_unit_test(test_position_loop_once_a_major_frame),

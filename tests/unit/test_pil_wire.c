@@ -75,7 +75,7 @@ static void test_a_controller_from_the_wire_steps_like_its_source(void **state)
     /* the host's parameters, with overrides as fc-sil makes them */
     fc_controller_params host_params;
     fc_controller_default_params(&host_params, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC_ADAPTIVE, F(0.002, DT));
-    host_params.mass_kg = F(0.03, MASS);
+    fc_controller_set_mass(&host_params, F(0.03, MASS));
     host_params.reference.tau_s = F(2.0, TIME);
     host_params.altitude.rho_n = F(0.4, FORCE);
     host_params.landing.hold_height_m = F(0.25, LENGTH);

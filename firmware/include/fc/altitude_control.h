@@ -202,6 +202,7 @@ typedef struct fc_altitude_control {
     fc_real last_error_m;        /* LENGTH */
     fc_real last_thrust_n;       /* FORCE */
     bool lead_primed;
+    bool hold;                   /* fc_altitude_control_hold */
     bool ready;
     fc_arith ar;
 } fc_altitude_control;
@@ -238,6 +239,13 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
 
 /* Clear the states (filters, integrators, Theta back to Theta0). */
 void fc_altitude_control_reset(fc_altitude_control *c);
+
+/* While held, a step repeats the last thrust command (FC_STEP_DEGRADED) and
+ * leaves every state as it is: Theta, the averaging filter, the
+ * prediction-error loop, the observers and the integrators. For inputs that
+ * are the last good ones held (fc/failsafe.h): a law fed a frozen error
+ * would adapt and wind up on it. */
+void fc_altitude_control_hold(fc_altitude_control *c, bool hold);
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out);

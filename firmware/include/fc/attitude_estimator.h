@@ -47,7 +47,9 @@
  *
  * Bad input (a non-finite component, a zero-length accelerometer vector, a
  * gyro component beyond gyro_range, an accelerometer component beyond
- * accel_range) sets FC_STEP_BAD_INPUT; a bad accelerometer sample gives a
+ * accel_range, a gyro component further from the last good sample than
+ * gyro_jump_radps + gyro_accel_max_radps2 t, t since that sample: a glitch no
+ * airframe flies) sets FC_STEP_BAD_INPUT; a bad accelerometer sample gives a
  * gyro-only step (weight 0, bias held), a bad gyro sample holds the attitude,
  * the bias and the last good rate. FC_STEP_DEGRADED marks an aligned step
  * without accelerometer correction (weight 0).
@@ -62,6 +64,8 @@
  *   accel_trust_band_mps2  [0.01 m/s2, gravity)  (trust is 0 in free fall)
  *   gyro_range_radps       (0, 100] rad/s, and gyro_range * dt <= 2 rad
  *   accel_range_mps2       (gravity, 256] m/s2
+ *   gyro_jump_radps        [0, 100] rad/s, 0: no check of the change
+ *   gyro_accel_max_radps2  (0, 30000] rad/s2, and times dt <= 100 rad/s
  *   alignment_samples      [1, 32767]
  *   heading_weight         [0, 1]; above 0 also gyro_range + bias_limit + 2 Kp <= 127 rad/s
  *   heading_hold_s         [dt_s, 1] s
@@ -86,6 +90,9 @@ typedef struct fc_attitude_estimator_params {
                                     * ||a| - g| = band */
     fc_real gyro_range_radps;      /* RATE: a gyro component beyond this is bad input */
     fc_real accel_range_mps2;      /* ACCEL: an accel component beyond this is bad input */
+    fc_real gyro_jump_radps;       /* RATE: a gyro component's change beyond this ... */
+    fc_real gyro_accel_max_radps2; /* GAIN: ... plus this times the time since the last good
+                                    * sample is bad input (the airframe's angular acceleration) */
     uint16_t alignment_samples;    /* valid accel samples averaged for the initial attitude */
     fc_real heading_weight;        /* RATIO: w_h, the heading loop's gains relative to the tilt
                                     * loop's; 0: no heading correction (a sample still gives
@@ -104,6 +111,8 @@ typedef struct fc_attitude_estimate {
     fc_vec3 gyro_bias_radps; /* RATE, body: the bias estimate */
     fc_real accel_weight;    /* RATIO in [0, 1]: the accelerometer trust used in this step */
     bool aligned;            /* false until the initial alignment is complete */
+    bool gyro_ok;            /* this step's gyro sample was usable (else rate_radps is an old one) */
+    bool accel_ok;           /* this step's accelerometer sample was usable */
 } fc_attitude_estimate;
 
 typedef struct fc_attitude_estimator {
@@ -120,6 +129,10 @@ typedef struct fc_attitude_estimator {
                                         * estimate, held finer than RATE so that the small
                                         * per-step increments Ki dt w e are not rounded away */
     fc_vec3 rate_radps;                /* RATE: last good bias-corrected rate */
+    fc_vec3 last_gyro_radps;           /* RATE: the last good gyro sample */
+    fc_real gyro_slack_radps;          /* RATE: the change a next sample may make */
+    fc_real gyro_slack_step_radps;     /* RATE: gyro_accel_max dt */
+    bool have_gyro;                    /* last_gyro_radps holds a sample */
     fc_acc alignment_sum[3];           /* ACCEL x UNIT products: running sum of
                                         * a_i / alignment_samples, rounded once at the end
                                         * (bounded by max |a| whatever the sample count) */
@@ -135,7 +148,9 @@ typedef struct fc_attitude_estimator {
 
 /* Sensible defaults for a step of dt_s (DT): w_c = 1 rad/s, zeta = 0.7071
  * (Kp = 1.414 rad/s, Ki = 1 s^-2), bias limit 0.2 rad/s, g = 9.81 m/s2, trust
- * band 2 m/s2, gyro range 35 rad/s (2000 deg/s), accel range 16 g, 100
+ * band 2 m/s2, gyro range 35 rad/s (2000 deg/s), accel range 16 g, gyro
+ * changes of 2 rad/s plus 1000 rad/s^2 a second (the controller sets its
+ * airframe's), 100
  * alignment samples, heading weight 1 (the tilt's gains), held 0.1 s (a sample
  * at 10 Hz or faster corrects all the time). */
 void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_real dt_s);

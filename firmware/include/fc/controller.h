@@ -41,13 +41,36 @@
  * (with outer_divider 1 both run on every step, as one group). The default
  * puts the outer group at 100 Hz or the step rate if that is slower, the
  * Crazyflie firmware's position rate; the position input rarely comes faster.
- * Bad input: position, velocity, setpoints (and the pad trajectory when
- * tracking it) that are not numbers inside the physical range are replaced by
- * the last good ones for failsafe.bad_input_hold_s; beyond that the step
- * falls back to FAILSAFE: level attitude, a descent at failsafe.descent_mps
- * on the vertical speed integrated from the accelerometer, motors off once it
- * stops descending (on the ground) or after failsafe.max_s. The landing state
- * says so (FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST), FC_STEP_DEGRADED is set.
+ * Safety (SPEC "Safety contract"):
+ *   arming     a command that arms (TRACK_PAD, HOLD, LAND) is refused while
+ *              the filter has not aligned, the IMU sample or the platform's
+ *              attitude is not usable, or the inputs the command needs are
+ *              not (FC_STEP_REFUSED, the reason in arming_blocked_by); it
+ *              arms at the first step that passes
+ *   commands   a value outside fc_controller_command is refused and the mode
+ *              kept (FC_STEP_REFUSED, command_refused); only a valid DISARM
+ *              stops the motors in flight
+ *   inputs     position, velocity, setpoints and (tracking) the pad pass
+ *              the plausibility gates of fc/input_gate.h; a rejected sample
+ *              is bad input: the last accepted ones are flown, the altitude
+ *              law held (fc_altitude_control_hold), for
+ *              failsafe.bad_input_hold_s, then FAILSAFE (fc/failsafe.h)
+ *   IMU        a gyro sample that is not usable is never replaced by an
+ *              old rate: with the platform's attitude the rate is its change
+ *              over the step, with the filter's (which holds still without
+ *              a gyro) the attitude law is not run and the moments are zero;
+ *              no usable sample for failsafe.imu_timeout_s: FAILSAFE
+ *   FAILSAFE   level at the heading, a vertical-speed loop at
+ *              failsafe.descent_mps on the vertical estimate
+ *              (fc/vertical_estimator.h: speed, accelerometer bias, hover
+ *              thrust learnt in flight); the motors stop only when the land
+ *              detector (fc/land_detector.h) says LANDED. The landing state
+ *              says so (FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST; the cause
+ *              in failsafe_cause), FC_STEP_DEGRADED is set. Every input good
+ *              for bad_input_hold_s again: the mission resumes from HOLD.
+ *   landing    the mission's LANDED stops the motors only if no fresh range
+ *              sample puts the gear above the land detector's airborne
+ *              height; if one does, the landing aborts (FC_REASON_CONTACT_LOST).
  * Frames: world ENU (z up), body FLU; q is body -> world.
  */
 #ifndef FC_CONTROLLER_H
@@ -58,11 +81,15 @@
 #include "fc/altitude_reference.h"
 #include "fc/attitude_control.h"
 #include "fc/attitude_estimator.h"
+#include "fc/failsafe.h"
+#include "fc/input_gate.h"
+#include "fc/land_detector.h"
 #include "fc/landing.h"
 #include "fc/pad_motion.h"
 #include "fc/position_control.h"
 #include "fc/quat.h"
 #include "fc/status.h"
+#include "fc/vertical_estimator.h"
 
 typedef enum fc_airframe {
     FC_AIRFRAME_CRAZYFLIE2 = 0, /* 27 g quad-X, the firmware's own constants */
@@ -79,12 +106,16 @@ typedef enum fc_controller_command {
     FC_COMMAND_COUNT
 } fc_controller_command;
 
-typedef struct fc_failsafe_params {
-    fc_real bad_input_hold_s;   /* TIME: bad inputs replaced by the last good ones this long, [0, 10] */
-    fc_real descent_mps;        /* VEL: the failsafe's descent rate, (0, 5] */
-    fc_real speed_gain_per_s;   /* GAIN: vertical-speed loop gain, (0, 50] */
-    fc_real max_s;              /* TIME: motors off after this long in failsafe, (0, 600] */
-} fc_failsafe_params;
+/* Why arming is refused (telemetry arming_blocked_by). */
+typedef enum fc_arming_check {
+    FC_ARMING_OK = 0,
+    FC_ARMING_NOT_ALIGNED,      /* the attitude filter has not finished its alignment */
+    FC_ARMING_IMU_BAD,          /* the IMU sample is not usable */
+    FC_ARMING_ATTITUDE_BAD,     /* the platform's attitude is not a usable quaternion */
+    FC_ARMING_INPUTS_BAD,       /* position, velocity, setpoints (or the pad, tracking) not usable */
+    FC_ARMING_AWAIT_DISARM,     /* the failsafe landed: a DISARM before the next arming */
+    FC_ARMING_CHECK_COUNT
+} fc_arming_check;
 
 #define FC_OUTER_DIVIDER_MAX 10u        /* the outer group's longest major frame, in steps */
 
@@ -108,6 +139,9 @@ typedef struct fc_controller_params {
     fc_position_control_params horizontal;
     fc_pad_motion_params pad_motion;
     fc_landing_params landing;
+    fc_input_gate_params gate;
+    fc_vertical_estimator_params vertical;
+    fc_land_detector_params land_detector;
     fc_failsafe_params failsafe;
 } fc_controller_params;
 
@@ -144,6 +178,12 @@ typedef struct fc_controller_telemetry {
     bool touchdown_window;              /* the landing plan expects contact from now on */
     fc_landing_reason descent_blocked_by; /* OBSERVE: what keeps the descent from starting */
     uint8_t aborts;
+    fc_vertical_estimate vertical;      /* the failsafe's and the land detector's view */
+    fc_land_state land_state;           /* the land detector's stage (in the failsafe) */
+    fc_failsafe_cause failsafe_cause;   /* FC_FAILSAFE_NONE when not in the failsafe */
+    fc_arming_check arming_blocked_by;  /* what refused the arming at this step */
+    bool command_refused;               /* the command was not a fc_controller_command */
+    bool armed;
 } fc_controller_telemetry;
 
 typedef struct fc_controller_outputs {
@@ -165,11 +205,22 @@ typedef struct fc_controller {
     fc_position_control position;
     fc_pad_motion pad_motion;
     fc_landing landing;
-    fc_controller_command last_command;
+    fc_input_gate gate;
+    fc_vertical_estimator vertical;
+    fc_land_detector land_detector;
+    fc_failsafe failsafe;
+    fc_controller_command last_command; /* the mode flown at the last step (DISARM: none) */
+    fc_controller_command mode;         /* the newest valid command: what an unknown one keeps */
+    bool armed;
+    bool await_disarm;                  /* landed by the failsafe: no arming before a DISARM */
     uint8_t last_saturation;
     fc_quat last_attitude;
+    fc_quat last_external_attitude;     /* the platform's, for a rate without a gyro */
+    fc_real inv_dt_per_s;               /* GAIN: 1 / dt */
     fc_real last_thrust_n;              /* FORCE */
     fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
+    fc_real gear_height_age_s;          /* TIME: its age */
+    bool gear_height_known;
     /* rate groups (see the top of this file) */
     uint8_t minor_frame;                /* this step's place in the major frame, 0..outer_divider - 1 */
     fc_quat held_attitude_setpoint;     /* the position loop's, held for the major frame */
@@ -180,16 +231,6 @@ typedef struct fc_controller {
     fc_real pending_pad_height_m;       /* LENGTH: the newest range sample as pad height, waiting */
     fc_real pending_pad_age_s;          /* DT: since it was taken */
     bool pad_sample_pending;
-    /* bad input */
-    fc_controller_inputs last_good;     /* the newest inputs that were usable */
-    bool have_last_good;
-    fc_real bad_input_s;                /* TIME: how long the inputs have been bad */
-    fc_real good_input_s;               /* TIME: how long good again (in failsafe) */
-    bool failsafe;
-    fc_real failsafe_s;                 /* TIME */
-    fc_real failsafe_vz_mps;            /* VEL: vertical speed integrated from the accelerometer */
-    fc_real not_descending_s;           /* TIME */
-    bool failsafe_landed;
     /* the heading of the setpoint, kept between steps (trigonometry only when it changes) */
     fc_real heading_rad, heading_cos, heading_sin;
     fc_quat heading_level;              /* level at that heading */
@@ -201,6 +242,11 @@ typedef struct fc_controller {
 /* Parameters for an airframe at step dt_s, with the altitude law of variant. */
 void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
                                   fc_real dt_s);
+
+/* The nominal mass, and everything that follows it: the position loop's
+ * mass, the altitude law's Theta0 and mass bounds (-25 % / +25 %), the
+ * hover thrust before it is learnt and its bounds. The gains stay. */
+void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg);
 
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p);
 

@@ -173,6 +173,10 @@ void fc_landing_reset(fc_landing *lm);
 /* Enters FAILSAFE (fc_controller: inputs lost) or leaves it for HOLD; reason logged. */
 void fc_landing_force(fc_landing *lm, fc_landing_state state, fc_landing_reason reason);
 
+/* ABORT now, climbing back to the hold point from in's height (fc_controller:
+ * LANDED while the range finder puts the gear in the air). */
+void fc_landing_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_reason reason);
+
 fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out);
 
 #endif /* FC_LANDING_H */

@@ -15,7 +15,12 @@
 typedef enum fc_init_result {
     FC_INIT_OK = 0,
     FC_INIT_BAD_PARAM,      /* a parameter is non-finite, out of range or inconsistent */
-    FC_INIT_RANK_DEFICIENT  /* a geometry cannot produce the demanded axes */
+    FC_INIT_RANK_DEFICIENT, /* a geometry cannot produce the demanded axes */
+    /* fc_controller_init's checks across modules (SPEC "Safety contract") */
+    FC_INIT_GRAVITY_MISMATCH,   /* the modules do not share one g */
+    FC_INIT_MASS_MISMATCH,      /* the modules do not share one nominal mass */
+    FC_INIT_THRUST_TOO_LOW,     /* maximum thrust under 1.5 x the nominal weight */
+    FC_INIT_THRUST_ABOVE_ROTORS /* maximum thrust above what the rotors give */
 } fc_init_result;
 
 typedef uint16_t fc_step_status;
@@ -27,6 +32,8 @@ typedef uint16_t fc_step_status;
 #define FC_STEP_OUTPUT_LIMITED (1u << 2)   /* an output was clamped to its limits */
 #define FC_STEP_ARITH_SATURATED (1u << 3)  /* fixed-point arithmetic saturated somewhere */
 #define FC_STEP_DEGRADED (1u << 4)         /* running on a fallback (e.g. no accelerometer trust) */
+#define FC_STEP_REFUSED (1u << 5)          /* a command was refused (arming checks, an unknown
+                                            * command): the mode was kept */
 
 /* The physical range of inputs the library accepts, the same in both backends
  * (the fixed formats hold them: LENGTH +-2048 m, VEL and ACCEL +-512): a finite

@@ -87,6 +87,9 @@ bool pil_wire_params(pil_wire *w, uint32_t *airframe, uint32_t *variant, fc_cont
     flag(w, &p->use_external_attitude);
     /* what sim_host/fsw_adapter.c may override */
     real(w, &p->mass_kg);
+    if (!w->writing) {
+        fc_controller_set_mass(p, p->mass_kg);
+    }
     real(w, &p->altitude.theta0_kg);
     real(w, &p->altitude.mass_min_kg);
     real(w, &p->altitude.mass_max_kg);

@@ -1,0 +1,188 @@
+/* input_gate.c - plausibility gates and command rate limits (fc/input_gate.h). */
+#include "fc/input_gate.h"
+
+#define GATE_PI_RAD FC_C(3.14159265f, ANGLE)
+#define GATE_TWO_PI_RAD FC_C(6.28318531f, ANGLE)
+
+void fc_input_gate_default_params(fc_input_gate_params *p, fc_real dt_s, fc_real speed_max_mps,
+                                  fc_real accel_max_mps2, fc_real position_jump_m)
+{
+    p->dt_s = dt_s;
+    p->speed_max_mps = speed_max_mps;
+    p->accel_max_mps2 = accel_max_mps2;
+    p->position_jump_m = position_jump_m;
+    p->velocity_jump_mps = FC_C(0.5f, VEL);
+    p->setpoint_speed_mps = FC_INT(2, VEL);
+    p->yaw_rate_max_radps = FC_INT(2, RATE);
+    p->pad_speed_max_mps = FC_INT(3, VEL);
+    p->pad_accel_max_mps2 = FC_INT(10, ACCEL);
+    p->pad_jerk_max_mps3 = FC_INT(50, GAIN);
+    p->reanchor_s = FC_INT(1, TIME);
+}
+
+static bool gate_params_valid(const fc_input_gate_params *p)
+{
+    const bool finite = fc_is_finite(p->dt_s) && fc_is_finite(p->speed_max_mps) && fc_is_finite(p->accel_max_mps2) &&
+                        fc_is_finite(p->position_jump_m) && fc_is_finite(p->velocity_jump_mps) &&
+                        fc_is_finite(p->setpoint_speed_mps) && fc_is_finite(p->yaw_rate_max_radps) &&
+                        fc_is_finite(p->pad_speed_max_mps) && fc_is_finite(p->pad_accel_max_mps2) &&
+                        fc_is_finite(p->pad_jerk_max_mps3) && fc_is_finite(p->reanchor_s);
+    const fc_real speed_max = FC_INT(100, VEL);
+    return finite && p->dt_s > FC_INT(0, DT) && p->dt_s <= FC_C(0.1f, DT) && p->speed_max_mps > FC_INT(0, VEL) &&
+           p->speed_max_mps <= speed_max && p->accel_max_mps2 > FC_INT(0, ACCEL) &&
+           p->accel_max_mps2 <= FC_INT(200, ACCEL) && p->position_jump_m > FC_INT(0, LENGTH) &&
+           p->position_jump_m <= FC_INT(100, LENGTH) && p->velocity_jump_mps > FC_INT(0, VEL) &&
+           p->velocity_jump_mps <= speed_max && p->setpoint_speed_mps > FC_INT(0, VEL) &&
+           p->setpoint_speed_mps <= speed_max && p->yaw_rate_max_radps > FC_INT(0, RATE) &&
+           p->yaw_rate_max_radps <= FC_INT(100, RATE) && p->pad_speed_max_mps > FC_INT(0, VEL) &&
+           p->pad_speed_max_mps <= speed_max && p->pad_accel_max_mps2 > FC_INT(0, ACCEL) &&
+           p->pad_accel_max_mps2 <= FC_INT(200, ACCEL) && p->pad_jerk_max_mps3 > FC_INT(0, GAIN) &&
+           p->pad_jerk_max_mps3 <= FC_INT(10000, GAIN) && p->reanchor_s > FC_INT(0, TIME) &&
+           p->reanchor_s <= FC_INT(600, TIME);
+}
+
+fc_init_result fc_input_gate_init(fc_input_gate *g, const fc_input_gate_params *p)
+{
+    g->ready = false;
+    g->ar.saturated = 0u;
+    g->accepted = (fc_gated_inputs){0};
+    fc_input_gate_reset(g);
+    if (!gate_params_valid(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    g->p = *p;
+    g->ready = true;
+    return FC_INIT_OK;
+}
+
+void fc_input_gate_reset(fc_input_gate *g)
+{
+    g->since_accepted_s = FC_INT(0, TIME);
+    g->rejected_s = FC_INT(0, TIME);
+    g->have_accepted = false;
+}
+
+/* |now - last| <= rate t + margin on each axis (all in the format of now). */
+static bool moved_within(fc_arith *ar, fc_vec3 now, fc_vec3 last, fc_real rate, fc_real t_s, fc_real margin,
+                         int rate_time_shift)
+{
+    const fc_real slack = fc_add(ar, fc_mul(ar, rate, t_s, rate_time_shift), margin);
+    return fc_vec3_within(fc_vec3_sub(ar, now, last), slack);
+}
+
+/* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
+static bool plausible(const fc_input_gate *g, const fc_gated_inputs *in, bool use_pad)
+{
+    const bool pad_ok = !use_pad || (fc_within(in->pad.z_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+                                     fc_within(in->pad.vz_mps, g->p.pad_speed_max_mps) &&
+                                     fc_within(in->pad.az_mps2, g->p.pad_accel_max_mps2));
+    return fc_vec3_within(in->position_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+           fc_vec3_within(in->velocity_mps, g->p.speed_max_mps) && pad_ok;
+}
+
+/* The jumps since the last accepted sample, t ago. */
+static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad)
+{
+    fc_arith *ar = &g->ar;
+    const fc_real t_s = g->since_accepted_s;
+    const fc_gated_inputs *last = &g->accepted;
+    const bool velocity_ok = moved_within(ar, in->velocity_mps, last->velocity_mps, g->p.accel_max_mps2, t_s,
+                                          g->p.velocity_jump_mps, FC_SHIFT(ACCEL, TIME, VEL));
+    const bool position_ok = moved_within(ar, in->position_m, last->position_m, g->p.speed_max_mps, t_s,
+                                          g->p.position_jump_m, FC_SHIFT(VEL, TIME, LENGTH));
+    bool pad_ok = true;
+    if (use_pad) {
+        const fc_real pad_slack = fc_add(ar, fc_mul(ar, g->p.pad_speed_max_mps, t_s, FC_SHIFT(VEL, TIME, LENGTH)),
+                                         g->p.position_jump_m);
+        pad_ok = fc_within(fc_sub(ar, in->pad.z_m, last->pad.z_m), pad_slack);
+    }
+    return velocity_ok && position_ok && pad_ok;
+}
+
+/* last + (target - last) limited to +-step. */
+static fc_real toward(fc_arith *ar, fc_real last, fc_real target, fc_real step)
+{
+    return fc_add(ar, last, fc_clamp(fc_sub(ar, target, last), fc_neg(ar, step), step));
+}
+
+/* An angle in [-7, 7] rad (or a difference of two in [-pi, pi]) to [-pi, pi]. */
+static fc_real wrapped(fc_arith *ar, fc_real angle_rad)
+{
+    fc_real a = angle_rad;
+    while (a > GATE_PI_RAD) {
+        a = fc_sub(ar, a, GATE_TWO_PI_RAD);
+    }
+    while (a < fc_neg(ar, GATE_PI_RAD)) {
+        a = fc_add(ar, a, GATE_TWO_PI_RAD);
+    }
+    return a;
+}
+
+/* The position and yaw setpoints, moved towards the command at their rates. */
+static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in, fc_gated_inputs *out)
+{
+    fc_arith *ar = &g->ar;
+    const fc_real step_m = fc_mul(ar, g->p.setpoint_speed_mps, g->p.dt_s, FC_SHIFT(VEL, DT, LENGTH));
+    const fc_vec3 last = g->accepted.position_setpoint_m;
+    out->position_setpoint_m = fc_vec3_make(toward(ar, last.x, in->position_setpoint_m.x, step_m),
+                                            toward(ar, last.y, in->position_setpoint_m.y, step_m),
+                                            toward(ar, last.z, in->position_setpoint_m.z, step_m));
+    const fc_real step_rad = fc_mul(ar, g->p.yaw_rate_max_radps, g->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
+    const fc_real last_yaw = wrapped(ar, g->accepted.yaw_setpoint_rad);
+    const fc_real turn = wrapped(ar, fc_sub(ar, wrapped(ar, in->yaw_setpoint_rad), last_yaw));
+    out->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
+}
+
+/* The pad's speed and acceleration (feed-forward of the reference) at their rates. */
+static void limit_pad_feedforward(fc_input_gate *g, fc_gated_inputs *out)
+{
+    fc_arith *ar = &g->ar;
+    const fc_real speed_step = fc_mul(ar, g->p.pad_accel_max_mps2, g->p.dt_s, FC_SHIFT(ACCEL, DT, VEL));
+    const fc_real accel_step = fc_mul(ar, g->p.pad_jerk_max_mps3, g->p.dt_s, FC_SHIFT(GAIN, DT, ACCEL));
+    out->pad.vz_mps = toward(ar, g->accepted.pad.vz_mps, out->pad.vz_mps, speed_step);
+    out->pad.az_mps2 = toward(ar, g->accepted.pad.az_mps2, out->pad.az_mps2, accel_step);
+}
+
+bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
+                        fc_gated_inputs *out)
+{
+    if (!g->ready) {
+        *out = (fc_gated_inputs){0};
+        return false;
+    }
+    fc_arith *ar = &g->ar;
+    ar->saturated = 0u;
+    const fc_real step_s = fc_convert(ar, g->p.dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    g->since_accepted_s = fc_min(fc_add(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
+    const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+                             fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE));
+    const bool absolute_ok = commands_ok && plausible(g, in, use_pad);
+    const bool first = !g->have_accepted;
+    const bool accepted = absolute_ok && (first || consistent(g, in, use_pad));
+    const bool reanchor = absolute_ok && !accepted && g->rejected_s >= g->p.reanchor_s;
+    *out = g->accepted;
+    if (accepted || reanchor) {
+        out->position_m = in->position_m;
+        out->velocity_mps = in->velocity_mps;
+        if (use_pad) {
+            out->pad = in->pad;
+            if (!first && limit_commands) {
+                limit_pad_feedforward(g, out);
+            }
+        }
+        if (first || !limit_commands) {
+            out->position_setpoint_m = in->position_setpoint_m;
+            out->yaw_setpoint_rad = in->yaw_setpoint_rad;
+        } else {
+            limit_setpoints(g, in, out);
+        }
+        g->accepted = *out;
+        g->since_accepted_s = FC_INT(0, TIME);
+        g->have_accepted = true;
+    }
+    g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(fc_add(ar, g->rejected_s, step_s), FC_INT(600, TIME));
+    if (reanchor) {
+        g->rejected_s = FC_INT(0, TIME);
+    }
+    return accepted;
+}

@@ -1,0 +1,193 @@
+/* vertical_estimator.c - vertical speed, accelerometer bias, gear height and
+ * hover thrust (fc/vertical_estimator.h). */
+#include "fc/vertical_estimator.h"
+
+void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_real dt_s, fc_real gravity_mps2,
+                                          fc_real weight_n)
+{
+    fc_arith ar = {0u};
+    p->dt_s = dt_s;
+    p->gravity_mps2 = gravity_mps2;
+    p->speed_crossover_radps = FC_INT(1, RATIO);
+    p->height_crossover_radps = FC_INT(2, RATIO);
+    p->accel_bias_limit_mps2 = FC_C(0.5f, ACCEL);
+    p->accel_tau_s = FC_C(0.05f, DT);
+    p->hover_tau_s = FC_INT(2, TIME);
+    p->hover_thrust_n = weight_n;
+    p->hover_min_n = fc_mul(&ar, weight_n, FC_C(0.5f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
+    p->hover_max_n = fc_mul(&ar, weight_n, FC_C(1.5f, RATIO), FC_SHIFT(FORCE, RATIO, FORCE));
+    p->range_period_max_s = FC_C(0.1f, DT);
+}
+
+static bool vertical_params_valid(const fc_vertical_estimator_params *p)
+{
+    const bool finite = fc_is_finite(p->dt_s) && fc_is_finite(p->gravity_mps2) &&
+                        fc_is_finite(p->speed_crossover_radps) && fc_is_finite(p->height_crossover_radps) &&
+                        fc_is_finite(p->accel_bias_limit_mps2) && fc_is_finite(p->accel_tau_s) &&
+                        fc_is_finite(p->hover_tau_s) && fc_is_finite(p->hover_thrust_n) &&
+                        fc_is_finite(p->hover_min_n) && fc_is_finite(p->hover_max_n) &&
+                        fc_is_finite(p->range_period_max_s);
+    return finite && p->dt_s > FC_INT(0, DT) && p->dt_s <= FC_C(0.1f, DT) && p->gravity_mps2 > FC_INT(0, ACCEL) &&
+           p->gravity_mps2 <= FC_INT(100, ACCEL) && p->speed_crossover_radps > FC_INT(0, RATIO) &&
+           p->speed_crossover_radps <= FC_INT(10, RATIO) && p->height_crossover_radps > FC_INT(0, RATIO) &&
+           p->height_crossover_radps <= FC_INT(10, RATIO) && p->accel_bias_limit_mps2 > FC_INT(0, ACCEL) &&
+           p->accel_bias_limit_mps2 <= FC_INT(5, ACCEL) && p->accel_tau_s >= p->dt_s &&
+           p->accel_tau_s <= FC_INT(1, DT) && p->hover_tau_s >= FC_C(0.1f, TIME) &&
+           p->hover_tau_s <= FC_INT(100, TIME) && p->hover_min_n > FC_INT(0, FORCE) &&
+           p->hover_min_n <= p->hover_thrust_n && p->hover_thrust_n <= p->hover_max_n &&
+           p->hover_max_n <= FC_INT(1000, FORCE) && p->range_period_max_s > FC_INT(0, DT) &&
+           p->range_period_max_s <= FC_INT(1, DT);
+}
+
+fc_init_result fc_vertical_estimator_init(fc_vertical_estimator *v, const fc_vertical_estimator_params *p)
+{
+    v->ready = false;
+    v->ar.saturated = 0u;
+    v->est = (fc_vertical_estimate){0};
+    if (!vertical_params_valid(p)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    v->p = *p;
+    fc_arith *ar = &v->ar;
+    const fc_real w_v_dt = fc_mul(ar, p->speed_crossover_radps, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
+    v->speed_gain = fc_add(ar, w_v_dt, w_v_dt);
+    v->bias_gain_per_s = fc_mul(ar, w_v_dt, p->speed_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
+    v->height_gain_per_s = fc_add(ar, p->height_crossover_radps, p->height_crossover_radps);
+    v->height_speed_gain_per_s2 =
+        fc_mul(ar, p->height_crossover_radps, p->height_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
+    v->accel_filter_gain = fc_div(ar, p->dt_s, p->accel_tau_s, FC_DIV_SHIFT(DT, DT, UNIT));
+    v->hover_gain = fc_div(ar, p->dt_s, p->hover_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT));
+    v->inv_gravity_s2pm = fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO));
+    fc_vertical_estimator_reset(v);
+    v->est.hover_thrust_n = p->hover_thrust_n;
+    v->ready = v->ar.saturated == 0u;
+    return v->ready ? FC_INIT_OK : FC_INIT_BAD_PARAM;
+}
+
+void fc_vertical_estimator_reset(fc_vertical_estimator *v)
+{
+    v->est.vz_mps = FC_INT(0, VEL);
+    v->est.accel_z_mps2 = FC_INT(0, ACCEL);
+    v->est.accel_bias_mps2 = FC_INT(0, ACCEL);
+    v->est.gear_height_m = FC_INT(0, LENGTH);
+    v->est.gear_height_known = false;
+    v->range_gap_s = FC_INT(0, DT);
+}
+
+/* (R f)_z - g: the third row of R(q), [2(xz - wy), 2(yz + wx), 1 - 2(x^2 + y^2)],
+ * times the specific force, less gravity. */
+static fc_real vertical_accel_mps2(fc_arith *ar, fc_quat q, fc_vec3 f, fc_real gravity_mps2)
+{
+    const fc_real xz_wy = fc_dot2(ar, q.x, q.z, fc_neg(ar, q.w), q.y, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real yz_wx = fc_dot2(ar, q.y, q.z, q.w, q.x, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real xx_yy = fc_dot2(ar, q.x, q.x, q.y, q.y, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real r20 = fc_add(ar, xz_wy, xz_wy);
+    const fc_real r21 = fc_add(ar, yz_wx, yz_wx);
+    const fc_real r22 = fc_sub(ar, FC_INT(1, UNIT), fc_add(ar, xx_yy, xx_yy));
+    const fc_real up = fc_dot3(ar, r20, f.x, r21, f.y, r22, f.z, FC_SHIFT(UNIT, ACCEL, ACCEL));
+    return fc_sub(ar, up, gravity_mps2);
+}
+
+/* h' = v, v' = a - b (the prediction), with a the bias-corrected acceleration. */
+static void predict(fc_vertical_estimator *v, fc_real accel_mps2)
+{
+    fc_arith *ar = &v->ar;
+    v->est.gear_height_m =
+        fc_add(ar, v->est.gear_height_m, fc_mul(ar, v->est.vz_mps, v->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+    v->est.vz_mps = fc_clamp(fc_add(ar, v->est.vz_mps, fc_mul(ar, accel_mps2, v->p.dt_s, FC_SHIFT(ACCEL, DT, VEL))),
+                             FC_INT(-100, VEL), FC_INT(100, VEL));
+}
+
+/* The measured speed corrects the speed (l1 dt) and the bias (l2 dt). */
+static void correct_by_speed(fc_vertical_estimator *v, fc_real vz_measured_mps)
+{
+    fc_arith *ar = &v->ar;
+    const fc_real residual = fc_sub(ar, vz_measured_mps, v->est.vz_mps);
+    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, v->speed_gain, residual, FC_SHIFT(RATIO, VEL, VEL)));
+    const fc_real bias_step = fc_mul(ar, v->bias_gain_per_s, residual, FC_SHIFT(RATIO, VEL, ACCEL));
+    v->est.accel_bias_mps2 = fc_clamp(fc_sub(ar, v->est.accel_bias_mps2, bias_step),
+                                      fc_neg(ar, v->p.accel_bias_limit_mps2), v->p.accel_bias_limit_mps2);
+}
+
+/* A range sample corrects the gear height, and the speed when nothing else does. */
+static void correct_by_range(fc_vertical_estimator *v, fc_real gear_height_m, bool speed_too)
+{
+    fc_arith *ar = &v->ar;
+    if (!v->est.gear_height_known) {
+        v->est.gear_height_m = gear_height_m;
+        v->est.gear_height_known = true;
+        v->range_gap_s = FC_INT(0, DT);
+        return;
+    }
+    const fc_real gap_s = fc_min(v->range_gap_s, v->p.range_period_max_s);
+    v->range_gap_s = FC_INT(0, DT);
+    const fc_real residual = fc_sub(ar, gear_height_m, v->est.gear_height_m);
+    const fc_real height_gain = fc_mul(ar, v->height_gain_per_s, gap_s, FC_SHIFT(RATIO, DT, RATIO));
+    v->est.gear_height_m =
+        fc_add(ar, v->est.gear_height_m, fc_mul(ar, height_gain, residual, FC_SHIFT(RATIO, LENGTH, LENGTH)));
+    if (speed_too) {
+        const fc_real speed_gain = fc_mul(ar, v->height_speed_gain_per_s2, gap_s, FC_SHIFT(RATIO, DT, RATIO));
+        v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, LENGTH, VEL)));
+    }
+}
+
+/* Without an accelerometer: the acceleration the thrust gives against the
+ * hover thrust, a = g (T k_h / T_h - 1). */
+static fc_real thrust_model_accel_mps2(fc_vertical_estimator *v, const fc_vertical_estimator_input *in)
+{
+    fc_arith *ar = &v->ar;
+    const fc_real vertical_thrust_n = fc_mul(ar, in->thrust_n, in->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real load_factor = fc_div(ar, vertical_thrust_n, v->est.hover_thrust_n, FC_DIV_SHIFT(FORCE, FORCE, RATIO));
+    return fc_mul(ar, fc_sub(ar, load_factor, FC_INT(1, RATIO)), v->p.gravity_mps2, FC_SHIFT(RATIO, ACCEL, ACCEL));
+}
+
+/* T_h += (dt / tau) (T k_h - T_h (a + g) / g), inside its bounds. */
+static void learn_hover_thrust(fc_vertical_estimator *v, const fc_vertical_estimator_input *in, fc_real accel_mps2)
+{
+    fc_arith *ar = &v->ar;
+    const fc_real vertical_thrust_n = fc_mul(ar, in->thrust_n, in->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real load_factor =
+        fc_mul(ar, fc_add(ar, accel_mps2, v->p.gravity_mps2), v->inv_gravity_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
+    const fc_real held_n = fc_mul(ar, v->est.hover_thrust_n, load_factor, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real step_n = fc_mul(ar, v->hover_gain, fc_sub(ar, vertical_thrust_n, held_n), FC_SHIFT(UNIT, FORCE, FORCE));
+    v->est.hover_thrust_n = fc_clamp(fc_add(ar, v->est.hover_thrust_n, step_n), v->p.hover_min_n, v->p.hover_max_n);
+}
+
+fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_vertical_estimator_input *in,
+                                          fc_vertical_estimate *out)
+{
+    if (!v->ready) {
+        *out = (fc_vertical_estimate){0};
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &v->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+    v->range_gap_s = fc_min(fc_add(ar, v->range_gap_s, v->p.dt_s), FC_INT(1, DT));
+    fc_real accel_mps2 = FC_INT(0, ACCEL);
+    if (in->accel_ok) {
+        const fc_real raw_mps2 = vertical_accel_mps2(ar, in->attitude, in->accel_mps2, v->p.gravity_mps2);
+        accel_mps2 = fc_sub(ar, raw_mps2, v->est.accel_bias_mps2);
+        const fc_real change = fc_sub(ar, accel_mps2, v->est.accel_z_mps2);
+        v->est.accel_z_mps2 =
+            fc_add(ar, v->est.accel_z_mps2, fc_mul(ar, v->accel_filter_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
+    } else {
+        accel_mps2 = thrust_model_accel_mps2(v, in);
+        status |= FC_STEP_DEGRADED;
+    }
+    predict(v, accel_mps2);
+    if (in->vz_ok) {
+        correct_by_speed(v, in->vz_mps);
+    }
+    if (in->gear_height_fresh) {
+        correct_by_range(v, in->gear_height_m, !in->vz_ok);
+    }
+    if (in->learn_hover && in->accel_ok) {
+        learn_hover_thrust(v, in, accel_mps2);
+    }
+    *out = v->est;
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
