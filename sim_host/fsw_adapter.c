@@ -33,10 +33,24 @@ _Static_assert(FSW_COMMAND_LAND == (int)FC_COMMAND_LAND && FSW_COMMAND_HOLD == (
                "command numbering differs");
 _Static_assert(FSW_LANDING_STATE_COUNT == (int)FC_LANDING_STATE_COUNT, "landing states differ");
 _Static_assert(FSW_LANDING_REASON_COUNT == (int)FC_REASON_COUNT, "landing reasons differ");
-_Static_assert(FSW_LANDING_DESCEND == (int)FC_LANDING_DESCEND && FSW_LANDING_ABORT == (int)FC_LANDING_ABORT,
+_Static_assert(FSW_LANDING_DESCEND == (int)FC_LANDING_DESCEND && FSW_LANDING_ABORT == (int)FC_LANDING_ABORT &&
+                   FSW_LANDING_FAILSAFE == (int)FC_LANDING_FAILSAFE,
                "landing state numbering differs");
 
-#define TO_FC(x, KIND) fc_from_float((float)(x), FC_##KIND##_FRAC)
+/* A double in the firmware's number type. The fixed backend holds no NaN
+ * (fc_from_float makes it 0, a plausible value): a NaN input, a lost one,
+ * arrives as the format's largest value, outside every physical range. */
+static fc_real real_of(double x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    if (isnan(x)) {
+        return FC_REAL_MAX;
+    }
+#endif
+    return fc_from_float((float)x, frac);
+}
+
+#define TO_FC(x, KIND) real_of((x), FC_##KIND##_FRAC)
 #define FROM_FC(x, KIND) ((double)fc_to_float((x), FC_##KIND##_FRAC))
 
 static void override(fc_real *field, double value, int frac)
@@ -70,11 +84,8 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
         p.use_external_attitude = cfg->use_external_attitude != 0;
     }
     if (!isnan(cfg->mass_kg)) {
-        /* nominal mass: Theta0 and the +-25 % bounds of the defaults follow it */
-        p.mass_kg = TO_FC(cfg->mass_kg, MASS);
-        p.altitude.theta0_kg = TO_FC(cfg->mass_kg, MASS);
-        p.altitude.mass_min_kg = TO_FC(0.75 * cfg->mass_kg, MASS);
-        p.altitude.mass_max_kg = TO_FC(1.25 * cfg->mass_kg, MASS);
+        /* nominal mass: what follows it follows it (fc_controller_set_mass) */
+        fc_controller_set_mass(&p, TO_FC(cfg->mass_kg, MASS));
     }
     override(&p.reference.tau_s, cfg->ref_tau_s, FC_TIME_FRAC);
     override(&p.reference.offset_init_m, cfg->ref_offset_init_m, FC_LENGTH_FRAC);
@@ -104,9 +115,13 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
 
 static bool init_succeeded(fc_init_result r, char *err, size_t err_len)
 {
+    static const char *const why[] = {"", "a parameter out of range", "rank-deficient rotor geometry",
+                                      "the modules' g differ", "the modules' nominal masses differ",
+                                      "maximum thrust under 1.5 x the weight",
+                                      "maximum thrust above what the rotors give"};
     if (r != FC_INIT_OK) {
-        snprintf(err, err_len, "fc_controller_init failed (%s)",
-                 r == FC_INIT_RANK_DEFICIENT ? "rank-deficient rotor geometry" : "a parameter out of range");
+        const unsigned i = (unsigned)r < sizeof why / sizeof why[0] ? (unsigned)r : 1u;
+        snprintf(err, err_len, "fc_controller_init failed (%s)", why[i]);
     }
     return r == FC_INIT_OK;
 }
@@ -129,6 +144,8 @@ static void info_of(const fc_controller_params *params, fsw_info *info)
         info->ref_bias_m = FROM_FC(params->reference.bias_m, LENGTH);
         info->rho_n = FROM_FC(params->altitude.rho_n, FORCE);
         info->gamma = FROM_FC(params->altitude.gamma, GAIN);
+        info->failsafe_descent_mps = FROM_FC(params->failsafe.descent_mps, VEL);
+        info->alignment_steps = (int)params->estimator.alignment_samples;
         info->rotor_count = params->allocation.rotor_count;
         info->state_bytes = sizeof(fc_controller);
     }
@@ -160,8 +177,7 @@ static void adapter_destroy(void *ctl)
 
 static fc_vec3 vec_to_fc(const double v[3], int frac)
 {
-    return fc_vec3_make(fc_from_float((float)v[0], frac), fc_from_float((float)v[1], frac),
-                        fc_from_float((float)v[2], frac));
+    return fc_vec3_make(real_of(v[0], frac), real_of(v[1], frac), real_of(v[2], frac));
 }
 
 static void vec_from_fc(fc_vec3 v, int frac, double out[3])
@@ -253,6 +269,12 @@ static void outputs_of(fc_step_status status, const fc_controller_outputs *fo, c
     out->pad_accel_bound_mps2 = FROM_FC(tm->pad.accel_bound_mps2, ACCEL);
     out->pad_period_s = FROM_FC(tm->pad.dominant_period_s, TIME);
     out->gear_height_m = FROM_FC(tm->gear_height_m, LENGTH);
+    out->vz_est_mps = FROM_FC(tm->vertical.vz_mps, VEL);
+    out->hover_thrust_n = FROM_FC(tm->vertical.hover_thrust_n, FORCE);
+    out->accel_bias_mps2 = FROM_FC(tm->vertical.accel_bias_mps2, ACCEL);
+    out->land_state = (int)tm->land_state;
+    out->failsafe_cause = (int)tm->failsafe_cause;
+    out->arming_blocked_by = (int)tm->arming_blocked_by;
     vec_from_fc(internals->attitude_error_rad, FC_ANGLE_FRAC, out->attitude_error_rad);
     vec_from_fc(internals->attitude_integral_rad_s, FC_ANGLE_FRAC, out->attitude_integral_rad_s);
     out->position_integral_mps2[0] = FROM_FC(internals->position_integral_mps2.x, ACCEL);

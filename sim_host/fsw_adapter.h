@@ -25,7 +25,7 @@ enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1, FSW_COMMAND_HOLD = 2, 
 /* fc_landing_state and fc_landing_reason, by value (names in sim.c). */
 #define FSW_LANDING_STATE_COUNT 9
 #define FSW_LANDING_REASON_COUNT 19
-enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_LANDED = 6, FSW_LANDING_ABORT = 7 };
+enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_LANDED = 6, FSW_LANDING_ABORT = 7, FSW_LANDING_FAILSAFE = 8 };
 /* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
 #define FSW_VARIANT_COUNT 12
 
@@ -91,6 +91,10 @@ typedef struct fsw_outputs {
     /* the landing mission */
     int landing_state, landing_reason, landing_changed, touchdown_window, aborts, descent_blocked_by;
     double pad_est_z_m, pad_est_vz_mps, pad_confidence, pad_accel_bound_mps2, pad_period_s, gear_height_m;
+    /* the safety logic: the vertical estimate, the land detector's stage, the
+     * failsafe's cause and what refused arming (fc/controller.h) */
+    double vz_est_mps, hover_thrust_n, accel_bias_mps2;
+    int land_state, failsafe_cause, arming_blocked_by;
     /* loop internals, for traces: the attitude error (tilt x, y, heading z) and
      * its integral, the horizontal loop's integral (x, y) */
     double attitude_error_rad[3], attitude_integral_rad_s[3], position_integral_mps2[2];
@@ -103,6 +107,8 @@ typedef struct fsw_info {
     double thrust_min_n, thrust_max_n, ground_gain_max;
     double ref_tau_s, ref_offset_init_m, ref_bias_m;
     double rho_n, gamma;
+    double failsafe_descent_mps; /* failsafe.descent_mps: the descent the failsafe should hold */
+    int alignment_steps;     /* disarmed steps the attitude filter needs before arming */
     int rotor_count;
     size_t state_bytes;      /* sizeof(fc_controller) */
 } fsw_info;

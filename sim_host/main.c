@@ -29,6 +29,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: fc-sil [options]\n"
             "  --scenario NAME|FILE   a scenario of sim_host/scenarios (NAME) or an INI file (default seed-4.4)\n"
+            "  --set SECTION.KEY=VALUE  replaces a key of the scenario file (repeatable, up to 32)\n"
             "  --numeric float|fixed|both|pil  the firmware's numeric backend (a comma list too; default float);\n"
             "                         pil: the fixed step run by the ATmega image --pil-image in simavr\n"
             "  --pil-image FILE       the ATmega PIL image (build/atmega-fixed/platform/atmega/fc-atmega-pil.elf)\n"
@@ -99,6 +100,8 @@ static void progress_end(progress *p)
 typedef struct args {
     const char *scenario, *numeric, *controller, *json, *csv, *plot;
     const char *pil_image;   /* --pil-image */
+    const char *overrides[SCENARIO_OVERRIDES_MAX]; /* --set, in order */
+    int override_count;
     double duration_s;       /* 0: the scenario's */
     long runs;
     bool runs_given;
@@ -300,7 +303,15 @@ int main(int argc, char **argv)
     a.scenario = "seed-4.4";
     a.numeric = "float";
     a.runs = 1;
-    enum { OPT_LIST_CONTROLLERS = 256, OPT_LIST_SCENARIOS, OPT_COMPARE, OPT_BENCHMARK, OPT_QUIET, OPT_PIL_IMAGE };
+    enum {
+        OPT_LIST_CONTROLLERS = 256,
+        OPT_LIST_SCENARIOS,
+        OPT_COMPARE,
+        OPT_BENCHMARK,
+        OPT_QUIET,
+        OPT_PIL_IMAGE,
+        OPT_SET
+    };
     static const struct option options[] = {
         {"scenario", required_argument, NULL, 's'},
         {"numeric", required_argument, NULL, 'n'},
@@ -317,6 +328,7 @@ int main(int argc, char **argv)
         {"list-scenarios", no_argument, NULL, OPT_LIST_SCENARIOS},
         {"quiet", no_argument, NULL, OPT_QUIET},
         {"pil-image", required_argument, NULL, OPT_PIL_IMAGE},
+        {"set", required_argument, NULL, OPT_SET},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -361,6 +373,13 @@ int main(int argc, char **argv)
         case OPT_BENCHMARK: a.benchmark = true; break;
         case OPT_QUIET: a.quiet = true; break;
         case OPT_PIL_IMAGE: a.pil_image = optarg; break;
+        case OPT_SET:
+            if (a.override_count == SCENARIO_OVERRIDES_MAX) {
+                fprintf(stderr, "fc-sil: at most %d --set\n", SCENARIO_OVERRIDES_MAX);
+                return 2;
+            }
+            a.overrides[a.override_count++] = optarg;
+            break;
         case OPT_LIST_CONTROLLERS:
             for (int i = 0; i < FSW_VARIANT_COUNT; i++) {
                 printf("%s\n", sim_variant_names[i]);
@@ -394,7 +413,7 @@ int main(int argc, char **argv)
     }
     static scenario sc;
     char err[1024];
-    if (!scenario_load(path, &sc, err, sizeof err)) {
+    if (!scenario_load(path, a.overrides, a.override_count, &sc, err, sizeof err)) {
         fprintf(stderr, "fc-sil: %s\n", err);
         return 2;
     }

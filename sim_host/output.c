@@ -22,10 +22,18 @@ static int compare_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Lower is worse for the clearance; higher is worse for every other metric. */
+/* Lower is worse for the clearance and for having entered the failsafe;
+ * higher is worse for every other metric. */
 static bool lower_is_worse(int metric)
 {
-    return strcmp(sim_metric_names[metric], "min_clearance_m") == 0;
+    return strcmp(sim_metric_names[metric], "min_clearance_m") == 0 ||
+           strcmp(sim_metric_names[metric], "failsafe_entered") == 0;
+}
+
+/* A yes/no metric: a boolean in the JSON. */
+static bool metric_is_flag(int metric)
+{
+    return strcmp(sim_metric_names[metric], "failsafe_entered") == 0;
 }
 
 /* The value at percentile p of n sorted values, nearest rank. */
@@ -43,7 +51,7 @@ static const sim_metrics *run_metrics(const run_record *r, int i)
 
 void output_compute_stats(run_record *r)
 {
-    r->diverged_runs = r->nan_output_runs = 0;
+    r->diverged_runs = r->nan_output_runs = r->failsafe_entered_runs = r->airborne_motor_stop_runs = 0;
     r->nan_outputs_total = 0.0;
     memset(r->diverged_by_reason, 0, sizeof r->diverged_by_reason);
     for (int i = 0; i < r->runs; i++) {
@@ -55,6 +63,8 @@ void output_compute_stats(run_record *r)
         }
         r->nan_output_runs += m->nan_outputs > 0.0;
         r->nan_outputs_total += m->nan_outputs;
+        r->failsafe_entered_runs += m->failsafe_entered > 0.0;
+        r->airborne_motor_stop_runs += m->failsafe_motor_stops_airborne > 0.0;
     }
     double *values = malloc((size_t)r->runs * sizeof *values);
     for (int k = 0; k < SIM_METRIC_COUNT; k++) {
@@ -106,7 +116,12 @@ static void add_number(cJSON *obj, const char *name, double v)
 static void add_metrics(cJSON *obj, const sim_metrics *m)
 {
     for (int k = 0; k < SIM_METRIC_COUNT; k++) {
-        add_number(obj, sim_metric_names[k], sim_metric_value(m, k));
+        const double v = sim_metric_value(m, k);
+        if (metric_is_flag(k) && isfinite(v)) {
+            cJSON_AddBoolToObject(obj, sim_metric_names[k], v > 0.0);
+        } else {
+            add_number(obj, sim_metric_names[k], v);
+        }
     }
 }
 
@@ -153,6 +168,12 @@ static cJSON *record_json(const run_record *r)
     cJSON_AddNumberToObject(o, "duration_s", r->sc->duration_s);
     cJSON_AddNumberToObject(o, "controller_rate_hz", r->sc->controller_rate_hz);
     cJSON_AddNumberToObject(o, "plant_rate_hz", r->sc->plant_rate_hz);
+    if (r->sc->override_count > 0) {
+        cJSON *set = cJSON_AddArrayToObject(o, "overrides");
+        for (int i = 0; i < r->sc->override_count; i++) {
+            cJSON_AddItemToArray(set, cJSON_CreateString(r->sc->overrides[i]));
+        }
+    }
     if (r->failed) {
         cJSON_AddStringToObject(o, "error", r->error);
         for (int k = 0; k < SIM_METRIC_COUNT; k++) {
@@ -175,6 +196,7 @@ static cJSON *record_json(const run_record *r)
     add_number(fw, "z_r_tau_s", fi->ref_tau_s);
     add_number(fw, "z_r_init_m", fi->ref_offset_init_m);
     add_number(fw, "z_r_bias_m", fi->ref_bias_m);
+    add_number(fw, "failsafe_descent_mps", fi->failsafe_descent_mps);
     cJSON_AddNumberToObject(fw, "state_bytes", (double)fi->state_bytes);
     if (r->runs <= 1) {
         add_metrics(o, &r->result.metrics);
@@ -183,7 +205,7 @@ static cJSON *record_json(const run_record *r)
         add_divergence(o, &r->result.metrics, &r->sc->montecarlo);
         add_number(o, "wall_time_s", r->result.wall_s);
         add_number(o, "real_time_factor", r->result.wall_s > 0.0 ? r->sc->duration_s / r->result.wall_s : (double)NAN);
-        if (r->sc->mission.command == MISSION_LAND) {
+        if (r->sc->mission.command == MISSION_LAND || isfinite(r->result.metrics.failsafe_entered)) {
             add_landing(o, &r->result);
         }
         return o;
@@ -202,6 +224,8 @@ static cJSON *record_json(const run_record *r)
     }
     cJSON_AddNumberToObject(o, "nan_output_runs", r->nan_output_runs);
     cJSON_AddNumberToObject(o, "nan_outputs_total", r->nan_outputs_total);
+    cJSON_AddNumberToObject(o, "failsafe_entered_runs", r->failsafe_entered_runs);
+    cJSON_AddNumberToObject(o, "airborne_motor_stop_runs", r->airborne_motor_stop_runs);
     cJSON *stats = cJSON_AddObjectToObject(o, "metrics");
     for (int k = 0; k < SIM_METRIC_COUNT; k++) {
         const metric_stats *s = &r->stats[k];
@@ -591,10 +615,11 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
 /* ---------------------------------------------------------------------- */
 
 /* Column headings and scales of the printed tables. */
-static const char *const short_names[SIM_METRIC_COUNT] = {"rms[mm]",  "max[mm]", "step[mm]", "tv[N/s]",
-                                                          "theta_err", "clr[mm]", "td_v[m/s]", "td_t[s]",
-                                                          "bounces",  "tilt[deg]", "nan"};
-static const double scales[SIM_METRIC_COUNT] = {1000.0, 1000.0, 1000.0, 1.0, 1.0, 1000.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+static const char *const short_names[SIM_METRIC_COUNT] = {
+    "rms[mm]", "max[mm]", "step[mm]", "tv[N/s]", "theta_err", "clr[mm]", "td_v[m/s]", "td_t[s]", "bounces",
+    "tilt[deg]", "nan", "entered", "air_stops", "fs_v[m/s]", "fs_v_err", "fs_td[m/s]", "off[s]"};
+static const double scales[SIM_METRIC_COUNT] = {1000.0, 1000.0, 1000.0, 1.0, 1.0, 1000.0, 1.0, 1.0, 1.0,
+                                                1.0,    1.0,    1.0,    1.0, 1.0, 1.0,    1.0, 1.0};
 
 static void print_value(double v, double scale)
 {
@@ -603,6 +628,13 @@ static void print_value(double v, double scale)
     } else {
         printf(" %10s", "-");
     }
+}
+
+/* Whether a record's failsafe metrics apply (to its single run, or to any of its runs). */
+static bool has_failsafe(const run_record *r)
+{
+    const int k = SIM_METRIC_FAILSAFE_FIRST; /* failsafe_entered */
+    return !r->failed && (r->runs > 1 ? r->stats[k].count > 0 : isfinite(sim_metric_value(&r->result.metrics, k)));
 }
 
 /* The robustness lines of a Monte-Carlo record: diverged runs by reason, the
@@ -617,6 +649,10 @@ static void print_divergence(const run_record *r)
         printf(" %s %d", sim_divergence_reason_name(b), r->diverged_by_reason[b]);
     }
     printf("\nNaN outputs: %d runs, %.0f steps\n", r->nan_output_runs, r->nan_outputs_total);
+    if (has_failsafe(r)) {
+        printf("failsafe: entered in %d of %d runs; motors stopped in the air in %d runs\n", r->failsafe_entered_runs,
+               r->runs, r->airborne_motor_stop_runs);
+    }
     if (r->diverged_runs == 0) {
         return;
     }
@@ -634,16 +670,13 @@ static void print_divergence(const run_record *r)
     printf("%s\n", r->diverged_runs > shown ? " ..." : "");
 }
 
-void output_print(const run_record *records, int count, bool compare)
+/* One table of the metrics first..last - 1: a line per record, a single run's
+ * values or the Monte-Carlo medians. */
+static void print_metric_table(const run_record *records, int count, bool compare, int first, int last)
 {
-    if (count == 0) {
-        return;
-    }
     const bool mc = records[0].runs > 1;
-    printf("scenario %s (%s)%s\n", records[0].sc->name, records[0].sc->path,
-           mc ? ": Monte-Carlo, median over the runs" : "");
     printf("%-18s %-6s", compare ? "variant" : "controller", "numeric");
-    for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+    for (int k = first; k < last; k++) {
         printf(" %10s", short_names[k]);
     }
     printf("\n");
@@ -654,14 +687,33 @@ void output_print(const run_record *records, int count, bool compare)
             printf(" not run: %s\n", r->error);
             continue;
         }
-        for (int k = 0; k < SIM_METRIC_COUNT; k++) {
+        for (int k = first; k < last; k++) {
             print_value(mc ? r->stats[k].median : sim_metric_value(&r->result.metrics, k), scales[k]);
         }
         printf("\n");
     }
+}
+
+void output_print(const run_record *records, int count, bool compare)
+{
+    if (count == 0) {
+        return;
+    }
+    const bool mc = records[0].runs > 1;
+    printf("scenario %s (%s)%s\n", records[0].sc->name, records[0].sc->path,
+           mc ? ": Monte-Carlo, median over the runs" : "");
+    print_metric_table(records, count, compare, 0, SIM_METRIC_FAILSAFE_FIRST);
+    bool failsafe = false;
+    for (int i = 0; i < count; i++) {
+        failsafe = failsafe || has_failsafe(&records[i]);
+    }
+    if (failsafe) {
+        printf("failsafe:\n");
+        print_metric_table(records, count, compare, SIM_METRIC_FAILSAFE_FIRST, SIM_METRIC_COUNT);
+    }
     for (int i = 0; i < count && !mc; i++) {
         const sim_result *res = &records[i].result;
-        if (records[i].failed || records[i].sc->mission.command != MISSION_LAND) {
+        if (records[i].failed || (records[i].sc->mission.command != MISSION_LAND && !has_failsafe(&records[i]))) {
             continue;
         }
         printf("landing (%s, %s): final %s, %d abort(s), touchdown window from %.3f s\n",
@@ -682,11 +734,11 @@ void output_print(const run_record *records, int count, bool compare)
         }
         printf("\n%s, %s: %d runs, seeds %llu..%llu\n", sim_variant_names[r->variant], r->backend, r->runs,
                (unsigned long long)r->seed, (unsigned long long)(r->seed + (uint64_t)r->runs - 1u));
-        printf("%-24s %10s %10s %10s %10s %10s %10s %12s\n", "metric", "min", "median", "p90", "p95", "p99", "max",
+        printf("%-32s %10s %10s %10s %10s %10s %10s %12s\n", "metric", "min", "median", "p90", "p95", "p99", "max",
                "worst seed");
         for (int k = 0; k < SIM_METRIC_COUNT; k++) {
             const metric_stats *s = &r->stats[k];
-            printf("%-24s", sim_metric_names[k]);
+            printf("%-32s", sim_metric_names[k]);
             print_value(s->min, 1.0);
             print_value(s->median, 1.0);
             print_value(s->p90, 1.0);

@@ -37,6 +37,9 @@ typedef struct run_record {
     int diverged_by_reason[SIM_DIVERGED_REASON_COUNT];
     int nan_output_runs;       /* runs with nan_outputs > 0 */
     double nan_outputs_total;  /* steps with a NaN output, all runs */
+    /* the failsafe, over the runs */
+    int failsafe_entered_runs;    /* runs whose firmware entered FAILSAFE */
+    int airborne_motor_stop_runs; /* runs with failsafe_motor_stops_airborne > 0 */
     double wall_s;             /* all of its runs */
     bool failed;               /* the flight software did not start (--compare goes on) */
     char error[256];

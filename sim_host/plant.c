@@ -340,6 +340,25 @@ void plant_diagnose(const plant *pl, plant_diag *d)
     derivative(pl, &pad, plant_mass_target(&pl->p, pl->t + 1e-9), &pl->s, &ds, d);
 }
 
+double plant_gear_clearance(const plant *pl, pad_state *pad)
+{
+    pad_state now = pl->pad_cache;
+    if (pl->pad_cache_t != pl->t) {
+        pad_eval(&pl->p.pad, pl->t, &now);
+    }
+    double r[3][3];
+    quat_to_matrix(pl->s.q, r);
+    double clearance = (double)INFINITY;
+    for (int f = 0; f < pl->p.foot_count; f++) {
+        const double height = pl->s.p.z + mat_apply(r, pl->p.foot_m[f]).z - now.z_m;
+        clearance = height < clearance ? height : clearance;
+    }
+    if (pad != NULL) {
+        *pad = now;
+    }
+    return clearance;
+}
+
 double plant_hover_speed(const plant *pl)
 {
     const plant_params *p = &pl->p;

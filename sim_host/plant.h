@@ -166,6 +166,11 @@ void plant_step(plant *pl, double h);
 /* Derivative and diagnostics at the current time and state (no step). */
 void plant_diagnose(const plant *pl, plant_diag *d);
 
+/* The lowest foot's height above the pad at the current time and state
+ * (negative: penetration), and the pad then in *pad (if not NULL), without
+ * the rest of plant_diagnose. */
+double plant_gear_clearance(const plant *pl, pad_state *pad);
+
 /* Mechanical energy (kinetic + rotational + potential, with z = 0 as reference). */
 double plant_energy(const plant *pl);
 

@@ -119,16 +119,18 @@ typedef struct raw {
     /* [wind], [fault] */
     wind_params wind;
     int fault_kind;
-    double fault_delay_s, fault_duration_s, fault_scale;
+    double fault_start_s, fault_delay_s, fault_duration_s, fault_scale;
     v3 fault_vector;
     /* landing overrides */
     double land_hold_m, land_tau_s, land_accel_max, land_conf_start;
-    double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, sp_x, sp_y, sp_yaw_deg;
+    double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, end_after_motors_off_s, sp_x, sp_y,
+        sp_yaw_deg;
     int landing, disarm_on_contact;
     /* sensors */
     imu_params imu;
     position_params position;
     altitude_params altitude;
+    int range_finder;
     attitude_sensor_params attitude;
     int heading_enabled;
     heading_sensor_params heading;
@@ -150,8 +152,10 @@ static const char *const pad_names[] = {"still", "sine", "waves", NULL};
 static const char *const motors_names[] = {"off", "hover", NULL};
 static const char *const altitude_names[] = {"position", "absolute", "range", NULL};
 static const char *const command_names[] = {"track", "land", NULL};
-static const char *const fault_names[] = {"none",   "hold-command",  "range-dropout", "gust",
-                                          "torque", "pad-amplitude", "pad-period",    NULL};
+static const char *const fault_names[] = {"none",       "hold-command",  "range-dropout", "gust",
+                                          "torque",     "pad-amplitude", "pad-period",    "position-lost",
+                                          "imu-lost",   NULL};
+static const char *const range_finder_names[] = {"auto", "on", "off", NULL};
 static const char *variant_names_z[FSW_VARIANT_COUNT + 1];
 
 #define OPEN_LO 1  /* the lower bound is excluded */
@@ -185,7 +189,7 @@ static const key_def keys[] = {
     {"controller", "nominal_mass_kg", K_DOUBLE, R(nominal_mass_kg), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "z_r_tau_s", K_DOUBLE, R(z_r_tau_s), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "z_r_init_m", K_DOUBLE, R(z_r_init_m), -100.0, 100.0, NULL, OPTIONAL},
-    {"controller", "z_r_bias_m", K_DOUBLE, R(z_r_bias_m), -10.0, 10.0, NULL, OPTIONAL},
+    {"controller", "z_r_bias_m", K_DOUBLE, R(z_r_bias_m), -100.0, 100.0, NULL, OPTIONAL},
     {"controller", "thrust_min_n", K_DOUBLE, R(thrust_min_n), 0.0, 2000.0, NULL, OPTIONAL},
     {"controller", "thrust_max_n", K_DOUBLE, R(thrust_max_n), 0.0, 2000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "ground_gain_max", K_DOUBLE, R(ground_gain_max), 1.0, 10.0, NULL, OPTIONAL},
@@ -279,8 +283,9 @@ static const key_def keys[] = {
     {"wind", "gust_tau_s", K_DOUBLE, R(wind.gust_tau_s), 0.0, 1000.0, NULL, OPEN_LO},
 
     {"fault", "kind", K_ENUM, R(fault_kind), 0, 0, fault_names, 0},
+    {"fault", "start_s", K_DOUBLE, R(fault_start_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"fault", "delay_s", K_DOUBLE, R(fault_delay_s), 0.0, 1000.0, NULL, 0},
-    {"fault", "duration_s", K_DOUBLE, R(fault_duration_s), 0.0, 1000.0, NULL, 0},
+    {"fault", "duration_s", K_DOUBLE, R(fault_duration_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"fault", "scale", K_DOUBLE, R(fault_scale), 0.0, 100.0, NULL, 0},
     {"fault", "vector", K_VEC3, R(fault_vector), -1000.0, 1000.0, NULL, 0},
     {"mission", "landing", K_BOOL, R(landing), 0, 0, NULL, 0},
@@ -288,6 +293,7 @@ static const key_def keys[] = {
     {"mission", "disarm_delay_s", K_DOUBLE, R(disarm_delay_s), 0.0, 100.0, NULL, 0},
     {"mission", "touchdown_planned_s", K_DOUBLE, R(touchdown_planned_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"mission", "end_after_landed_s", K_DOUBLE, R(end_after_landed_s), 0.0, 36000.0, NULL, OPTIONAL},
+    {"mission", "end_after_motors_off_s", K_DOUBLE, R(end_after_motors_off_s), 0.0, 36000.0, NULL, OPTIONAL},
     {"mission", "setpoint_x_m", K_DOUBLE, R(sp_x), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_y_m", K_DOUBLE, R(sp_y), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_yaw_deg", K_DOUBLE, R(sp_yaw_deg), -180.0, 180.0, NULL, 0},
@@ -318,6 +324,7 @@ static const key_def keys[] = {
     {"altitude_sensor", "noise_m", K_DOUBLE, R(altitude.noise_m), 0.0, 100.0, NULL, 0},
     {"altitude_sensor", "lsb_m", K_DOUBLE, R(altitude.lsb_m), 0.0, 10.0, NULL, 0},
     {"altitude_sensor", "range_max_m", K_DOUBLE, R(altitude.range_max_m), 0.0, 1000.0, NULL, OPEN_LO},
+    {"altitude_sensor", "range_finder", K_ENUM, R(range_finder), 0, 0, range_finder_names, 0},
 
     {"attitude_sensor", "rate_hz", K_DOUBLE, R(attitude.rate_hz), 0.0, 100000.0, NULL, 0},
     {"attitude_sensor", "delay_s", K_DOUBLE, R(attitude.delay_s), 0.0, 10.0, NULL, 0},
@@ -358,6 +365,10 @@ static const key_def keys[] = {
     {"montecarlo", "diverged_error_m", K_DOUBLE, R(mc.diverged_error_m), 0.0, 1000.0, NULL, OPEN_LO},
     {"montecarlo", "diverged_position_m", K_DOUBLE, R(mc.diverged_position_m), 0.0, 1000.0, NULL, OPEN_LO},
     {"montecarlo", "diverged_tilt_deg", K_DOUBLE, R(mc.diverged_tilt_deg), 0.0, 180.0, NULL, OPEN_LO},
+    {"montecarlo", "accel_bias_max_mps2", K_DOUBLE, R(mc.accel_bias_max_mps2), 0.0, 10.0, NULL, 0},
+    {"montecarlo", "fault_height_min_m", K_DOUBLE, R(mc.fault_height_min_m), 0.0, 99.0, NULL, OPTIONAL},
+    {"montecarlo", "fault_height_max_m", K_DOUBLE, R(mc.fault_height_max_m), 0.0, 99.0, NULL, OPTIONAL},
+    {"montecarlo", "range_finder_probability", K_DOUBLE, R(mc.range_finder_probability), 0.0, 1.0, NULL, OPTIONAL},
 };
 #define KEY_COUNT ((int)(sizeof keys / sizeof keys[0]))
 
@@ -385,7 +396,7 @@ static void raw_defaults(raw *r)
     r->hkp = r->hkd = r->tilt_max_deg = (double)NAN;
     r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = (double)NAN;
     r->wind.gust_tau_s = 2.0;
-    r->fault_duration_s = 1.0;
+    r->fault_start_s = r->fault_duration_s = (double)NAN; /* from the first DESCEND; the kind's duration */
     r->fault_scale = 1.0;
     r->mc.pad_amplitude_min_m = r->mc.pad_amplitude_max_m = (double)NAN;
     r->mc.pad_period_min_s = r->mc.pad_period_max_s = r->mc.gust_std_max_mps = (double)NAN;
@@ -429,7 +440,7 @@ static void raw_defaults(raw *r)
     r->init_height = (double)NAN;
     r->init_motors_hover = 1;
     r->touchdown_planned_s = (double)NAN;
-    r->end_after_landed_s = (double)NAN;
+    r->end_after_landed_s = r->end_after_motors_off_s = (double)NAN;
     r->disarm_delay_s = 0.0;
     r->noise_scale = 1.0;
     r->altitude.source = ALTITUDE_FROM_POSITION;
@@ -446,6 +457,7 @@ static void raw_defaults(raw *r)
     r->mc.diverged_error_m = 1.0;
     r->mc.diverged_position_m = 2.0;
     r->mc.diverged_tilt_deg = 60.0;
+    r->mc.fault_height_min_m = r->mc.fault_height_max_m = r->mc.range_finder_probability = (double)NAN;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -463,7 +475,11 @@ typedef struct parse_ctx {
     int key_line[KEY_COUNT];                         /* where each key was set (0: not) */
     int rotor_key_line[PLANT_MAX_ROTORS][KEY_COUNT]; /* the same for [rotor.N] */
     int max_rotor_section;                           /* highest N of a [rotor.N] seen, -1 */
+    const char *const *overrides;                    /* --set "section.key=value", applied after the file */
 } parse_ctx;
+
+/* The line number an override is known by: OVERRIDE_LINE + its index. */
+#define OVERRIDE_LINE 1000000000
 
 static void fail(parse_ctx *c, int line, const char *section, const char *key, const char *fmt, const char *detail)
 {
@@ -473,12 +489,18 @@ static void fail(parse_ctx *c, int line, const char *section, const char *key, c
     c->failed = true;
     char reason[256];
     snprintf(reason, sizeof reason, fmt, detail != NULL ? detail : "");
-    if (key != NULL) {
-        snprintf(c->err, c->err_len, "%s:%d: key '%s' in [%s]: %s", c->file, line, key, section, reason);
-    } else if (section != NULL) {
-        snprintf(c->err, c->err_len, "%s:%d: section [%s]: %s", c->file, line, section, reason);
+    char where[SCENARIO_PATH_MAX + 64];
+    if (line >= OVERRIDE_LINE) {
+        snprintf(where, sizeof where, "--set '%.200s'", c->overrides[line - OVERRIDE_LINE]);
     } else {
-        snprintf(c->err, c->err_len, "%s:%d: %s", c->file, line, reason);
+        snprintf(where, sizeof where, "%s:%d", c->file, line);
+    }
+    if (key != NULL) {
+        snprintf(c->err, c->err_len, "%s: key '%s' in [%s]: %s", where, key, section, reason);
+    } else if (section != NULL) {
+        snprintf(c->err, c->err_len, "%s: section [%s]: %s", where, section, reason);
+    } else {
+        snprintf(c->err, c->err_len, "%s: %s", where, reason);
     }
 }
 
@@ -786,6 +808,42 @@ static bool fail_rotor(parse_ctx *c, int rotor, const char *key, const char *rea
     return false;
 }
 
+/* The overrides "section.key=value" (fc-sil --set), each parsed as a line of
+ * the file that replaces the file's own setting of the key. The key is what
+ * follows the last '.' before the '=', so [rotor.N] keys work as well. */
+static bool apply_overrides(parse_ctx *c, int count)
+{
+    for (int i = 0; i < count && !c->failed; i++) {
+        const int line = OVERRIDE_LINE + i;
+        char buf[512];
+        snprintf(buf, sizeof buf, "%s", c->overrides[i]);
+        char *eq = strchr(buf, '=');
+        if (eq != NULL) {
+            *eq = '\0';
+        }
+        char *dot = strrchr(buf, '.');
+        if (eq == NULL || dot == NULL || dot == buf || dot[1] == '\0') {
+            fail(c, line, NULL, NULL, "not section.key=value%s", "");
+            break;
+        }
+        *dot = '\0';
+        const char *section = trim(buf), *key = trim(dot + 1);
+        const int rotor = rotor_section_index(section);
+        const int idx = key_index(rotor >= 0 ? "rotor" : section, key);
+        if (idx >= 0) {
+            /* the file's setting is replaced, not set twice */
+            int *seen = rotor >= 0 ? &c->rotor_key_line[rotor][idx] : &c->key_line[idx];
+            *seen = 0;
+        }
+        if (rotor > c->max_rotor_section) {
+            c->max_rotor_section = rotor;
+        }
+        c->line = line;
+        (void)handler(c, section, key, eq + 1);
+    }
+    return !c->failed;
+}
+
 /* ---------------------------------------------------------------------- */
 /* building the scenario                                                   */
 /* ---------------------------------------------------------------------- */
@@ -793,6 +851,41 @@ static bool fail_rotor(parse_ctx *c, int rotor, const char *key, const char *rea
 static double pick(double override, double dflt)
 {
     return isnan(override) ? dflt : override;
+}
+
+/* [fault]: the kind, when it starts (start_s, or from the first DESCEND of a
+ * landing run), how long it lasts (by default 1 s, the input losses to the end). */
+static bool build_fault(parse_ctx *c, scenario *sc)
+{
+    const raw *r = c->r;
+    fault_params *f = &sc->fault;
+    f->kind = (fault_kind)r->fault_kind;
+    f->start_s = r->fault_start_s;
+    f->delay_s = r->fault_delay_s;
+    const bool input_loss = f->kind == FAULT_POSITION_LOST || f->kind == FAULT_IMU_LOST;
+    f->duration_s = pick(r->fault_duration_s, input_loss ? (double)INFINITY : 1.0);
+    f->scale = r->fault_scale;
+    f->vector = r->fault_vector;
+    if (f->kind != FAULT_NONE && isnan(f->start_s) && (mission_command)r->mission_command != MISSION_LAND) {
+        return fail_key(c, "fault", "kind", "a track mission has no DESCEND to time the fault from: set start_s");
+    }
+    return true;
+}
+
+/* [altitude_sensor] range_finder: what the firmware gets of the range channel. */
+static bool build_range_finder(parse_ctx *c, scenario *sc)
+{
+    const raw *r = c->r;
+    sc->range_finder = (range_finder_mode)r->range_finder;
+    if (sc->range_finder == RANGE_FINDER_ON && r->altitude.source != ALTITUDE_RANGE) {
+        return fail_key(c, "altitude_sensor", "range_finder", "on needs source = range");
+    }
+    if (sc->range_finder == RANGE_FINDER_OFF && r->altitude.source == ALTITUDE_RANGE &&
+        (mission_command)r->mission_command == MISSION_TRACK) {
+        return fail_key(c, "altitude_sensor", "range_finder",
+                        "off: the platform's z cannot come from a range finder it does not have (source = range)");
+    }
+    return true;
 }
 
 static bool build(parse_ctx *c, scenario *sc)
@@ -1000,19 +1093,21 @@ static bool build(parse_ctx *c, scenario *sc)
     m->command = (mission_command)r->mission_command;
     m->track_start_s = r->track_start_s;
     sc->wind = r->wind;
-    sc->fault.kind = (fault_kind)r->fault_kind;
-    sc->fault.delay_s = r->fault_delay_s;
-    sc->fault.duration_s = r->fault_duration_s;
-    sc->fault.scale = r->fault_scale;
-    sc->fault.vector = r->fault_vector;
+    if (!build_fault(c, sc)) {
+        return false;
+    }
     if (m->command == MISSION_LAND && r->altitude.source != ALTITUDE_RANGE) {
         return fail_key(c, "mission", "command", "land needs [altitude_sensor] source = range");
+    }
+    if (!build_range_finder(c, sc)) {
+        return false;
     }
     m->landing = r->landing != 0;
     m->disarm_on_contact = r->disarm_on_contact != 0;
     m->disarm_delay_s = r->disarm_delay_s;
     m->touchdown_planned_s = r->touchdown_planned_s;
     m->end_after_landed_s = r->end_after_landed_s;
+    m->end_after_motors_off_s = r->end_after_motors_off_s;
     m->setpoint_x_m = r->sp_x;
     m->setpoint_y_m = r->sp_y;
     m->setpoint_yaw_rad = r->sp_yaw_deg * DEG;
@@ -1039,6 +1134,13 @@ static bool build(parse_ctx *c, scenario *sc)
     if (mc->rotor_efficiency_max < mc->rotor_efficiency_min) {
         return fail_key(c, "montecarlo", "rotor_efficiency_max", "must not be below rotor_efficiency_min");
     }
+    if (isnan(mc->fault_height_min_m) != isnan(mc->fault_height_max_m)) {
+        return fail_key(c, "montecarlo", isnan(mc->fault_height_min_m) ? "fault_height_min_m" : "fault_height_max_m",
+                        "fault_height_min_m and fault_height_max_m go together");
+    }
+    if (mc->fault_height_max_m < mc->fault_height_min_m) {
+        return fail_key(c, "montecarlo", "fault_height_max_m", "must not be below fault_height_min_m");
+    }
     if (mc->mass_step_rel > 0.0) {
         /* default window: from the end of the transient (5 tau_zr + 5 s with the
          * nominal tau_zr = 0.1 s, or [metrics] transient_s) to the end less the
@@ -1061,7 +1163,8 @@ static bool build(parse_ctx *c, scenario *sc)
     return true;
 }
 
-bool scenario_load(const char *path, scenario *sc, char *err, size_t err_len)
+bool scenario_load(const char *path, const char *const *overrides, int override_count, scenario *sc, char *err,
+                   size_t err_len)
 {
     for (int i = 0; i < FSW_VARIANT_COUNT; i++) {
         variant_names_z[i] = sim_variant_names[i];
@@ -1076,6 +1179,7 @@ bool scenario_load(const char *path, scenario *sc, char *err, size_t err_len)
     c.err = err;
     c.err_len = err_len;
     c.max_rotor_section = -1;
+    c.overrides = overrides;
     c.fp = fopen(path, "r");
     if (c.fp == NULL) {
         snprintf(err, err_len, "%s: cannot open: %s", path, strerror(errno));
@@ -1095,9 +1199,11 @@ bool scenario_load(const char *path, scenario *sc, char *err, size_t err_len)
         snprintf(err, err_len, "%s: cannot read", path);
         return false;
     }
-    if (!build(&c, sc)) {
+    if (!apply_overrides(&c, override_count) || !build(&c, sc)) {
         return false;
     }
+    sc->overrides = overrides;
+    sc->override_count = override_count;
     snprintf(sc->path, sizeof sc->path, "%s", path);
     if (sc->name[0] == '\0') {
         /* the file's base name without .ini */
@@ -1231,6 +1337,30 @@ static void perturb_pad_family(scenario *sc, rng *r)
     }
 }
 
+/* The failsafe family: a vertical accelerometer bias, the hover height the
+ * fault hits (the reference's z_r_bias_m, CG above the pad, is that gear
+ * height plus the gear's), whether the vehicle has a range finder. Drawn
+ * after every other perturbation and each only when its keys are set, so the
+ * draws of the scenarios without them are unchanged. */
+static void perturb_failsafe_family(scenario *sc, rng *r)
+{
+    const montecarlo_params *mc = &sc->montecarlo;
+    if (mc->accel_bias_max_mps2 > 0.0) {
+        sc->sensors.imu.accel_bias_mps2.z += rng_range(r, -mc->accel_bias_max_mps2, mc->accel_bias_max_mps2);
+    }
+    if (!isnan(mc->fault_height_min_m)) {
+        const double gear_height_m = rng_range(r, mc->fault_height_min_m, mc->fault_height_max_m);
+        sc->fsw.ref_bias_m = gear_height_m + sc->plant.gear_height_m;
+    }
+    if (!isnan(mc->range_finder_probability) && rng_uniform(r) >= mc->range_finder_probability) {
+        /* no range finder: a tracking platform takes its z from the position sensor */
+        sc->range_finder = RANGE_FINDER_OFF;
+        if (sc->mission.command == MISSION_TRACK && sc->sensors.altitude.source == ALTITUDE_RANGE) {
+            sc->sensors.altitude.source = ALTITUDE_FROM_POSITION;
+        }
+    }
+}
+
 void scenario_perturb(scenario *sc, uint64_t seed)
 {
     const montecarlo_params *mc = &sc->montecarlo;
@@ -1294,5 +1424,6 @@ void scenario_perturb(scenario *sc, uint64_t seed)
         p->mass_step_kg[at] = mass_before * factor;
         p->mass_step_count++;
     }
+    perturb_failsafe_family(sc, &r);
     sc->seed = seed;
 }

@@ -58,12 +58,17 @@ typedef struct montecarlo_params {
     double diverged_error_m;
     double diverged_position_m;
     double diverged_tilt_deg;
+    /* the failsafe family (drawn last, each only when set) */
+    double accel_bias_max_mps2;   /* the accelerometer's body-z bias + U(-a, a) (0: none) */
+    double fault_height_min_m, fault_height_max_m; /* gear height of the hover the fault hits, U(min, max) (NaN: the file's) */
+    double range_finder_probability; /* the run has the range finder with this probability (NaN: the file's) */
 } montecarlo_params;
 
 typedef enum mission_command { MISSION_TRACK = 0, MISSION_LAND } mission_command;
 
-/* A fault injected into a landing run, timed from the first DESCEND the
- * firmware reports (so that each abort cause is exercised deterministically). */
+/* A fault injected at start_s, or in a landing run without start_s timed from
+ * the first DESCEND the firmware reports (so that each abort cause is
+ * exercised deterministically). */
 typedef enum fault_kind {
     FAULT_NONE = 0,
     FAULT_HOLD_COMMAND,   /* the operator commands HOLD (abort) */
@@ -71,14 +76,26 @@ typedef enum fault_kind {
     FAULT_GUST,           /* wind of `vector` m/s (world) for duration_s */
     FAULT_TORQUE,         /* a body moment of `vector` N m for duration_s */
     FAULT_PAD_AMPLITUDE,  /* the pad's heave grows by the factor `scale` from then on */
-    FAULT_PAD_PERIOD      /* the pad's frequencies jump by the factor `scale` (motion continuous) */
+    FAULT_PAD_PERIOD,     /* the pad's frequencies jump by the factor `scale` (motion continuous) */
+    FAULT_POSITION_LOST,  /* position and velocity inputs NaN for duration_s (the range finder keeps delivering) */
+    FAULT_IMU_LOST        /* gyro and accelerometer inputs NaN for duration_s */
 } fault_kind;
 
 typedef struct fault_params {
     fault_kind kind;
-    double delay_s, duration_s, scale;
+    double start_s;               /* from the run's start (NaN: delay_s after the first DESCEND) */
+    double delay_s;
+    double duration_s;            /* INFINITY: to the end of the run */
+    double scale;
     v3 vector;
 } fault_params;
+
+/* Whether the firmware gets the range finder's samples (range_m, range_fresh). */
+typedef enum range_finder_mode {
+    RANGE_FINDER_AUTO = 0, /* in landing missions (command = land) only */
+    RANGE_FINDER_ON,       /* in every mission ([altitude_sensor] source = range) */
+    RANGE_FINDER_OFF       /* never: range_fresh 0, range_m NaN */
+} range_finder_mode;
 
 /* Wind: a mean plus horizontal gusts, first-order Gauss-Markov per axis. */
 typedef struct wind_params {
@@ -95,6 +112,7 @@ typedef struct mission_params {
     double disarm_delay_s;
     double touchdown_planned_s;   /* min_clearance_m is taken before this time (NaN: before first contact) */
     double end_after_landed_s;    /* a landing run ends this long after LANDED (motors off); NaN: runs its duration */
+    double end_after_motors_off_s; /* any run ends this long after the firmware stopped its motors while armed (NaN: no) */
     double setpoint_x_m, setpoint_y_m, setpoint_yaw_rad;
 } mission_params;
 
@@ -128,17 +146,27 @@ typedef struct scenario {
     plant_params plant;
     rotor_layout layout;
     sensor_params sensors;
+    range_finder_mode range_finder;
     mission_params mission;
     initial_params initial;
     metric_params metrics;
     montecarlo_params montecarlo;
     wind_params wind;
     fault_params fault;
+    /* the command line's --set overrides it was loaded with (argv's strings) */
+    const char *const *overrides;
+    int override_count;
 } scenario;
 
-/* Loads and validates a scenario. On error returns false with err holding
- * "FILE:LINE: key 'k' in [section]: reason" (or "FILE: reason"). */
-bool scenario_load(const char *path, scenario *sc, char *err, size_t err_len);
+#define SCENARIO_OVERRIDES_MAX 32
+
+/* Loads and validates a scenario, with override_count overrides
+ * "section.key=value" (fc-sil --set) applied after the file, each replacing
+ * the file's value. On error returns false with err holding
+ * "FILE:LINE: key 'k' in [section]: reason" (or "FILE: reason"; an
+ * override's error names it: "--set 'section.key=value': ..."). */
+bool scenario_load(const char *path, const char *const *overrides, int override_count, scenario *sc, char *err,
+                   size_t err_len);
 
 /* Resolves NAME or FILE: a string with a '/' or ending in .ini is a path,
  * anything else is sim_host/scenarios/NAME.ini (next to the binary's

@@ -17,6 +17,8 @@ const char *const sim_metric_names[SIM_METRIC_COUNT] = {
     "rms_error_m",      "max_abs_error_m",         "mass_step_peak_error_m", "control_tv_per_s",
     "theta_rel_error",  "min_clearance_m",         "touchdown_rel_speed_mps", "touchdown_time_s",
     "bounces",          "max_tilt_deg",            "nan_outputs",
+    "failsafe_entered", "failsafe_motor_stops_airborne", "failsafe_descent_rate_mps",
+    "failsafe_descent_rate_rel_error", "failsafe_touchdown_speed_mps", "failsafe_time_to_motors_off_s",
 };
 
 double sim_metric_value(const sim_metrics *m, int index)
@@ -33,6 +35,12 @@ double sim_metric_value(const sim_metrics *m, int index)
     case 8: return m->bounces;
     case 9: return m->max_tilt_deg;
     case 10: return m->nan_outputs;
+    case 11: return m->failsafe_entered;
+    case 12: return m->failsafe_motor_stops_airborne;
+    case 13: return m->failsafe_descent_rate_mps;
+    case 14: return m->failsafe_descent_rate_rel_error;
+    case 15: return m->failsafe_touchdown_speed_mps;
+    case 16: return m->failsafe_time_to_motors_off_s;
     default: return (double)NAN;
     }
 }
@@ -89,6 +97,179 @@ static bool all_finite(const fsw_outputs *o)
     return isfinite(o->thrust_n) && isfinite(o->moment_nm[0]) && isfinite(o->moment_nm[1]) &&
            isfinite(o->moment_nm[2]);
 }
+
+/* ---------------------------------------------------------------------- */
+/* the failsafe's metrics                                                  */
+/* ---------------------------------------------------------------------- */
+
+/* A motor stop with the gear higher than this above the pad is in the air (SPEC's safety contract). */
+#define AIRBORNE_GEAR_HEIGHT_M 0.05
+/* The descent window: from this long after FAILSAFE began (the transition to the descent) ... */
+#define DESCENT_WINDOW_START_S 1.0
+/* ... until the gear first falls below the lower of this height and this share of its height at the start */
+#define DESCENT_WINDOW_FLOOR_M 0.3
+#define DESCENT_WINDOW_FLOOR_SHARE 0.2
+
+typedef struct failsafe_acc {
+    long airborne_stops;       /* the whole run's */
+    bool motors_were_on;
+    bool entered;
+    double start_s;            /* when landing_state first became FAILSAFE */
+    double floor_m;            /* the descent window's floor */
+    bool window_closed;
+    double *descent_mps;       /* -vz relative to the pad in the window, one per controller step (grown) */
+    size_t descent_count, descent_capacity;
+    double touchdown_speed_mps, motors_off_s;
+} failsafe_acc;
+
+static void failsafe_acc_init(failsafe_acc *f)
+{
+    memset(f, 0, sizeof *f);
+    f->descent_mps = NULL;
+    f->touchdown_speed_mps = f->motors_off_s = (double)NAN;
+}
+
+/* One sample of the descent window. Out of memory, the window closes early:
+ * the median is then over its first samples. */
+static void failsafe_acc_record(failsafe_acc *f, double descent_mps)
+{
+    if (f->descent_count == f->descent_capacity) {
+        const size_t capacity = f->descent_capacity > 0 ? 2 * f->descent_capacity : 1024;
+        double *grown = realloc(f->descent_mps, capacity * sizeof *grown);
+        if (grown == NULL) {
+            f->window_closed = true;
+            return;
+        }
+        f->descent_mps = grown;
+        f->descent_capacity = capacity;
+    }
+    f->descent_mps[f->descent_count++] = descent_mps;
+}
+
+/* Power-on: before the run's first step the firmware runs disarmed on the
+ * first samples (the vehicle held as it is at t = 0) for POWER_ON_S, or as
+ * long as its attitude filter needs to align if that is longer: a vehicle
+ * powered on before its flight, so that a run that starts armed (and in the
+ * air) is not refused, and the estimators start from what a vehicle
+ * resting on its pad would have learnt (the accelerometer's bias). */
+#define POWER_ON_S 2.0
+
+static void power_on(const fsw_backend *backend, void *fsw, const fsw_inputs *first, int alignment_steps,
+                     double dt_s, fsw_outputs *out)
+{
+    fsw_inputs idle = *first;
+    idle.command = FSW_COMMAND_DISARM;
+    const int steps = (int)fmax((double)alignment_steps, ceil(POWER_ON_S / dt_s));
+    for (int i = 0; i < steps; i++) {
+        backend->step(fsw, &idle, out);
+    }
+}
+
+/* One controller step: the firmware's command and outputs, the plant's true
+ * gear height and vertical speed against the pad, and whether it touches it. */
+static void failsafe_acc_step(failsafe_acc *f, double t, int command, const fsw_outputs *out, double gear_m,
+                              double rel_vz_mps, bool contact)
+{
+    if (f->motors_were_on && !out->motors_on && command != FSW_COMMAND_DISARM && gear_m > AIRBORNE_GEAR_HEIGHT_M) {
+        f->airborne_stops++;
+    }
+    f->motors_were_on = out->motors_on != 0;
+    if (!f->entered && out->landing_state == FSW_LANDING_FAILSAFE) {
+        f->entered = true;
+        f->start_s = t;
+        f->floor_m = fmin(DESCENT_WINDOW_FLOOR_M, DESCENT_WINDOW_FLOOR_SHARE * gear_m);
+    }
+    if (!f->entered) {
+        return;
+    }
+    if (isnan(f->motors_off_s) && !out->motors_on) {
+        f->motors_off_s = t - f->start_s;
+    }
+    /* the window closes for good when the failsafe ends, the motors stop, or the gear reaches its floor */
+    f->window_closed = f->window_closed || out->landing_state != FSW_LANDING_FAILSAFE || !out->motors_on ||
+                       contact || gear_m < f->floor_m;
+    if (!f->window_closed && t - f->start_s >= DESCENT_WINDOW_START_S) {
+        failsafe_acc_record(f, -rel_vz_mps);
+    }
+}
+
+/* After each plant step: the first contact once the failsafe began, at the
+ * plant's rate (a controller step may see only the rebound of a hard impact). */
+static void failsafe_acc_plant_step(failsafe_acc *f, const plant *pl)
+{
+    if (!f->entered || !isnan(f->touchdown_speed_mps) || !pl->p.contact) {
+        return;
+    }
+    pad_state pad;
+    if (plant_gear_clearance(pl, &pad) < 0.0) {
+        f->touchdown_speed_mps = fabs(pl->s.v.z - pad.vz_mps);
+    }
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The failsafe's metrics into m (NaN where they do not apply); frees the window's samples. */
+static void failsafe_acc_finish(failsafe_acc *f, bool input_loss_injected, double descent_mps, sim_metrics *m)
+{
+    m->failsafe_entered = m->failsafe_motor_stops_airborne = m->failsafe_descent_rate_mps = (double)NAN;
+    m->failsafe_descent_rate_rel_error = m->failsafe_touchdown_speed_mps = (double)NAN;
+    m->failsafe_time_to_motors_off_s = (double)NAN;
+    if (f->entered || input_loss_injected) {
+        m->failsafe_entered = f->entered ? 1.0 : 0.0;
+        m->failsafe_motor_stops_airborne = (double)f->airborne_stops;
+        m->failsafe_touchdown_speed_mps = f->touchdown_speed_mps;
+        m->failsafe_time_to_motors_off_s = f->motors_off_s;
+    }
+    if (f->descent_count > 0) {
+        const size_t n = f->descent_count;
+        qsort(f->descent_mps, n, sizeof *f->descent_mps, compare_double);
+        const double median = n % 2 == 1 ? f->descent_mps[n / 2]
+                                         : 0.5 * (f->descent_mps[n / 2 - 1] + f->descent_mps[n / 2]);
+        m->failsafe_descent_rate_mps = median;
+        m->failsafe_descent_rate_rel_error = fabs(median - descent_mps) / descent_mps;
+    }
+    free(f->descent_mps);
+    f->descent_mps = NULL;
+}
+
+/* ---------------------------------------------------------------------- */
+/* faults and inputs                                                       */
+/* ---------------------------------------------------------------------- */
+
+/* The fault starts at t_s: the pad's faults are set up in the plant (the
+ * others act on the inputs while t_s <= t < t_s + duration_s). */
+static void fault_arm(const fault_params *fault, plant *pl, double t_s)
+{
+    if (fault->kind == FAULT_PAD_PERIOD) {
+        pl->p.pad.warp_start_s = t_s;
+        pl->p.pad.warp_factor = fault->scale;
+    }
+    if (fault->kind == FAULT_PAD_AMPLITUDE) {
+        pl->p.pad.growth_start_s = t_s;
+        pl->p.pad.growth_duration_s = fault->duration_s;
+        pl->p.pad.growth_scale = fault->scale;
+    }
+}
+
+/* An input loss while its fault is active: the inputs become NaN. */
+static void apply_input_loss(fault_kind kind, fsw_inputs *in)
+{
+    for (int i = 0; i < 3; i++) {
+        if (kind == FAULT_POSITION_LOST) {
+            in->position_m[i] = in->velocity_mps[i] = (double)NAN;
+        } else if (kind == FAULT_IMU_LOST) {
+            in->gyro_radps[i] = in->accel_mps2[i] = (double)NAN;
+        }
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+/* one flight                                                              */
+/* ---------------------------------------------------------------------- */
 
 /* Metric accumulators. */
 typedef struct acc {
@@ -186,11 +367,21 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     fsw_outputs out;
     memset(&out, 0, sizeof out);
     double last_theta = (double)NAN, last_theta_star = (double)NAN;
-    /* the landing mission: range freshness, wind, the fault (timed from the first DESCEND) */
+    /* range freshness, wind, the fault (at start_s, or in a landing run from the first DESCEND) */
     const bool land = mission->command == MISSION_LAND;
     double last_range_t = (double)NAN;
     double last_heading_t = (double)NAN;
     double fault_at = (double)INFINITY;
+    if (!isnan(sc->fault.start_s)) {
+        fault_at = sc->fault.start_s;
+        fault_arm(&sc->fault, &pl, fault_at);
+    }
+    const bool range_finder = sc->range_finder == RANGE_FINDER_ON || (sc->range_finder == RANGE_FINDER_AUTO && land);
+    const bool input_loss = sc->fault.kind == FAULT_POSITION_LOST || sc->fault.kind == FAULT_IMU_LOST;
+    failsafe_acc fs;
+    failsafe_acc_init(&fs);
+    double motors_off_at = (double)INFINITY;
+    bool motors_ran = false;
     rng wind_rng;
     rng_seed(&wind_rng, sc->seed, 200);
     v3 gust = v3_make(0.0, 0.0, 0.0);
@@ -228,15 +419,18 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.position_m[1] = sr.position_m.y;
         in.position_m[2] = sr.position_m.z;
         const bool fault_active = t >= fault_at && t < fault_at + sc->fault.duration_s;
-        if (land) {
-            /* the landing mission: absolute z from the position sensor, the range finder to the pad apart */
+        if (range_finder) {
+            /* the range finder to the pad (a landing mission's z comes from the position sensor) */
             in.range_m = sr.altitude_m;
             in.range_fresh = sr.altitude_sample_t != last_range_t;
             last_range_t = sr.altitude_sample_t;
             if (fault_active && sc->fault.kind == FAULT_RANGE_DROPOUT) {
                 in.range_fresh = 0;
             }
-        } else if (sr.has_altitude) {
+        } else if (sc->range_finder == RANGE_FINDER_OFF) {
+            in.range_m = (double)NAN; /* no range finder: never fresh */
+        }
+        if (!land && sr.has_altitude) {
             /* the platform's altitude: absolute, or the pad's height plus the
              * range projected on the vertical with the firmware's own k_h */
             in.position_m[2] = sr.altitude_is_range ? pad.z_m + sr.altitude_m * last_tilt_cos : sr.altitude_m;
@@ -263,9 +457,22 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
                                   : (sc->fault.kind == FAULT_HOLD_COMMAND && fault_active) ? FSW_COMMAND_HOLD
                                                                                            : FSW_COMMAND_LAND;
         in.command = (t + 1e-9 >= mission->track_start_s && t < disarm_at) ? armed_command : FSW_COMMAND_DISARM;
+        if (fault_active) {
+            apply_input_loss(sc->fault.kind, &in);
+        }
 
+        if (k == 0) {
+            power_on(opt->backend, fsw, &in, info.alignment_steps, dt, &out);
+        }
         opt->backend->step(fsw, &in, &out);
         steps_run = k + 1;
+        /* the firmware stopped its motors while armed: the run ends end_after_motors_off_s later */
+        motors_ran = motors_ran || out.motors_on;
+        const bool stopped_armed = motors_ran && !out.motors_on && in.command != FSW_COMMAND_DISARM;
+        motors_off_at = stopped_armed ? fmin(motors_off_at, t) : (double)INFINITY;
+        if (t >= motors_off_at + mission->end_after_motors_off_s) {
+            break;
+        }
         if (land && out.landing_state == FSW_LANDING_LANDED) {
             landed_at = fmin(landed_at, t);
             if (t >= landed_at + mission->end_after_landed_s) {
@@ -282,15 +489,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         }
         if (land && out.landing_state == FSW_LANDING_DESCEND && isinf(fault_at) && sc->fault.kind != FAULT_NONE) {
             fault_at = t + sc->fault.delay_s;
-            if (sc->fault.kind == FAULT_PAD_PERIOD) {
-                pl.p.pad.warp_start_s = fault_at;
-                pl.p.pad.warp_factor = sc->fault.scale;
-            }
-            if (sc->fault.kind == FAULT_PAD_AMPLITUDE) {
-                pl.p.pad.growth_start_s = fault_at;
-                pl.p.pad.growth_duration_s = sc->fault.duration_s;
-                pl.p.pad.growth_scale = sc->fault.scale;
-            }
+            fault_arm(&sc->fault, &pl, fault_at);
         }
         if (land && out.touchdown_window && !a.contact_ever && isnan(res->touchdown_planned_s)) {
             res->touchdown_planned_s = t;
@@ -367,6 +566,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         } else if (!contact && a.contact_ever && d.gear_clearance_m > sc->metrics.bounce_height_m) {
             a.airborne_since_contact = true;
         }
+        failsafe_acc_step(&fs, t, in.command, &out, d.gear_clearance_m, pl.s.v.z - pad.vz_mps, contact);
         const double k_h = r33;
         const double theta_star = pl.s.m / (k_h * d.ground_gain);
         if (out.motors_on) {
@@ -428,6 +628,11 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_fsw_pad_vz_mps] = out.pad_est_vz_mps;
             row[SIM_COL_pad_confidence] = out.pad_confidence;
             row[SIM_COL_fsw_pad_period_s] = out.pad_period_s;
+            row[SIM_COL_fsw_vz_est_mps] = out.vz_est_mps;
+            row[SIM_COL_fsw_hover_thrust_n] = out.hover_thrust_n;
+            row[SIM_COL_fsw_accel_bias_mps2] = out.accel_bias_mps2;
+            row[SIM_COL_land_state] = out.land_state;
+            row[SIM_COL_failsafe_cause] = out.failsafe_cause;
             row[SIM_COL_moment_x_nm] = out.moment_nm[0];
             row[SIM_COL_moment_y_nm] = out.moment_nm[1];
             row[SIM_COL_moment_z_nm] = out.moment_nm[2];
@@ -449,6 +654,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
                 sensors_sample(&sens, &pl, t + j * h);
             }
             plant_step(&pl, h);
+            failsafe_acc_plant_step(&fs, &pl);
         }
         /* no drift of the plant's clock (the pad cached at the step's end moves with it) */
         const double t_next = (double)(k + 1) * dt;
@@ -484,6 +690,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->max_position_error_m = a.max_position_error;
     m->settled_position_error_m = a.settled_position_error;
     m->nonfinite_state_steps = (double)a.nonfinite_state;
+    failsafe_acc_finish(&fs, input_loss, info.failsafe_descent_mps, m);
     res->controller_steps = steps_run;
     res->plant_steps = steps_run * substeps;
     res->wall_s = now_s() - t_start_wall;

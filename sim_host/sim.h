@@ -32,6 +32,14 @@ typedef struct sim_metrics {
     double bounces;
     double max_tilt_deg;
     double nan_outputs;
+    /* the failsafe (sim.c's failsafe_acc): NaN unless the firmware entered
+     * FAILSAFE or the scenario injects an input loss (position-lost, imu-lost) */
+    double failsafe_entered;                /* 1: landing_state became FAILSAFE, 0: never */
+    double failsafe_motor_stops_airborne;   /* motors 1 -> 0, gear > 0.05 m up, DISARM not commanded */
+    double failsafe_descent_rate_mps;       /* median true -vz (relative to the pad) in the descent window */
+    double failsafe_descent_rate_rel_error; /* |rate - failsafe.descent_mps| / failsafe.descent_mps */
+    double failsafe_touchdown_speed_mps;    /* |relative vz| at the first contact after FAILSAFE began (plant step) */
+    double failsafe_time_to_motors_off_s;   /* from FAILSAFE's start to motors off */
     /* context */
     double theta_end_kg, theta_star_end_kg;
     double final_height_m;          /* gear above the pad at the end */
@@ -41,7 +49,8 @@ typedef struct sim_metrics {
 } sim_metrics;
 
 /* The metric names and their order (for JSON, tables, Monte-Carlo). */
-#define SIM_METRIC_COUNT 11
+#define SIM_METRIC_COUNT 17
+#define SIM_METRIC_FAILSAFE_FIRST 11 /* failsafe_entered and after: the failsafe's */
 extern const char *const sim_metric_names[SIM_METRIC_COUNT];
 double sim_metric_value(const sim_metrics *m, int index);
 
@@ -53,7 +62,8 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(gear_clearance_m) X(contact_force_n) X(rotor_thrust_n) X(fsw_z_r_m) X(u_mean) X(u_min) X(u_max)          \
     X(motors_on) X(status) X(landing_state) X(fsw_gear_height_m) X(fsw_pad_z_m) X(fsw_pad_vz_mps) X(pad_confidence) X(fsw_pad_period_s) \
     X(moment_x_nm) X(moment_y_nm) X(moment_z_nm) X(saturation) X(att_err_x_rad) X(att_err_y_rad) X(att_err_z_rad) \
-    X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)
+    X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)             \
+    X(fsw_vz_est_mps) X(fsw_hover_thrust_n) X(fsw_accel_bias_mps2) X(land_state) X(failsafe_cause)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,

@@ -558,13 +558,12 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     fc_arith *ar = &c->ar;
     ar->saturated = 0u;
     const fc_altitude_control_params *p = &c->p;
-    if (c->hold || !input_valid(in)) {
-        /* hold the last thrust command: the filters and Theta are not fed
-         * garbage, nor a frozen error to adapt and wind up on */
+    if (!input_valid(in)) {
+        /* hold the last thrust command: the filters and Theta are not fed garbage */
         safe_output(c, out);
         out->thrust_n = c->last_thrust_n;
         out->vertical_force_n = c->last_thrust_n;
-        return c->hold ? FC_STEP_DEGRADED : FC_STEP_BAD_INPUT;
+        return FC_STEP_BAD_INPUT;
     }
     fc_step_status status = FC_STEP_OK;
     safe_output(c, out);
@@ -579,7 +578,8 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
                                   (in->allocation_saturation & FC_SAT_THRUST_HIGH) != 0u;
     const bool was_clamped_low = c->last_thrust_n <= p->thrust_min_n ||
                                  (in->allocation_saturation & FC_SAT_THRUST_LOW) != 0u;
-    const bool integrate = !was_clamped_high && !was_clamped_low;
+    /* Theta and the integrators learn only from a free thrust and inputs not held */
+    const bool integrate = !was_clamped_high && !was_clamped_low && !c->hold;
 
     fc_real u;
     switch (p->law) {

@@ -39,6 +39,11 @@
 
 /* ---- defaults and init ------------------------------------------------ */
 
+void fc_attitude_estimator_coast(fc_attitude_estimator *est, bool coast)
+{
+    est->coasting = coast;
+}
+
 void fc_attitude_estimator_default_params(fc_attitude_estimator_params *p, fc_real dt_s)
 {
     if (p == NULL) {
@@ -109,6 +114,7 @@ static void reset_state(fc_attitude_estimator *est)
     est->last_gyro_radps = fc_vec3_zero();
     est->gyro_slack_radps = FC_INT(0, RATE);
     est->have_gyro = false;
+    est->coasting = false;
     est->alignment_sum[0] = fc_acc_zero();
     est->alignment_sum[1] = fc_acc_zero();
     est->alignment_sum[2] = fc_acc_zero();
@@ -415,7 +421,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
             align(est, imu->accel_mps2);
         }
     } else if (sample.gyro_ok) {
-        weight = correct_and_integrate(est, sample.accel_ok, imu->accel_mps2, sample.norm_mps2);
+        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, imu->accel_mps2, sample.norm_mps2);
         if (!(weight > FC_INT(0, RATIO))) {
             status |= FC_STEP_DEGRADED; /* gyro only */
         }

@@ -60,6 +60,7 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     ctl->last_attitude = fc_quat_identity();
     ctl->last_external_attitude = fc_quat_identity();
     ctl->last_thrust_n = FC_INT(0, FORCE);
+    ctl->reckoned_z_m = FC_INT(0, LENGTH);
     ctl->gear_height_m = FC_INT(0, LENGTH);
     ctl->gear_height_age_s = FC_INT(0, TIME);
     ctl->gear_height_known = false;
@@ -397,6 +398,7 @@ typedef struct step_context {
     fc_controller_command command;  /* the one flown: the input's if valid, else the mode kept */
     fc_gated_inputs in;             /* position, velocity, setpoints, pad: what the gates let through */
     bool inputs_ok;                 /* this step's were accepted */
+    bool holding;                   /* not accepted, and within the hold before the failsafe */
     bool range_fresh;
 } step_context;
 
@@ -479,10 +481,12 @@ static fc_step_status arm(fc_controller *ctl, const step_context *c, fc_controll
 }
 
 /* The failsafe's guard (fc/failsafe.h): entering it, leaving it, the hold. */
-static void watch_inputs(fc_controller *ctl, const step_context *c)
+static void watch_inputs(fc_controller *ctl, step_context *c)
 {
     const fc_failsafe_watch_input watch_in = {ctl->armed, c->inputs_ok, ctl->gate.have_accepted, c->imu_ok};
     const fc_failsafe_watch_output watch = fc_failsafe_watch(&ctl->failsafe, &watch_in);
+    /* no position to hold: the filter on its gyro (fc_attitude_estimator_coast) */
+    fc_attitude_estimator_coast(&ctl->estimator, watch.active);
     if (watch.entered) {
         fc_land_detector_reset(&ctl->land_detector);
         fc_landing_force(&ctl->landing, FC_LANDING_FAILSAFE, FC_REASON_INPUTS_LOST);
@@ -492,7 +496,26 @@ static void watch_inputs(fc_controller *ctl, const step_context *c)
         ctl->last_command = FC_COMMAND_DISARM;
         fc_landing_force(&ctl->landing, FC_LANDING_IDLE, FC_REASON_INPUTS_BACK);
     }
-    fc_altitude_control_hold(&ctl->altitude, watch.hold && !watch.active);
+    fc_altitude_control_hold(&ctl->altitude, watch.hold);
+    c->holding = watch.hold;
+}
+
+/* The height the altitude law flies on: the measured one, or while the
+ * inputs are held the last good one carried along the vertical estimate's
+ * speed (dead reckoning: fresher than a frozen height). */
+static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical_estimate *v)
+{
+    if (c->inputs_ok) {
+        ctl->reckoned_z_m = c->in.position_m.z;
+    } else if (c->holding) {
+        fc_arith *ar = &ctl->ar;
+        ctl->reckoned_z_m =
+            fc_add(ar, ctl->reckoned_z_m, fc_mul(ar, v->vz_mps, ctl->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+        c->in.position_m.z = ctl->reckoned_z_m;
+        c->in.velocity_mps.z = v->vz_mps;
+    } else {
+        /* neither measured nor held: the failsafe flies on the estimate itself */
+    }
 }
 
 /* The hover thrust learns in clean flight only: armed and flying the
@@ -516,7 +539,7 @@ static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inpu
     const fc_vertical_estimator_input vin = {c->attitude,        in->imu.accel_mps2, c->estimate.accel_ok,
                                              c->in.velocity_mps.z, c->inputs_ok,     ctl->gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
-                                             hover_learnable(ctl, c)};
+                                             hover_learnable(ctl, c), !ctl->armed};
     return passed_on(fc_vertical_estimator_step(&ctl->vertical, &vin, &tm->vertical)) & (fc_step_status)~FC_STEP_DEGRADED;
 }
 
@@ -590,6 +613,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     status |= pad_step(ctl, frame, &tm->pad);
     tm->gear_height_m = ctl->gear_height_m;
     status |= vertical_step(ctl, in_raw, &c, tm);
+    reckon_height(ctl, &c, &tm->vertical);
 
     if (!ctl->armed) {
         fc_failsafe_reset(&ctl->failsafe);

@@ -225,6 +225,21 @@ static void attitude_crazyflie_gains(fc_attitude_control_params *a)
     a->integral_limit_rad = fc_vec3_make(FC_C(0.1f, ANGLE), FC_C(0.1f, ANGLE), FC_C(0.3f, ANGLE));
 }
 
+/* A slow tilt integral, ki = kp wn / 10 (the default wn = 10 rad/s, kp = 100:
+ * ki = 100, the integral's pole near -1 rad/s), so that a steady moment (a
+ * weak rotor, an offset centre of mass) is held with no steady attitude
+ * error. The failsafe needs that: it flies level with no position loop, and
+ * in flight the filter's accelerometer sees the thrust axis as up, so the
+ * only attitude it can hold still is its estimate level; an error held
+ * against that correction turns into a tilt that grows at the filter's k_p
+ * times the error (fc/attitude_estimator.h), where the position loop's
+ * tilt had balanced it. */
+static void attitude_tilt_integral(fc_attitude_control_params *a)
+{
+    a->ki_per_s3.x = FC_INT(100, GAIN);
+    a->ki_per_s3.y = FC_INT(100, GAIN);
+}
+
 /* The airframe's mass and rotors; returns its inertia (kg m^2). */
 static fc_vec3 airframe_defaults(fc_controller_params *p, fc_airframe airframe)
 {
@@ -279,6 +294,8 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     gyro_plausibility(p, inertia);
     if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
         attitude_crazyflie_gains(&p->attitude);
+    } else {
+        attitude_tilt_integral(&p->attitude);
     }
     /* the 4.4 reference: tau_zr = 0.1 s, z_r_init = 1 m, z_r_bias = 0.18 m */
     p->reference.dt_s = dt_s;

@@ -11,6 +11,7 @@ void fc_failsafe_default_params(fc_failsafe_params *p, fc_real dt_s, fc_real gra
     p->speed_gain_per_s = FC_INT(2, GAIN);
     p->integral_limit_mps2 = FC_INT(3, ACCEL);
     p->accel_limit_mps2 = FC_INT(4, ACCEL);
+    p->setpoint_accel_mps2 = FC_INT(1, ACCEL);
     p->ramp_s = FC_INT(1, TIME);
 }
 
@@ -19,7 +20,8 @@ static bool failsafe_params_valid(const fc_failsafe_params *p)
     const bool finite = fc_is_finite(p->dt_s) && fc_is_finite(p->gravity_mps2) && fc_is_finite(p->bad_input_hold_s) &&
                         fc_is_finite(p->imu_timeout_s) && fc_is_finite(p->descent_mps) &&
                         fc_is_finite(p->speed_gain_per_s) && fc_is_finite(p->integral_limit_mps2) &&
-                        fc_is_finite(p->accel_limit_mps2) && fc_is_finite(p->ramp_s);
+                        fc_is_finite(p->accel_limit_mps2) && fc_is_finite(p->ramp_s) &&
+                        fc_is_finite(p->setpoint_accel_mps2);
     const fc_real ten_s = FC_INT(10, TIME);
     return finite && p->dt_s > FC_INT(0, DT) && p->dt_s <= FC_C(0.1f, DT) && p->gravity_mps2 > FC_INT(0, ACCEL) &&
            p->gravity_mps2 <= FC_INT(100, ACCEL) && fc_in_range(p->bad_input_hold_s, FC_INT(0, TIME), ten_s) &&
@@ -27,7 +29,8 @@ static bool failsafe_params_valid(const fc_failsafe_params *p)
            p->descent_mps <= FC_INT(5, VEL) && p->speed_gain_per_s > FC_INT(0, GAIN) &&
            p->speed_gain_per_s <= FC_INT(50, GAIN) && p->integral_limit_mps2 > FC_INT(0, ACCEL) &&
            p->integral_limit_mps2 <= FC_INT(10, ACCEL) && p->accel_limit_mps2 > FC_INT(0, ACCEL) &&
-           p->accel_limit_mps2 <= FC_INT(10, ACCEL) && p->ramp_s > FC_INT(0, TIME) && p->ramp_s <= ten_s;
+           p->accel_limit_mps2 <= FC_INT(10, ACCEL) && p->ramp_s > FC_INT(0, TIME) && p->ramp_s <= ten_s &&
+           p->setpoint_accel_mps2 > FC_INT(0, ACCEL) && p->setpoint_accel_mps2 <= FC_INT(10, ACCEL);
 }
 
 fc_init_result fc_failsafe_init(fc_failsafe *f, const fc_failsafe_params *p)
@@ -44,8 +47,9 @@ fc_init_result fc_failsafe_init(fc_failsafe *f, const fc_failsafe_params *p)
     const fc_real kp_dt = fc_mul(ar, p->speed_gain_per_s, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
     const fc_real kp_quarter = fc_mul(ar, p->speed_gain_per_s, FC_C(0.25f, UNIT), FC_SHIFT(GAIN, UNIT, RATIO));
     f->speed_integral_gain = fc_mul(ar, kp_dt, kp_quarter, FC_SHIFT(RATIO, RATIO, RATIO));
+    f->setpoint_step_mps = fc_mul(ar, p->setpoint_accel_mps2, p->dt_s, FC_SHIFT(ACCEL, DT, VEL));
     f->inv_gravity_s2pm = fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO));
-    f->ramp_gain = fc_div(ar, p->dt_s, fc_convert(ar, p->ramp_s, FC_TIME_FRAC, FC_DT_FRAC), FC_DIV_SHIFT(DT, DT, UNIT));
+    f->ramp_gain = fc_div(ar, p->dt_s, p->ramp_s, FC_DIV_SHIFT(DT, TIME, UNIT));
     f->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     f->ready = f->ar.saturated == 0u;
     return f->ready ? FC_INIT_OK : FC_INIT_BAD_PARAM;
@@ -53,6 +57,7 @@ fc_init_result fc_failsafe_init(fc_failsafe *f, const fc_failsafe_params *p)
 
 static void clear_loop(fc_failsafe *f)
 {
+    f->setpoint_started = false;
     f->integral_mps2 = FC_INT(0, ACCEL);
     f->ramp_thrust_n = FC_INT(0, FORCE);
     f->ramping = false;
@@ -102,7 +107,7 @@ fc_failsafe_watch_output fc_failsafe_watch(fc_failsafe *f, const fc_failsafe_wat
         }
     }
     out.active = f->active;
-    out.hold = !in->inputs_ok && in->had_good_inputs;
+    out.hold = !in->inputs_ok && in->had_good_inputs && !f->active;
     out.cause = f->cause;
     return out;
 }
@@ -114,7 +119,16 @@ fc_real fc_failsafe_step(fc_failsafe *f, const fc_failsafe_input *in)
     }
     fc_arith *ar = &f->ar;
     ar->saturated = 0u;
-    const fc_real speed_error = fc_sub(ar, fc_neg(ar, f->p.descent_mps), in->vz_mps);
+    /* the speed setpoint: from the speed at the start to -descent at setpoint_accel */
+    if (!f->setpoint_started) {
+        f->speed_setpoint_mps = in->vz_mps;
+        f->setpoint_started = true;
+    }
+    const fc_real descent = fc_neg(ar, f->p.descent_mps);
+    f->speed_setpoint_mps = fc_add(ar, f->speed_setpoint_mps,
+                                   fc_clamp(fc_sub(ar, descent, f->speed_setpoint_mps),
+                                            fc_neg(ar, f->setpoint_step_mps), f->setpoint_step_mps));
+    const fc_real speed_error = fc_sub(ar, f->speed_setpoint_mps, in->vz_mps);
     const bool airborne = in->land_state == FC_LAND_AIRBORNE;
     if (airborne) {
         f->ramping = false;

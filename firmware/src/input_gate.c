@@ -60,6 +60,7 @@ void fc_input_gate_reset(fc_input_gate *g)
     g->since_accepted_s = FC_INT(0, TIME);
     g->rejected_s = FC_INT(0, TIME);
     g->have_accepted = false;
+    g->pad_accepted = false;
 }
 
 /* |now - last| <= rate t + margin on each axis (all in the format of now). */
@@ -91,7 +92,7 @@ static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad
     const bool position_ok = moved_within(ar, in->position_m, last->position_m, g->p.speed_max_mps, t_s,
                                           g->p.position_jump_m, FC_SHIFT(VEL, TIME, LENGTH));
     bool pad_ok = true;
-    if (use_pad) {
+    if (use_pad && g->pad_accepted) {
         const fc_real pad_slack = fc_add(ar, fc_mul(ar, g->p.pad_speed_max_mps, t_s, FC_SHIFT(VEL, TIME, LENGTH)),
                                          g->p.position_jump_m);
         pad_ok = fc_within(fc_sub(ar, in->pad.z_m, last->pad.z_m), pad_slack);
@@ -157,6 +158,9 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                              fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE));
     const bool absolute_ok = commands_ok && plausible(g, in, use_pad);
+    if (!use_pad) {
+        g->pad_accepted = false; /* a stale pad is no reference for the next one */
+    }
     const bool first = !g->have_accepted;
     const bool accepted = absolute_ok && (first || consistent(g, in, use_pad));
     const bool reanchor = absolute_ok && !accepted && g->rejected_s >= g->p.reanchor_s;
@@ -166,10 +170,11 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
         out->velocity_mps = in->velocity_mps;
         if (use_pad) {
             out->pad = in->pad;
-            if (!first && limit_commands) {
+            if (g->pad_accepted && limit_commands) {
                 limit_pad_feedforward(g, out);
             }
         }
+        g->pad_accepted = use_pad;
         if (first || !limit_commands) {
             out->position_setpoint_m = in->position_setpoint_m;
             out->yaw_setpoint_rad = in->yaw_setpoint_rad;

@@ -86,14 +86,15 @@ fc_land_state fc_land_detector_step(fc_land_detector *d, const fc_land_detector_
     const bool pushing_down = in->descending && thrust_below(ar, in, d->p.contact_thrust_ratio);
     const bool contact = still && pushing_down && !fc_land_detector_range_says_airborne(d, in);
     d->contact_timer_s = land_timer(d, d->contact_timer_s, contact);
-    const bool in_contact = d->contact_timer_s >= d->p.contact_s;
-    d->low_thrust_timer_s =
-        land_timer(d, d->low_thrust_timer_s, in_contact && thrust_below(ar, in, d->p.landed_thrust_ratio));
+    /* each stage needs its evidence at this step, and held for its time */
+    const bool in_contact = contact && d->contact_timer_s >= d->p.contact_s;
+    const bool low_thrust = in_contact && thrust_below(ar, in, d->p.landed_thrust_ratio);
+    d->low_thrust_timer_s = land_timer(d, d->low_thrust_timer_s, low_thrust);
     if (!in_contact) {
         d->state = FC_LAND_AIRBORNE;
-    } else if (d->low_thrust_timer_s >= fc_add(ar, d->p.maybe_landed_s, d->p.landed_s)) {
+    } else if (low_thrust && d->low_thrust_timer_s >= fc_add(ar, d->p.maybe_landed_s, d->p.landed_s)) {
         d->state = FC_LAND_LANDED;
-    } else if (d->low_thrust_timer_s >= d->p.maybe_landed_s) {
+    } else if (low_thrust && d->low_thrust_timer_s >= d->p.maybe_landed_s) {
         d->state = FC_LAND_MAYBE_LANDED;
     } else {
         d->state = FC_LAND_GROUND_CONTACT;

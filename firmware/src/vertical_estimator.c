@@ -12,6 +12,7 @@ void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_re
     p->height_crossover_radps = FC_INT(2, RATIO);
     p->accel_bias_limit_mps2 = FC_C(0.5f, ACCEL);
     p->accel_tau_s = FC_C(0.05f, DT);
+    p->bias_average_tau_s = FC_INT(2, TIME);
     p->hover_tau_s = FC_INT(2, TIME);
     p->hover_thrust_n = weight_n;
     p->hover_min_n = fc_mul(&ar, weight_n, FC_C(0.5f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
@@ -24,6 +25,7 @@ static bool vertical_params_valid(const fc_vertical_estimator_params *p)
     const bool finite = fc_is_finite(p->dt_s) && fc_is_finite(p->gravity_mps2) &&
                         fc_is_finite(p->speed_crossover_radps) && fc_is_finite(p->height_crossover_radps) &&
                         fc_is_finite(p->accel_bias_limit_mps2) && fc_is_finite(p->accel_tau_s) &&
+                        fc_is_finite(p->bias_average_tau_s) &&
                         fc_is_finite(p->hover_tau_s) && fc_is_finite(p->hover_thrust_n) &&
                         fc_is_finite(p->hover_min_n) && fc_is_finite(p->hover_max_n) &&
                         fc_is_finite(p->range_period_max_s);
@@ -33,6 +35,7 @@ static bool vertical_params_valid(const fc_vertical_estimator_params *p)
            p->height_crossover_radps <= FC_INT(10, RATIO) && p->accel_bias_limit_mps2 > FC_INT(0, ACCEL) &&
            p->accel_bias_limit_mps2 <= FC_INT(5, ACCEL) && p->accel_tau_s >= p->dt_s &&
            p->accel_tau_s <= FC_INT(1, DT) && p->hover_tau_s >= FC_C(0.1f, TIME) &&
+           p->bias_average_tau_s >= FC_C(0.1f, TIME) && p->bias_average_tau_s <= FC_INT(100, TIME) &&
            p->hover_tau_s <= FC_INT(100, TIME) && p->hover_min_n > FC_INT(0, FORCE) &&
            p->hover_min_n <= p->hover_thrust_n && p->hover_thrust_n <= p->hover_max_n &&
            p->hover_max_n <= FC_INT(1000, FORCE) && p->range_period_max_s > FC_INT(0, DT) &&
@@ -57,6 +60,7 @@ fc_init_result fc_vertical_estimator_init(fc_vertical_estimator *v, const fc_ver
         fc_mul(ar, p->height_crossover_radps, p->height_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
     v->accel_filter_gain = fc_div(ar, p->dt_s, p->accel_tau_s, FC_DIV_SHIFT(DT, DT, UNIT));
     v->hover_gain = fc_div(ar, p->dt_s, p->hover_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT));
+    v->bias_average_gain = fc_div(ar, p->dt_s, p->bias_average_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT));
     v->inv_gravity_s2pm = fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO));
     fc_vertical_estimator_reset(v);
     v->est.hover_thrust_n = p->hover_thrust_n;
@@ -69,6 +73,7 @@ void fc_vertical_estimator_reset(fc_vertical_estimator *v)
     v->est.vz_mps = FC_INT(0, VEL);
     v->est.accel_z_mps2 = FC_INT(0, ACCEL);
     v->est.accel_bias_mps2 = FC_INT(0, ACCEL);
+    v->bias_fast_mps2 = FC_INT(0, ACCEL);
     v->est.gear_height_m = FC_INT(0, LENGTH);
     v->est.gear_height_known = false;
     v->range_gap_s = FC_INT(0, DT);
@@ -92,21 +97,35 @@ static fc_real vertical_accel_mps2(fc_arith *ar, fc_quat q, fc_vec3 f, fc_real g
 static void predict(fc_vertical_estimator *v, fc_real accel_mps2)
 {
     fc_arith *ar = &v->ar;
-    v->est.gear_height_m =
-        fc_add(ar, v->est.gear_height_m, fc_mul(ar, v->est.vz_mps, v->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+    if (v->est.gear_height_known) {
+        v->est.gear_height_m =
+            fc_add(ar, v->est.gear_height_m, fc_mul(ar, v->est.vz_mps, v->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+    }
     v->est.vz_mps = fc_clamp(fc_add(ar, v->est.vz_mps, fc_mul(ar, accel_mps2, v->p.dt_s, FC_SHIFT(ACCEL, DT, VEL))),
                              FC_INT(-100, VEL), FC_INT(100, VEL));
 }
 
-/* The measured speed corrects the speed (l1 dt) and the bias (l2 dt). */
-static void correct_by_speed(fc_vertical_estimator *v, fc_real vz_measured_mps)
+/* The measured speed corrects the speed (l1 dt) and the bias (l2 dt); the
+ * bias's average follows it over bias_average_tau_s. At rest the loop runs
+ * at three times its crossover (l1 x 3, l2 x 9) and the average is the bias
+ * itself: nothing moves, nothing ripples, and the flight starts with it. */
+static void correct_by_speed(fc_vertical_estimator *v, fc_real vz_measured_mps, bool at_rest)
 {
     fc_arith *ar = &v->ar;
     const fc_real residual = fc_sub(ar, vz_measured_mps, v->est.vz_mps);
-    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, v->speed_gain, residual, FC_SHIFT(RATIO, VEL, VEL)));
-    const fc_real bias_step = fc_mul(ar, v->bias_gain_per_s, residual, FC_SHIFT(RATIO, VEL, ACCEL));
-    v->est.accel_bias_mps2 = fc_clamp(fc_sub(ar, v->est.accel_bias_mps2, bias_step),
-                                      fc_neg(ar, v->p.accel_bias_limit_mps2), v->p.accel_bias_limit_mps2);
+    const fc_real speed_gain = at_rest ? fc_mul(ar, v->speed_gain, FC_INT(3, RATIO), FC_SHIFT(RATIO, RATIO, RATIO))
+                                       : v->speed_gain;
+    const fc_real bias_gain = at_rest ? fc_mul(ar, v->bias_gain_per_s, FC_INT(9, RATIO), FC_SHIFT(RATIO, RATIO, RATIO))
+                                      : v->bias_gain_per_s;
+    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, VEL, VEL)));
+    const fc_real bias_step = fc_mul(ar, bias_gain, residual, FC_SHIFT(RATIO, VEL, ACCEL));
+    v->bias_fast_mps2 = fc_clamp(fc_sub(ar, v->bias_fast_mps2, bias_step), fc_neg(ar, v->p.accel_bias_limit_mps2),
+                                 v->p.accel_bias_limit_mps2);
+    const fc_real change = fc_sub(ar, v->bias_fast_mps2, v->est.accel_bias_mps2);
+    v->est.accel_bias_mps2 =
+        at_rest ? v->bias_fast_mps2
+                : fc_add(ar, v->est.accel_bias_mps2,
+                         fc_mul(ar, v->bias_average_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
 }
 
 /* A range sample corrects the gear height, and the speed when nothing else does. */
@@ -164,20 +183,20 @@ fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_ver
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
     v->range_gap_s = fc_min(fc_add(ar, v->range_gap_s, v->p.dt_s), FC_INT(1, DT));
-    fc_real accel_mps2 = FC_INT(0, ACCEL);
+    fc_real accel_mps2;
     if (in->accel_ok) {
         const fc_real raw_mps2 = vertical_accel_mps2(ar, in->attitude, in->accel_mps2, v->p.gravity_mps2);
-        accel_mps2 = fc_sub(ar, raw_mps2, v->est.accel_bias_mps2);
-        const fc_real change = fc_sub(ar, accel_mps2, v->est.accel_z_mps2);
-        v->est.accel_z_mps2 =
-            fc_add(ar, v->est.accel_z_mps2, fc_mul(ar, v->accel_filter_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
+        accel_mps2 = fc_sub(ar, raw_mps2, in->vz_ok ? v->bias_fast_mps2 : v->est.accel_bias_mps2);
     } else {
         accel_mps2 = thrust_model_accel_mps2(v, in);
         status |= FC_STEP_DEGRADED;
     }
+    const fc_real change = fc_sub(ar, accel_mps2, v->est.accel_z_mps2);
+    v->est.accel_z_mps2 =
+        fc_add(ar, v->est.accel_z_mps2, fc_mul(ar, v->accel_filter_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
     predict(v, accel_mps2);
     if (in->vz_ok) {
-        correct_by_speed(v, in->vz_mps);
+        correct_by_speed(v, in->vz_mps, in->at_rest);
     }
     if (in->gear_height_fresh) {
         correct_by_range(v, in->gear_height_m, !in->vz_ok);

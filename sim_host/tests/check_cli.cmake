@@ -1,6 +1,7 @@
 # The command line: --list-controllers prints the variants in fc_altitude_variant
-# order, --list-scenarios the shipped scenarios, a bad option exits 2, and two
-# runs with the same seed give the same JSON metrics (determinism).
+# order, --list-scenarios the shipped scenarios, a bad option exits 2, two
+# runs with the same seed give the same JSON metrics (determinism), and --set
+# replaces a key of the file (a bad one exits 2).
 #   cmake -DFCSIL=... -DWORK=... -P check_cli.cmake
 execute_process(COMMAND "${FCSIL}" --list-controllers OUTPUT_VARIABLE out RESULT_VARIABLE status)
 set(expected "ssc\nssc-adaptive\nssc-norm\nssc-norm-adaptive\nssc-extra\nssc-rel2\nssc-rel2-adaptive\nssc-rel2-norm\npid\nsmc\nsmc-boundary\nsuper-twisting\n")
@@ -36,3 +37,22 @@ endforeach()
 if(NOT json1 STREQUAL json2)
   message(FATAL_ERROR "two runs with the same seed differ:\n${json1}\n${json2}")
 endif()
+# --set replaces a key of the file (and is named in the JSON); a bad one is a
+# bad scenario: exit 2, the override named
+execute_process(COMMAND "${FCSIL}" --scenario cf2-pad --set scenario.duration_s=1 --json "${WORK}/set.json" --quiet
+                RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "--set scenario.duration_s=1 failed: ${err}")
+endif()
+file(READ "${WORK}/set.json" json)
+string(JSON duration GET "${json}" duration_s)
+string(JSON override GET "${json}" overrides 0)
+if(NOT duration EQUAL 1 OR NOT override STREQUAL "scenario.duration_s=1")
+  message(FATAL_ERROR "--set scenario.duration_s=1: duration ${duration}, overrides ${override}")
+endif()
+foreach(bad "vehicle.mass_kg=-1" "vehicle.no_such_key=1" "no-dot=1" "vehicle.mass_kg")
+  execute_process(COMMAND "${FCSIL}" --scenario cf2-pad --set "${bad}" --quiet RESULT_VARIABLE status ERROR_VARIABLE err)
+  if(NOT status EQUAL 2 OR NOT err MATCHES "--set '${bad}'")
+    message(FATAL_ERROR "--set ${bad}: status ${status}, ${err}")
+  endif()
+endforeach()

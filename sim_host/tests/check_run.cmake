@@ -24,7 +24,10 @@ foreach(metric rms_error_m max_abs_error_m mass_step_peak_error_m control_tv_per
     message(FATAL_ERROR "metric ${metric} missing from the JSON")
   endif()
 endforeach()
-foreach(bound IN LISTS BOUNDS)
+# add_test hands the list over with its separators escaped (a\;b): one
+# element until they are made separators again
+string(REPLACE "\\;" ";" bounds "${BOUNDS}")
+foreach(bound IN LISTS bounds)
   if(NOT bound MATCHES "^([a-z_]+)(<=|>=|==)(.+)$")
     message(FATAL_ERROR "bad bound ${bound}")
   endif()

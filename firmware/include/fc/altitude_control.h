@@ -240,11 +240,10 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
 /* Clear the states (filters, integrators, Theta back to Theta0). */
 void fc_altitude_control_reset(fc_altitude_control *c);
 
-/* While held, a step repeats the last thrust command (FC_STEP_DEGRADED) and
- * leaves every state as it is: Theta, the averaging filter, the
- * prediction-error loop, the observers and the integrators. For inputs that
- * are the last good ones held (fc/failsafe.h): a law fed a frozen error
- * would adapt and wind up on it. */
+/* While held, Theta does not adapt and the baselines' integrators do not
+ * integrate, as while the thrust is clamped; the law itself runs on. For
+ * inputs that are estimates standing in for lost measurements
+ * (fc/failsafe.h's hold): what is learnt must come from measurements. */
 void fc_altitude_control_hold(fc_altitude_control *c, bool hold);
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,

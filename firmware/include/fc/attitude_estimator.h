@@ -133,6 +133,7 @@ typedef struct fc_attitude_estimator {
     fc_real gyro_slack_radps;          /* RATE: the change a next sample may make */
     fc_real gyro_slack_step_radps;     /* RATE: gyro_accel_max dt */
     bool have_gyro;                    /* last_gyro_radps holds a sample */
+    bool coasting;                     /* fc_attitude_estimator_coast */
     fc_acc alignment_sum[3];           /* ACCEL x UNIT products: running sum of
                                         * a_i / alignment_samples, rounded once at the end
                                         * (bounded by max |a| whatever the sample count) */
@@ -166,6 +167,14 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
  * time. FC_STEP_BAD_INPUT (the sample ignored) for a non-finite or larger
  * value, FC_STEP_NOT_READY before a successful init. */
 fc_step_status fc_attitude_estimator_take_heading(fc_attitude_estimator *est, fc_real yaw_rad);
+
+/* Coasting: the gyro alone, the bias as learnt, no accelerometer correction
+ * (FC_STEP_DEGRADED). For flight with nothing that holds the vehicle still
+ * (the failsafe, its position lost): a multirotor's accelerometer then reads
+ * along its thrust axis, so the correction would take any tilt for level and
+ * the bias for what its drift needs, while the vehicle accelerates sideways;
+ * with a held position it reads gravity, and the correction is right. */
+void fc_attitude_estimator_coast(fc_attitude_estimator *est, bool coast);
 
 /* One step of dt_s with one IMU sample; out is always written and finite. */
 fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_imu_sample *imu,

@@ -52,15 +52,17 @@
  *              stops the motors in flight
  *   inputs     position, velocity, setpoints and (tracking) the pad pass
  *              the plausibility gates of fc/input_gate.h; a rejected sample
- *              is bad input: the last accepted ones are flown, the altitude
- *              law held (fc_altitude_control_hold), for
- *              failsafe.bad_input_hold_s, then FAILSAFE (fc/failsafe.h)
+ *              is bad input: for failsafe.bad_input_hold_s the last accepted
+ *              ones are flown, the height carried along the vertical
+ *              estimate's speed and Theta not adapting
+ *              (fc_altitude_control_hold), then FAILSAFE (fc/failsafe.h)
  *   IMU        a gyro sample that is not usable is never replaced by an
  *              old rate: with the platform's attitude the rate is its change
  *              over the step, with the filter's (which holds still without
  *              a gyro) the attitude law is not run and the moments are zero;
  *              no usable sample for failsafe.imu_timeout_s: FAILSAFE
- *   FAILSAFE   level at the heading, a vertical-speed loop at
+ *   FAILSAFE   level at the heading (the attitude law's integral holds
+ *              the trim: see controller_params.c), a vertical-speed loop at
  *              failsafe.descent_mps on the vertical estimate
  *              (fc/vertical_estimator.h: speed, accelerometer bias, hover
  *              thrust learnt in flight); the motors stop only when the land
@@ -218,6 +220,7 @@ typedef struct fc_controller {
     fc_quat last_external_attitude;     /* the platform's, for a rate without a gyro */
     fc_real inv_dt_per_s;               /* GAIN: 1 / dt */
     fc_real last_thrust_n;              /* FORCE */
+    fc_real reckoned_z_m;               /* LENGTH: the height flown on while inputs are held */
     fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
     fc_real gear_height_age_s;          /* TIME: its age */
     bool gear_height_known;

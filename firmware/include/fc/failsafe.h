@@ -13,12 +13,15 @@
  *   ACTIVE ends when every input has been good for bad_input_hold_s again.
  * Descent (fc_failsafe_step, while ACTIVE): a vertical-speed loop with
  * integral action around the learnt hover thrust T_h (fc/vertical_estimator.h),
- *     e = -descent - v,   I += k_i e dt (|I| <= integral_limit),
+ *     e = v_sp - v,   I += k_i e dt (|I| <= integral_limit),
  *     a = k_p e + I (|a| <= accel_limit),   T k_h = T_h (1 + a / g),
  * so neither a wrong nominal mass (T_h is learnt; I takes what is left) nor
  * the altitude law (its Theta holds the ground effect and the tilt, not the
  * mass) sets the rate. k_i = k_p^2 / 4 puts both poles of the speed error at
- * -k_p / 2. Once the land detector sees ground contact the integral is held
+ * -k_p / 2. The setpoint v_sp starts at the speed the vehicle has when the
+ * failsafe begins and moves to -descent at setpoint_accel: a step from there
+ * would leave an integral that overshoots the rate by some 14 % of the step.
+ * Once the land detector sees ground contact the integral is held
  * and the thrust ramps down, T_h dt / ramp_s a step; any sign of flight
  * returns the loop (the land detector's AIRBORNE).
  */
@@ -47,6 +50,7 @@ typedef struct fc_failsafe_params {
     fc_real integral_limit_mps2;  /* ACCEL: (0, 10] */
     fc_real accel_limit_mps2;     /* ACCEL: (0, 10] */
     fc_real ramp_s;               /* TIME: hover thrust to zero once in contact, (0, 10] */
+    fc_real setpoint_accel_mps2;  /* ACCEL: how fast the speed setpoint reaches -descent, (0, 10] */
 } fc_failsafe_params;
 
 typedef struct fc_failsafe_watch_input {
@@ -75,7 +79,10 @@ typedef struct fc_failsafe_input {
 
 typedef struct fc_failsafe {
     fc_failsafe_params p;
-    fc_real speed_integral_gain;  /* GAIN: k_i = k_p^2 / 4, 1/s^2 */
+    fc_real speed_integral_gain;  /* RATIO: k_i dt = (k_p^2 / 4) dt, a step */
+    fc_real setpoint_step_mps;    /* VEL: setpoint_accel dt */
+    fc_real speed_setpoint_mps;   /* VEL: v_sp */
+    bool setpoint_started;
     fc_real inv_gravity_s2pm;     /* RATIO: 1 / g */
     fc_real ramp_gain;            /* UNIT: dt / ramp_s */
     fc_real step_s;               /* TIME: dt */
@@ -91,8 +98,9 @@ typedef struct fc_failsafe {
     fc_arith ar;
 } fc_failsafe;
 
-/* Hold 0.5 s, IMU timeout 50 ms, k_p = 2 /s, |I| <= 3 and |a| <= 4 m/s^2, a
- * ramp of 1 s; the descent rate is the airframe's (fc_controller). */
+/* Hold 0.5 s, IMU timeout 50 ms, k_p = 2 /s, |I| <= 3 and |a| <= 4 m/s^2, the
+ * setpoint at 1 m/s^2, a ramp of 1 s; the descent rate is the airframe's
+ * (fc_controller). */
 void fc_failsafe_default_params(fc_failsafe_params *p, fc_real dt_s, fc_real gravity_mps2, fc_real descent_mps);
 
 fc_init_result fc_failsafe_init(fc_failsafe *f, const fc_failsafe_params *p);

@@ -22,7 +22,8 @@
  *   yaw setpoint       turns at most yaw_rate_max t, the short way round
  *   pad z_d', z_d''    change at most pad_accel_max t and pad_jerk_max t
  * Before the first accepted sample, and while the caller says the limits
- * are off (disarmed), commands pass unchanged.
+ * are off (disarmed), commands pass unchanged; the pad's first sample once
+ * it is in use (use_pad) has only its absolute checks and no limits.
  */
 #ifndef FC_INPUT_GATE_H
 #define FC_INPUT_GATE_H
@@ -62,6 +63,7 @@ typedef struct fc_input_gate {
     fc_real since_accepted_s;     /* TIME: since the last accepted measurement */
     fc_real rejected_s;           /* TIME: rejected in a row this long */
     bool have_accepted;
+    bool pad_accepted;            /* accepted.pad is a sample (the pad was in use at the last acceptance) */
     bool ready;
     fc_arith ar;
 } fc_input_gate;

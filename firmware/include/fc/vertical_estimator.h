@@ -11,7 +11,13 @@
  * s^2 + l1 s + l2 = 0, so l1 = 2 w_v, l2 = w_v^2 (critically damped, w_v the
  * speed crossover). Without v_m the speed runs on a - b alone: an unknown
  * bias b makes it drift at b m/s per second, which is why the bias is learnt
- * while v_m is there. Without an accelerometer sample (an IMU lost) the
+ * while v_m is there. Then it runs on the bias averaged over
+ * bias_average_tau_s: v_m comes late (a motion-capture or GNSS delay of tens
+ * of ms against an accelerometer that is not), so while the vehicle
+ * oscillates the residual, and b with it, ripples; the average does not.
+ * At rest (disarmed, before a flight) nothing ripples: the loop runs at
+ * 3 w_v and the average is b itself, so a flight starts with the bias the
+ * vehicle learnt on its pad (1.7 % of it left after 2 s at w_v = 1 rad/s). Without an accelerometer sample (an IMU lost) the
  * acceleration is the thrust's against the hover thrust, a = g (T k_h / T_h - 1):
  * dead reckoning on the thrust model, the one estimate left (FC_STEP_DEGRADED).
  * Gear height: h' = v; a fresh range sample h_m corrects it by a second
@@ -45,6 +51,7 @@ typedef struct fc_vertical_estimator_params {
     fc_real height_crossover_radps; /* RATIO: w_h, (0, 10] */
     fc_real accel_bias_limit_mps2;  /* ACCEL: clamp of the bias estimate, (0, 5] */
     fc_real accel_tau_s;            /* DT: low-pass of the reported acceleration, [dt, 1] */
+    fc_real bias_average_tau_s;     /* TIME: averaging of the bias flown on without v_m, [0.1, 100] */
     fc_real hover_tau_s;            /* TIME: averaging time of the hover thrust, [0.1, 100] */
     fc_real hover_thrust_n;         /* FORCE: before anything is learnt (nominal m g), > 0 */
     fc_real hover_min_n;            /* FORCE: bounds of the learnt value, */
@@ -63,12 +70,13 @@ typedef struct fc_vertical_estimator_input {
     fc_real thrust_n;               /* FORCE: the body thrust in force over this step */
     fc_real tilt_cos;               /* RATIO: k_h */
     bool learn_hover;               /* clean flight: the hover thrust may learn */
+    bool at_rest;                   /* disarmed, on the ground: the bias is learnt fast */
 } fc_vertical_estimator_input;
 
 typedef struct fc_vertical_estimate {
     fc_real vz_mps;                 /* VEL: world (relative to the surface when only the range corrects it) */
     fc_real accel_z_mps2;           /* ACCEL: world, bias removed, low-passed */
-    fc_real accel_bias_mps2;        /* ACCEL */
+    fc_real accel_bias_mps2;        /* ACCEL: the averaged bias */
     fc_real gear_height_m;          /* LENGTH: 0 until the first range sample */
     fc_real hover_thrust_n;         /* FORCE: vertical thrust that holds the vehicle */
     bool gear_height_known;         /* a range sample has been seen */
@@ -82,6 +90,8 @@ typedef struct fc_vertical_estimator {
     fc_real height_speed_gain_per_s2; /* RATIO: w_h^2, times T a sample */
     fc_real accel_filter_gain;      /* UNIT: dt / accel_tau */
     fc_real hover_gain;             /* UNIT: dt / hover_tau */
+    fc_real bias_average_gain;      /* UNIT: dt / bias_average_tau */
+    fc_real bias_fast_mps2;         /* ACCEL: b of the complementary loop */
     fc_real inv_gravity_s2pm;       /* RATIO: 1 / g */
     fc_real range_gap_s;            /* DT: since the last range sample */
     fc_vertical_estimate est;
@@ -90,7 +100,7 @@ typedef struct fc_vertical_estimator {
 } fc_vertical_estimator;
 
 /* Crossovers 1 rad/s (speed and bias) and 2 rad/s (gear height), bias limit
- * 0.5 m/s^2, acceleration low-passed over 50 ms, hover thrust averaged over
+ * 0.5 m/s^2 and averaged over 2 s, acceleration low-passed over 50 ms, hover thrust averaged over
  * 2 s inside [0.5, 1.5] x the nominal weight, range gaps counted up to 0.1 s. */
 void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_real dt_s, fc_real gravity_mps2,
                                           fc_real weight_n);

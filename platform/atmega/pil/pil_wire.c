@@ -167,6 +167,22 @@ static void landing_telemetry(pil_wire *w, fc_controller_telemetry *tm)
     byte(w, &tm->aborts);
 }
 
+static void safety_telemetry(pil_wire *w, fc_controller_telemetry *tm)
+{
+    real(w, &tm->vertical.vz_mps);
+    real(w, &tm->vertical.hover_thrust_n);
+    real(w, &tm->vertical.accel_bias_mps2);
+    uint32_t land_state = (uint32_t)tm->land_state;
+    uint32_t cause = (uint32_t)tm->failsafe_cause;
+    uint32_t arming = (uint32_t)tm->arming_blocked_by;
+    word(w, &land_state);
+    word(w, &cause);
+    word(w, &arming);
+    tm->land_state = (fc_land_state)land_state;
+    tm->failsafe_cause = (fc_failsafe_cause)cause;
+    tm->arming_blocked_by = (fc_arming_check)arming;
+}
+
 /* The telemetry fields the SIL reads (sim_host/fsw_adapter.c). */
 static void telemetry(pil_wire *w, fc_controller_telemetry *tm)
 {
@@ -187,6 +203,7 @@ static void telemetry(pil_wire *w, fc_controller_telemetry *tm)
     real(w, &tm->pad.dominant_period_s);
     real(w, &tm->gear_height_m);
     landing_telemetry(w, tm);
+    safety_telemetry(w, tm);
 }
 
 bool pil_wire_outputs(pil_wire *w, uint32_t *step_status, fc_controller_outputs *out, pil_internals *internals)
