@@ -50,7 +50,14 @@ static fc_quat level_at_heading(fc_real heading_cos, fc_real heading_sin)
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p)
 {
     ctl->ready = false;
-    ctl->p = *p;
+    ctl->p = (fc_controller_settings){p->dt_s,
+                                      p->outer_divider,
+                                      p->use_external_attitude,
+                                      p->landing.gear_height_m,
+                                      p->altitude.thrust_min_n,
+                                      p->altitude.thrust_max_n,
+                                      p->reference.offset_init_m,
+                                      p->land_detector.range_fresh_s};
     ctl->ar.saturated = 0u;
     ctl->last_command = FC_COMMAND_DISARM;
     ctl->mode = FC_COMMAND_DISARM;
@@ -240,7 +247,7 @@ static fc_step_status observe_pad(fc_controller *ctl, const fc_controller_inputs
     ctl->gear_height_age_s = fc_min(fc_add(ar, ctl->gear_height_age_s, ctl->step_s), FC_INT(600, TIME));
     if (*range_fresh) {
         const fc_real vertical_range = fc_mul(ar, in->range_m, tilt_cos, FC_SHIFT(LENGTH, RATIO, LENGTH));
-        ctl->gear_height_m = fc_sub(ar, vertical_range, ctl->p.landing.gear_height_m);
+        ctl->gear_height_m = fc_sub(ar, vertical_range, ctl->p.gear_height_m);
         ctl->gear_height_age_s = FC_INT(0, TIME);
         ctl->gear_height_known = true;
         if (position_ok) {
@@ -525,9 +532,9 @@ static bool hover_learnable(const fc_controller *ctl, const step_context *c)
     const fc_landing_state s = ctl->landing.state;
     const bool on_surface = s == FC_LANDING_TOUCHDOWN || s == FC_LANDING_DISARM || s == FC_LANDING_LANDED;
     const bool thrust_free = (ctl->last_saturation & (FC_SAT_THRUST_HIGH | FC_SAT_THRUST_LOW)) == 0u &&
-                             ctl->last_thrust_n > ctl->p.altitude.thrust_min_n &&
-                             ctl->last_thrust_n < ctl->p.altitude.thrust_max_n;
-    const bool near_surface = ctl->gear_height_known && ctl->gear_height_age_s <= ctl->p.land_detector.range_fresh_s &&
+                             ctl->last_thrust_n > ctl->p.thrust_min_n &&
+                             ctl->last_thrust_n < ctl->p.thrust_max_n;
+    const bool near_surface = ctl->gear_height_known && ctl->gear_height_age_s <= ctl->p.range_fresh_s &&
                               ctl->gear_height_m < FC_C(0.2f, LENGTH);
     return ctl->armed && !ctl->failsafe.active && c->inputs_ok && thrust_free && !on_surface && !near_surface;
 }
@@ -553,8 +560,8 @@ static fc_real failsafe_thrust(fc_controller *ctl, const step_context *c, fc_con
         v->vz_mps, v->accel_z_mps2, fc_mul(ar, ctl->last_thrust_n, c->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE)),
         v->hover_thrust_n, true, ctl->gear_height_m, ctl->gear_height_age_s, ctl->gear_height_known};
     tm->land_state = fc_land_detector_step(&ctl->land_detector, &lin);
-    const fc_failsafe_input fin = {v->vz_mps, v->hover_thrust_n, c->tilt_cos, ctl->p.altitude.thrust_min_n,
-                                   ctl->p.altitude.thrust_max_n, tm->land_state};
+    const fc_failsafe_input fin = {v->vz_mps, v->hover_thrust_n, c->tilt_cos, ctl->p.thrust_min_n,
+                                   ctl->p.thrust_max_n, tm->land_state};
     return fc_failsafe_step(&ctl->failsafe, &fin);
 }
 
@@ -638,7 +645,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         if (!(from_mission && to_mission)) {
             /* a new task: loops start clean; (3.6) starts again from z_r_init */
             reset_loops(ctl);
-            fc_altitude_reference_restart(&ctl->reference, ctl->p.reference.offset_init_m);
+            fc_altitude_reference_restart(&ctl->reference, ctl->p.reference_offset_init_m);
             fc_landing_reset(&ctl->landing);
         }
     }

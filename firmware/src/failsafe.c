@@ -48,6 +48,7 @@ fc_init_result fc_failsafe_init(fc_failsafe *f, const fc_failsafe_params *p)
     const fc_real kp_quarter = fc_mul(ar, p->speed_gain_per_s, FC_C(0.25f, UNIT), FC_SHIFT(GAIN, UNIT, RATIO));
     f->speed_integral_gain = fc_mul(ar, kp_dt, kp_quarter, FC_SHIFT(RATIO, RATIO, RATIO));
     f->setpoint_step_mps = fc_mul(ar, p->setpoint_accel_mps2, p->dt_s, FC_SHIFT(ACCEL, DT, VEL));
+    f->inv_dt_per_s = fc_div(ar, FC_INT(1, DT), p->dt_s, FC_DIV_SHIFT(DT, DT, GAIN));
     f->inv_gravity_s2pm = fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO));
     f->ramp_gain = fc_div(ar, p->dt_s, p->ramp_s, FC_DIV_SHIFT(DT, TIME, UNIT));
     f->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
@@ -125,9 +126,11 @@ fc_real fc_failsafe_step(fc_failsafe *f, const fc_failsafe_input *in)
         f->setpoint_started = true;
     }
     const fc_real descent = fc_neg(ar, f->p.descent_mps);
-    f->speed_setpoint_mps = fc_add(ar, f->speed_setpoint_mps,
-                                   fc_clamp(fc_sub(ar, descent, f->speed_setpoint_mps),
-                                            fc_neg(ar, f->setpoint_step_mps), f->setpoint_step_mps));
+    const fc_real setpoint_change = fc_clamp(fc_sub(ar, descent, f->speed_setpoint_mps),
+                                             fc_neg(ar, f->setpoint_step_mps), f->setpoint_step_mps);
+    f->speed_setpoint_mps = fc_add(ar, f->speed_setpoint_mps, setpoint_change);
+    /* v_sp' fed forward: the ramp is followed without the integral */
+    const fc_real setpoint_accel = fc_mul(ar, setpoint_change, f->inv_dt_per_s, FC_SHIFT(VEL, GAIN, ACCEL));
     const fc_real speed_error = fc_sub(ar, f->speed_setpoint_mps, in->vz_mps);
     const bool airborne = in->land_state == FC_LAND_AIRBORNE;
     if (airborne) {
@@ -137,8 +140,8 @@ fc_real fc_failsafe_step(fc_failsafe *f, const fc_failsafe_input *in)
             fc_neg(ar, f->p.integral_limit_mps2), f->p.integral_limit_mps2);
     }
     const fc_real proportional = fc_mul(ar, f->p.speed_gain_per_s, speed_error, FC_SHIFT(GAIN, VEL, ACCEL));
-    const fc_real accel = fc_clamp(fc_add(ar, proportional, f->integral_mps2), fc_neg(ar, f->p.accel_limit_mps2),
-                                   f->p.accel_limit_mps2);
+    const fc_real accel = fc_clamp(fc_add(ar, fc_add(ar, proportional, f->integral_mps2), setpoint_accel),
+                                   fc_neg(ar, f->p.accel_limit_mps2), f->p.accel_limit_mps2);
     /* T k_h = T_h (1 + a / g) */
     const fc_real load_factor = fc_add(ar, FC_INT(1, RATIO), fc_mul(ar, accel, f->inv_gravity_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO)));
     fc_real vertical_n = fc_mul(ar, in->hover_thrust_n, load_factor, FC_SHIFT(FORCE, RATIO, FORCE));

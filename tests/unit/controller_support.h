@@ -48,7 +48,7 @@ static inline void align_disarmed(fc_controller *ctl, fc_controller_inputs in)
 {
     in.command = FC_COMMAND_DISARM;
     fc_controller_outputs out;
-    for (unsigned k = 0u; k < ctl->p.estimator.alignment_samples; k++) {
+    for (unsigned k = 0u; k < ctl->estimator.p.alignment_samples; k++) {
         (void)fc_controller_step(ctl, &in, &out);
         assert_false(out.motors_on);
     }

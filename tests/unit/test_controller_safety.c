@@ -65,12 +65,14 @@ static void test_failsafe_lands_on_the_ground(void **state)
         }
     }
     /* the descent's first step from rest: the setpoint one step of 1 m/s^2
-     * below 0, e = -0.002 m/s: T_h (1 + (k_p e + k_i e dt) / g), the learnt
-     * hover thrust (its nominal 39.24 N within its bounds) */
+     * below 0, e = -0.002 m/s, its rate -1 m/s^2 fed forward:
+     * T_h (1 + (k_p e + k_i e dt - 1) / g), the learnt hover thrust (its
+     * nominal 39.24 N within its bounds) */
     print_message("failsafe thrust %.2f N (learnt hover %.2f N)\n", first_failsafe_thrust_n, hover_n);
     assert_true(entered && stopped);
     assert_true(hover_n >= 0.5 * 39.24 && hover_n <= 1.5 * 39.24);
-    assert_true(fabs(first_failsafe_thrust_n - hover_n * (1.0 - (2.0 + 0.002) * 0.002 / 9.81)) < 1e-3 * hover_n);
+    const double first_accel = -(2.0 + 0.002) * 0.002 - 1.0;
+    assert_true(fabs(first_failsafe_thrust_n - hover_n * (1.0 + first_accel / 9.81)) < 1e-3 * hover_n);
     /* good inputs and a command that arms: refused until a DISARM */
     in = level_at_rest(1.0);
     assert_true((fc_controller_step(&ctl, &in, &out) & FC_STEP_REFUSED) != 0u);

@@ -197,8 +197,21 @@ typedef struct fc_controller_outputs {
     fc_controller_telemetry telemetry;
 } fc_controller_outputs;
 
+/* What the step itself reads of the parameters (each module keeps its own):
+ * the whole fc_controller_params would be a second copy of every module's,
+ * some 1.2 KB the ATmega's 8 KiB of RAM cannot spare. */
+typedef struct fc_controller_settings {
+    fc_real dt_s;                       /* DT */
+    uint8_t outer_divider;
+    bool use_external_attitude;
+    fc_real gear_height_m;              /* LENGTH: landing.gear_height_m */
+    fc_real thrust_min_n, thrust_max_n; /* FORCE: the altitude law's limits */
+    fc_real reference_offset_init_m;    /* LENGTH: reference.offset_init_m */
+    fc_real range_fresh_s;              /* TIME: land_detector.range_fresh_s */
+} fc_controller_settings;
+
 typedef struct fc_controller {
-    fc_controller_params p;
+    fc_controller_settings p;
     fc_attitude_estimator estimator;
     fc_attitude_control attitude;
     fc_allocation allocation;

@@ -14,13 +14,14 @@
  * Descent (fc_failsafe_step, while ACTIVE): a vertical-speed loop with
  * integral action around the learnt hover thrust T_h (fc/vertical_estimator.h),
  *     e = v_sp - v,   I += k_i e dt (|I| <= integral_limit),
- *     a = k_p e + I (|a| <= accel_limit),   T k_h = T_h (1 + a / g),
+ *     a = k_p e + I + v_sp' (|a| <= accel_limit),   T k_h = T_h (1 + a / g),
  * so neither a wrong nominal mass (T_h is learnt; I takes what is left) nor
  * the altitude law (its Theta holds the ground effect and the tilt, not the
  * mass) sets the rate. k_i = k_p^2 / 4 puts both poles of the speed error at
  * -k_p / 2. The setpoint v_sp starts at the speed the vehicle has when the
- * failsafe begins and moves to -descent at setpoint_accel: a step from there
- * would leave an integral that overshoots the rate by some 14 % of the step.
+ * failsafe begins and moves to -descent at setpoint_accel, its rate fed
+ * forward: a step from there (or a ramp the integral had to follow) leaves
+ * an integral that overshoots the rate by some 14 % of the step (e^-2).
  * Once the land detector sees ground contact the integral is held
  * and the thrust ramps down, T_h dt / ramp_s a step; any sign of flight
  * returns the loop (the land detector's AIRBORNE).
@@ -81,6 +82,7 @@ typedef struct fc_failsafe {
     fc_failsafe_params p;
     fc_real speed_integral_gain;  /* RATIO: k_i dt = (k_p^2 / 4) dt, a step */
     fc_real setpoint_step_mps;    /* VEL: setpoint_accel dt */
+    fc_real inv_dt_per_s;         /* GAIN: 1 / dt */
     fc_real speed_setpoint_mps;   /* VEL: v_sp */
     bool setpoint_started;
     fc_real inv_gravity_s2pm;     /* RATIO: 1 / g */
