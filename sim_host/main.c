@@ -56,6 +56,7 @@ typedef struct progress {
     bool enabled;
     int done, total;           /* runs */
     const char *label;
+    char label_text[64];       /* the label of the records being filled */
     double last_draw;
 } progress;
 
@@ -208,9 +209,8 @@ static bool run_record_fill(run_record *rec, const scenario *sc, int variant, co
     opt.trace_decimation = 1;
     opt.progress = prog->enabled ? progress_draw : NULL;
     opt.progress_user = prog;
-    char label[64];
-    snprintf(label, sizeof label, "%s %s", sim_variant_names[variant], be->name);
-    prog->label = label;
+    snprintf(prog->label_text, sizeof prog->label_text, "%s %s", sim_variant_names[variant], be->name);
+    prog->label = prog->label_text;
     const double t0 = now_s();
     if (!mc || runs == 1) {
         scenario one = *sc;
@@ -455,7 +455,12 @@ int main(int argc, char **argv)
         return 2;
     }
     static run_record records[MAX_RECORDS];
-    progress prog = {isatty(2) != 0 && !a.quiet, 0, (int)(count * (mc ? a.runs : 1)), "", 0.0};
+    progress prog = {.enabled = isatty(2) != 0 && !a.quiet,
+                     .done = 0,
+                     .total = (int)(count * (mc ? a.runs : 1)),
+                     .label = "",
+                     .label_text = "",
+                     .last_draw = 0.0};
     const bool want_trace = (!mc || a.runs == 1) && (a.csv != NULL || a.plot != NULL);
     int filled = 0;
     int status = 0;

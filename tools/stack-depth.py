@@ -162,15 +162,25 @@ def jump_table_stays_inside(insns, i):
     instruction before set rX to a pc-relative address (adr) and the table
     words that follow (after an alignment nop) all land inside the function
     being analysed; then it is a jump within the function, no call."""
-    m = re.match(r"^pc,\s*\[(r\d+),\s*r\d+,\s*lsl\s*#2\]$", insns[i][1].strip())
+    m = re.match(r"^pc,\s*\[(r\d+),\s*(r\d+),\s*lsl\s*#2\]$", insns[i][1].strip())
     if not m or i == 0:
         return False
     before_op, before_args = insns[i - 1]
     if before_op.split(".")[0] not in ("add", "adr") or \
             not re.match(r"^%s,\s*pc\b" % m.group(1), before_args.strip()):
         return False
+    # the table's length from the bound check on the index (cmp rY, #N: N + 1
+    # entries) when there is one: literal words may follow the table
+    count = None
+    for op, args in reversed(insns[max(0, i - 6):i - 1]):
+        bound = re.match(r"^%s,\s*#(\d+)" % m.group(2), args.strip())
+        if op.split(".")[0] == "cmp" and bound:
+            count = int(bound.group(1)) + 1
+            break
     entries = []
     for op, args in insns[i + 1:]:
+        if count is not None and len(entries) == count:
+            break
         if op == ".word":
             entries.append(int(args, 16) & ~1)  # the Thumb bit
         elif op == "nop" and not entries:

@@ -547,7 +547,7 @@ static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inpu
                                              c->in.velocity_mps.z, c->inputs_ok,     ctl->gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
                                              hover_learnable(ctl, c), !ctl->armed};
-    return passed_on(fc_vertical_estimator_step(&ctl->vertical, &vin, &tm->vertical)) & (fc_step_status)~FC_STEP_DEGRADED;
+    return passed_on(fc_vertical_estimator_step(&ctl->vertical, &vin, &tm->vertical));
 }
 
 /* The failsafe's descent: the land detector on the thrust in force, then the

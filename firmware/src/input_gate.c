@@ -106,17 +106,17 @@ static fc_real toward(fc_arith *ar, fc_real last, fc_real target, fc_real step)
     return fc_add(ar, last, fc_clamp(fc_sub(ar, target, last), fc_neg(ar, step), step));
 }
 
-/* An angle in [-7, 7] rad (or a difference of two in [-pi, pi]) to [-pi, pi]. */
+/* An angle in [-7, 7] rad (or a difference of two in [-pi, pi]) to [-pi, pi]:
+ * one turn added or taken is enough, 7 - 2 pi < pi. */
 static fc_real wrapped(fc_arith *ar, fc_real angle_rad)
 {
-    fc_real a = angle_rad;
-    while (a > GATE_PI_RAD) {
-        a = fc_sub(ar, a, GATE_TWO_PI_RAD);
+    if (angle_rad > GATE_PI_RAD) {
+        return fc_sub(ar, angle_rad, GATE_TWO_PI_RAD);
     }
-    while (a < fc_neg(ar, GATE_PI_RAD)) {
-        a = fc_add(ar, a, GATE_TWO_PI_RAD);
+    if (angle_rad < fc_neg(ar, GATE_PI_RAD)) {
+        return fc_add(ar, angle_rad, GATE_TWO_PI_RAD);
     }
-    return a;
+    return angle_rad;
 }
 
 /* The position and yaw setpoints, moved towards the command at their rates. */
