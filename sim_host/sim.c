@@ -146,21 +146,51 @@ static void failsafe_acc_record(failsafe_acc *f, double descent_mps)
     f->descent_mps[f->descent_count++] = descent_mps;
 }
 
-/* Power-on: before the run's first step the firmware runs disarmed on the
- * first samples (the vehicle held as it is at t = 0) for POWER_ON_S, or as
- * long as its attitude filter needs to align if that is longer: a vehicle
- * powered on before its flight, so that a run that starts armed (and in the
- * air) is not refused, and the estimators start from what a vehicle
- * resting on its pad would have learnt (the accelerometer's bias). */
+/* Power-on: before the run's first step the firmware runs disarmed for
+ * POWER_ON_S, or as long as its attitude filter needs to align if that is
+ * longer, the vehicle held still in its attitude of t = 0: the IMU reads
+ * gravity (not the thrust of a start in the air) and its biases, the
+ * velocity 0, each with fresh white noise of the sensors' levels (a stream
+ * of its own, so the flight's noise is the same with or without it); the
+ * rest is the first samples. A vehicle powered on before its flight: a run
+ * that starts armed (and in the air) is not refused, and the estimators
+ * start from what a vehicle resting on its pad would have learnt (the
+ * accelerometer's bias). */
 #define POWER_ON_S 2.0
 
-static void power_on(const fsw_backend *backend, void *fsw, const fsw_inputs *first, int alignment_steps,
-                     double dt_s, fsw_outputs *out)
+static void add_noise(rng *r, double *v, double std)
 {
-    fsw_inputs idle = *first;
-    idle.command = FSW_COMMAND_DISARM;
+    for (int i = 0; i < 3; i++) {
+        v[i] += std * rng_normal(r);
+    }
+}
+
+static void set_v3(double *out, v3 v)
+{
+    out[0] = v.x;
+    out[1] = v.y;
+    out[2] = v.z;
+}
+
+static void power_on(const fsw_backend *backend, void *fsw, const scenario *sc, const plant *pl, const sensors *sens,
+                     const fsw_inputs *first, int alignment_steps, double dt_s, fsw_outputs *out)
+{
+    const double scale = sc->sensors.noise_scale;
+    double r[3][3];
+    quat_to_matrix(pl->s.q, r);
+    const v3 gravity_b = mat_apply_t(r, v3_make(0.0, 0.0, pl->p.gravity_mps2)); /* at rest: R^T (0, 0, g) */
+    rng noise;
+    rng_seed(&noise, sc->seed, 300);
     const int steps = (int)fmax((double)alignment_steps, ceil(POWER_ON_S / dt_s));
     for (int i = 0; i < steps; i++) {
+        fsw_inputs idle = *first;
+        idle.command = FSW_COMMAND_DISARM;
+        set_v3(idle.gyro_radps, sens->gyro_bias);
+        set_v3(idle.accel_mps2, v3_add(gravity_b, sens->accel_bias));
+        set_v3(idle.velocity_mps, v3_make(0.0, 0.0, 0.0));
+        add_noise(&noise, idle.gyro_radps, scale * sc->sensors.imu.gyro_noise_radps);
+        add_noise(&noise, idle.accel_mps2, scale * sc->sensors.imu.accel_noise_mps2);
+        add_noise(&noise, idle.velocity_mps, scale * sc->sensors.position.velocity_noise_mps);
         backend->step(fsw, &idle, out);
     }
 }
@@ -462,7 +492,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         }
 
         if (k == 0) {
-            power_on(opt->backend, fsw, &in, info.alignment_steps, dt, &out);
+            power_on(opt->backend, fsw, sc, &pl, &sens, &in, info.alignment_steps, dt, &out);
         }
         opt->backend->step(fsw, &in, &out);
         steps_run = k + 1;

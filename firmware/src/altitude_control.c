@@ -5,6 +5,15 @@
 /* parameters                                                              */
 /* ---------------------------------------------------------------------- */
 
+void fc_altitude_control_set_mass(fc_altitude_control_params *p, fc_real mass_kg)
+{
+    fc_arith ar = {0u};
+    p->theta0_kg = mass_kg;
+    /* payload changes of up to -25 % / +25 % around the nominal mass */
+    p->mass_min_kg = fc_mul(&ar, mass_kg, FC_C(0.75f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+    p->mass_max_kg = fc_mul(&ar, mass_kg, FC_C(1.25f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+}
+
 void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real dt_s, fc_real mass_kg)
 {
     fc_arith ar = {0u};
@@ -14,10 +23,7 @@ void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real d
     p->velocity_measured = true;
     p->dt_s = dt_s;
     p->gravity_mps2 = FC_C(9.81f, ACCEL);
-    p->theta0_kg = mass_kg;
-    /* payload changes of up to -25 % / +25 % around the nominal mass */
-    p->mass_min_kg = fc_mul(&ar, mass_kg, FC_C(0.75f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
-    p->mass_max_kg = fc_mul(&ar, mass_kg, FC_C(1.25f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+    fc_altitude_control_set_mass(p, mass_kg);
     p->ground_gain_max = FC_C(1.1f, RATIO);
     p->tilt_cos_min = FC_C(0.5f, RATIO);
     /* thrust in [0, 2 x weight] as in the dissertation's simulation */

@@ -334,17 +334,11 @@ void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg)
     fc_arith ar = {0u};
     p->mass_kg = mass_kg;
     p->horizontal.mass_kg = mass_kg;
-    /* the altitude law's Theta0, and payload changes of -25 % / +25 % */
-    p->altitude.theta0_kg = mass_kg;
-    p->altitude.mass_min_kg = fc_mul(&ar, mass_kg, FC_C(0.75f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
-    p->altitude.mass_max_kg = fc_mul(&ar, mass_kg, FC_C(1.25f, RATIO), FC_SHIFT(MASS, RATIO, MASS));
+    fc_altitude_control_set_mass(&p->altitude, mass_kg);
     const fc_real weight_n = fc_mul(&ar, mass_kg, p->gravity_mps2, FC_SHIFT(MASS, ACCEL, FORCE));
     /* the position loop uses only the direction of F: its floor is a tenth of the weight */
     p->horizontal.thrust_min_n = fc_mul(&ar, weight_n, FC_C(0.1f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
-    /* the hover thrust before it is learnt, and the bounds of what it may learn */
-    p->vertical.hover_thrust_n = weight_n;
-    p->vertical.hover_min_n = fc_mul(&ar, weight_n, FC_C(0.5f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
-    p->vertical.hover_max_n = fc_mul(&ar, weight_n, FC_C(1.5f, RATIO), FC_SHIFT(FORCE, RATIO, FORCE));
+    fc_vertical_estimator_set_weight(&p->vertical, weight_n);
 }
 
 /* One g across the modules that use it. */

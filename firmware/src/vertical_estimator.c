@@ -5,7 +5,6 @@
 void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_real dt_s, fc_real gravity_mps2,
                                           fc_real weight_n)
 {
-    fc_arith ar = {0u};
     p->dt_s = dt_s;
     p->gravity_mps2 = gravity_mps2;
     p->speed_crossover_radps = FC_INT(1, RATIO);
@@ -14,10 +13,16 @@ void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_re
     p->accel_tau_s = FC_C(0.05f, DT);
     p->bias_average_tau_s = FC_INT(2, TIME);
     p->hover_tau_s = FC_INT(2, TIME);
+    fc_vertical_estimator_set_weight(p, weight_n);
+    p->range_period_max_s = FC_C(0.1f, DT);
+}
+
+void fc_vertical_estimator_set_weight(fc_vertical_estimator_params *p, fc_real weight_n)
+{
+    fc_arith ar = {0u};
     p->hover_thrust_n = weight_n;
     p->hover_min_n = fc_mul(&ar, weight_n, FC_C(0.5f, UNIT), FC_SHIFT(FORCE, UNIT, FORCE));
     p->hover_max_n = fc_mul(&ar, weight_n, FC_C(1.5f, RATIO), FC_SHIFT(FORCE, RATIO, FORCE));
-    p->range_period_max_s = FC_C(0.1f, DT);
 }
 
 static bool vertical_params_valid(const fc_vertical_estimator_params *p)

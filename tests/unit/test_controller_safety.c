@@ -191,118 +191,81 @@ static void test_inconsistent_params_rejected(void **state)
 
 /* ---- one glitched sample ---------------------------------------------- */
 
-typedef void (*glitch_fn)(fc_controller_inputs *in, const fc_controller_params *p);
+/* Which input a glitch hits, and how. */
+typedef enum glitch_target {
+    GLITCH_Z, GLITCH_X, GLITCH_VZ, GLITCH_VX, GLITCH_PAD_AZ, GLITCH_PAD_VZ, GLITCH_PAD_Z,
+    GLITCH_SETPOINT_X, GLITCH_YAW_SETPOINT, GLITCH_GYRO_X, GLITCH_ACCEL_Z
+} glitch_target;
 
-/* The largest change the gates let through (fc/input_gate.h), less 1 %. */
-static double passing_position_jump_m(const fc_controller_params *p)
-{
-    return 0.99 * (D(p->gate.position_jump_m, LENGTH) + D(p->gate.speed_max_mps, VEL) * D(p->dt_s, DT));
-}
-
-static double passing_velocity_jump_mps(const fc_controller_params *p)
-{
-    return 0.99 * (D(p->gate.velocity_jump_mps, VEL) + D(p->gate.accel_max_mps2, ACCEL) * D(p->dt_s, DT));
-}
-
-static void z_minus_100_m(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->position_m.z = F(D(in->position_m.z, LENGTH) - 100.0, LENGTH);
-}
-
-static void x_plus_100_m(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->position_m.x = F(100.0, LENGTH);
-}
-
-static void z_passing_jump(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    in->position_m.z = F(D(in->position_m.z, LENGTH) + passing_position_jump_m(p), LENGTH);
-}
-
-static void x_passing_jump(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    in->position_m.x = F(passing_position_jump_m(p), LENGTH);
-}
-
-static void vz_minus_100_mps(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->velocity_mps.z = F(-100.0, VEL);
-}
-
-static void vx_plus_100_mps(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->velocity_mps.x = F(100.0, VEL);
-}
-
-static void vz_passing_jump(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    in->velocity_mps.z = F(-passing_velocity_jump_mps(p), VEL);
-}
-
-static void vx_passing_jump(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    in->velocity_mps.x = F(passing_velocity_jump_mps(p), VEL);
-}
-
-static void pad_az_plus_400(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->pad.az_mps2 = F(400.0, ACCEL);
-}
-
-static void pad_vz_plus_100(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->pad.vz_mps = F(100.0, VEL);
-}
-
-static void pad_z_plus_100(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->pad.z_m = F(100.0, LENGTH);
-}
-
-static void setpoint_x_plus_100(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->position_setpoint_m.x = F(100.0, LENGTH);
-}
-
-static void yaw_setpoint_plus_3(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->yaw_setpoint_rad = F(3.0, ANGLE);
-}
-
-static void gyro_x_plus_30(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->imu.gyro_radps.x = F(30.0, RATE);
-}
-
-static void accel_z_plus_100(fc_controller_inputs *in, const fc_controller_params *p)
-{
-    (void)p;
-    in->imu.accel_mps2.z = F(100.0, ACCEL);
-}
+/* value: added to the input (SI units); GATE_JUMP: the largest change the
+ * gates let through (fc/input_gate.h), less 1 %, down for z and vz */
+#define GATE_JUMP 1e9
 
 static const struct {
     const char *name;
-    glitch_fn apply;
+    glitch_target target;
+    double value;
 } glitches[] = {
-    {"z - 100 m", z_minus_100_m},          {"x + 100 m", x_plus_100_m},
-    {"z + the gate's jump", z_passing_jump}, {"x + the gate's jump", x_passing_jump},
-    {"vz = -100 m/s", vz_minus_100_mps},   {"vx = 100 m/s", vx_plus_100_mps},
-    {"vz - the gate's jump", vz_passing_jump}, {"vx + the gate's jump", vx_passing_jump},
-    {"pad az = 400 m/s^2", pad_az_plus_400}, {"pad vz = 100 m/s", pad_vz_plus_100},
-    {"pad z = 100 m", pad_z_plus_100},     {"setpoint x = 100 m", setpoint_x_plus_100},
-    {"yaw setpoint 3 rad", yaw_setpoint_plus_3}, {"gyro x = 30 rad/s", gyro_x_plus_30},
-    {"accel z = 100 m/s^2", accel_z_plus_100},
+    {"z - 100 m", GLITCH_Z, -100.0},
+    {"x + 100 m", GLITCH_X, 100.0},
+    {"z + the gate's jump", GLITCH_Z, GATE_JUMP},
+    {"x + the gate's jump", GLITCH_X, GATE_JUMP},
+    {"vz = -100 m/s", GLITCH_VZ, -100.0},
+    {"vx = 100 m/s", GLITCH_VX, 100.0},
+    {"vz - the gate's jump", GLITCH_VZ, GATE_JUMP},
+    {"vx + the gate's jump", GLITCH_VX, GATE_JUMP},
+    {"pad az = 400 m/s^2", GLITCH_PAD_AZ, 400.0},
+    {"pad vz = 100 m/s", GLITCH_PAD_VZ, 100.0},
+    {"pad z = 100 m", GLITCH_PAD_Z, 100.0},
+    {"setpoint x = 100 m", GLITCH_SETPOINT_X, 100.0},
+    {"yaw setpoint 3 rad", GLITCH_YAW_SETPOINT, 3.0},
+    {"gyro x = 30 rad/s", GLITCH_GYRO_X, 30.0},
+    {"accel z + 100 m/s^2", GLITCH_ACCEL_Z, 100.0},
 };
+
+static void apply_glitch(fc_controller_inputs *in, const fc_controller_params *p, glitch_target target, double value)
+{
+    const double dt = D(p->dt_s, DT);
+    const double position_jump = 0.99 * (D(p->gate.position_jump_m, LENGTH) + D(p->gate.speed_max_mps, VEL) * dt);
+    const double speed_jump = 0.99 * (D(p->gate.velocity_jump_mps, VEL) + D(p->gate.accel_max_mps2, ACCEL) * dt);
+    const bool gate = value == GATE_JUMP;
+    switch (target) {
+    case GLITCH_Z:
+        in->position_m.z = F(D(in->position_m.z, LENGTH) + (gate ? position_jump : value), LENGTH);
+        break;
+    case GLITCH_X:
+        in->position_m.x = F(D(in->position_m.x, LENGTH) + (gate ? position_jump : value), LENGTH);
+        break;
+    case GLITCH_VZ:
+        in->velocity_mps.z = F(D(in->velocity_mps.z, VEL) + (gate ? -speed_jump : value), VEL);
+        break;
+    case GLITCH_VX:
+        in->velocity_mps.x = F(D(in->velocity_mps.x, VEL) + (gate ? speed_jump : value), VEL);
+        break;
+    case GLITCH_PAD_AZ:
+        in->pad.az_mps2 = F(D(in->pad.az_mps2, ACCEL) + value, ACCEL);
+        break;
+    case GLITCH_PAD_VZ:
+        in->pad.vz_mps = F(D(in->pad.vz_mps, VEL) + value, VEL);
+        break;
+    case GLITCH_PAD_Z:
+        in->pad.z_m = F(D(in->pad.z_m, LENGTH) + value, LENGTH);
+        break;
+    case GLITCH_SETPOINT_X:
+        in->position_setpoint_m.x = F(D(in->position_setpoint_m.x, LENGTH) + value, LENGTH);
+        break;
+    case GLITCH_YAW_SETPOINT:
+        in->yaw_setpoint_rad = F(D(in->yaw_setpoint_rad, ANGLE) + value, ANGLE);
+        break;
+    case GLITCH_GYRO_X:
+        in->imu.gyro_radps.x = F(D(in->imu.gyro_radps.x, RATE) + value, RATE);
+        break;
+    case GLITCH_ACCEL_Z:
+    default:
+        in->imu.accel_mps2.z = F(D(in->imu.accel_mps2.z, ACCEL) + value, ACCEL);
+        break;
+    }
+}
 
 /* Two controllers in lockstep over a vehicle held at its reference (no
  * plant: the same inputs for both), one of them fed the glitch at one step:
@@ -330,7 +293,7 @@ static void check_glitches(fc_airframe airframe, fc_altitude_variant variant, do
             fc_controller_inputs in = at_rest;
             (void)fc_controller_step(&clean, &in, &a);
             if (k == glitch_step) {
-                glitches[g].apply(&in, &p);
+                apply_glitch(&in, &p, glitches[g].target, glitches[g].value);
             }
             (void)fc_controller_step(&glitched, &in, &b);
         }

@@ -235,6 +235,10 @@ void fc_altitude_control_variant_params(fc_altitude_control_params *p, fc_altitu
  * thrust in [0, 2 m g]), with the law, modulation and adaptation given. */
 void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real dt_s, fc_real mass_kg);
 
+/* Theta0 = mass_kg and the mass bounds for payload changes of -25 % / +25 %
+ * (the gains stay as they are). */
+void fc_altitude_control_set_mass(fc_altitude_control_params *p, fc_real mass_kg);
+
 fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitude_control_params *p);
 
 /* Clear the states (filters, integrators, Theta back to Theta0). */

@@ -105,6 +105,9 @@ typedef struct fc_vertical_estimator {
 void fc_vertical_estimator_default_params(fc_vertical_estimator_params *p, fc_real dt_s, fc_real gravity_mps2,
                                           fc_real weight_n);
 
+/* The hover thrust before it is learnt (the weight) and its bounds, [0.5, 1.5] x it. */
+void fc_vertical_estimator_set_weight(fc_vertical_estimator_params *p, fc_real weight_n);
+
 fc_init_result fc_vertical_estimator_init(fc_vertical_estimator *v, const fc_vertical_estimator_params *p);
 
 /* Speed, bias and acceleration back to zero, the gear height unknown; the

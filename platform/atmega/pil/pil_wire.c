@@ -69,6 +69,14 @@ static void status(pil_wire *w, fc_step_status *value)
     *value = (fc_step_status)v;
 }
 
+/* An enum's value through one word: written from it, or read (returned). */
+static uint32_t enum_word(pil_wire *w, uint32_t value)
+{
+    uint32_t v = value;
+    word(w, &v);
+    return v;
+}
+
 static bool complete(const pil_wire *w)
 {
     return w->at == w->size;
@@ -130,9 +138,7 @@ bool pil_wire_inputs(pil_wire *w, fc_controller_inputs *in)
     flag(w, &in->range_fresh);
     vec3(w, &in->position_setpoint_m);
     real(w, &in->yaw_setpoint_rad);
-    uint32_t command = (uint32_t)in->command;
-    word(w, &command);
-    in->command = (fc_controller_command)command;
+    in->command = (fc_controller_command)enum_word(w, (uint32_t)in->command);
     return complete(w);
 }
 
@@ -153,15 +159,9 @@ static void altitude_output(pil_wire *w, fc_altitude_control_output *a)
 
 static void landing_telemetry(pil_wire *w, fc_controller_telemetry *tm)
 {
-    uint32_t state = (uint32_t)tm->landing_state;
-    uint32_t reason = (uint32_t)tm->landing_reason;
-    uint32_t blocked_by = (uint32_t)tm->descent_blocked_by;
-    word(w, &state);
-    word(w, &reason);
-    word(w, &blocked_by);
-    tm->landing_state = (fc_landing_state)state;
-    tm->landing_reason = (fc_landing_reason)reason;
-    tm->descent_blocked_by = (fc_landing_reason)blocked_by;
+    tm->landing_state = (fc_landing_state)enum_word(w, (uint32_t)tm->landing_state);
+    tm->landing_reason = (fc_landing_reason)enum_word(w, (uint32_t)tm->landing_reason);
+    tm->descent_blocked_by = (fc_landing_reason)enum_word(w, (uint32_t)tm->descent_blocked_by);
     flag(w, &tm->landing_changed);
     flag(w, &tm->touchdown_window);
     byte(w, &tm->aborts);
@@ -172,15 +172,9 @@ static void safety_telemetry(pil_wire *w, fc_controller_telemetry *tm)
     real(w, &tm->vertical.vz_mps);
     real(w, &tm->vertical.hover_thrust_n);
     real(w, &tm->vertical.accel_bias_mps2);
-    uint32_t land_state = (uint32_t)tm->land_state;
-    uint32_t cause = (uint32_t)tm->failsafe_cause;
-    uint32_t arming = (uint32_t)tm->arming_blocked_by;
-    word(w, &land_state);
-    word(w, &cause);
-    word(w, &arming);
-    tm->land_state = (fc_land_state)land_state;
-    tm->failsafe_cause = (fc_failsafe_cause)cause;
-    tm->arming_blocked_by = (fc_arming_check)arming;
+    tm->land_state = (fc_land_state)enum_word(w, (uint32_t)tm->land_state);
+    tm->failsafe_cause = (fc_failsafe_cause)enum_word(w, (uint32_t)tm->failsafe_cause);
+    tm->arming_blocked_by = (fc_arming_check)enum_word(w, (uint32_t)tm->arming_blocked_by);
 }
 
 /* The telemetry fields the SIL reads (sim_host/fsw_adapter.c). */
