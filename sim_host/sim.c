@@ -151,8 +151,8 @@ static void failsafe_acc_record(failsafe_acc *f, double descent_mps)
  * longer, the vehicle held still in its attitude of t = 0: the IMU reads
  * gravity (not the thrust of a start in the air) and its biases, the
  * velocity 0, each with fresh white noise of the sensors' levels (a stream
- * of its own, so the flight's noise is the same with or without it); the
- * rest is the first samples. A vehicle powered on before its flight: a run
+ * of its own, so the flight's noise is the same with or without it); no
+ * range sample, the heading once; the rest is the first samples. A vehicle powered on before its flight: a run
  * that starts armed (and in the air) is not refused, and the estimators
  * start from what a vehicle resting on its pad would have learnt (the
  * accelerometer's bias). */
@@ -188,6 +188,8 @@ static void power_on(const fsw_backend *backend, void *fsw, const scenario *sc, 
         set_v3(idle.gyro_radps, sens->gyro_bias);
         set_v3(idle.accel_mps2, v3_add(gravity_b, sens->accel_bias));
         set_v3(idle.velocity_mps, v3_make(0.0, 0.0, 0.0));
+        idle.range_fresh = 0;   /* one frozen range sample would teach the pad model a still pad */
+        idle.heading_fresh = i == 0 ? first->heading_fresh : 0;
         add_noise(&noise, idle.gyro_radps, scale * sc->sensors.imu.gyro_noise_radps);
         add_noise(&noise, idle.accel_mps2, scale * sc->sensors.imu.accel_noise_mps2);
         add_noise(&noise, idle.velocity_mps, scale * sc->sensors.position.velocity_noise_mps);
