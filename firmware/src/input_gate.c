@@ -119,19 +119,29 @@ static fc_real wrapped(fc_arith *ar, fc_real angle_rad)
     return angle_rad;
 }
 
-/* The position and yaw setpoints, moved towards the command at their rates. */
+static bool vec3_equal(fc_vec3 a, fc_vec3 b)
+{
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+/* The position and yaw setpoints, moved towards the command at their rates
+ * (a command already reached, the usual case, stays as it is). */
 static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in, fc_gated_inputs *out)
 {
     fc_arith *ar = &g->ar;
-    const fc_real step_m = fc_mul(ar, g->p.setpoint_speed_mps, g->p.dt_s, FC_SHIFT(VEL, DT, LENGTH));
     const fc_vec3 last = g->accepted.position_setpoint_m;
-    out->position_setpoint_m = fc_vec3_make(toward(ar, last.x, in->position_setpoint_m.x, step_m),
-                                            toward(ar, last.y, in->position_setpoint_m.y, step_m),
-                                            toward(ar, last.z, in->position_setpoint_m.z, step_m));
-    const fc_real step_rad = fc_mul(ar, g->p.yaw_rate_max_radps, g->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
-    const fc_real last_yaw = wrapped(ar, g->accepted.yaw_setpoint_rad);
-    const fc_real turn = wrapped(ar, fc_sub(ar, wrapped(ar, in->yaw_setpoint_rad), last_yaw));
-    out->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
+    if (!vec3_equal(in->position_setpoint_m, last)) {
+        const fc_real step_m = fc_mul(ar, g->p.setpoint_speed_mps, g->p.dt_s, FC_SHIFT(VEL, DT, LENGTH));
+        out->position_setpoint_m = fc_vec3_make(toward(ar, last.x, in->position_setpoint_m.x, step_m),
+                                                toward(ar, last.y, in->position_setpoint_m.y, step_m),
+                                                toward(ar, last.z, in->position_setpoint_m.z, step_m));
+    }
+    if (in->yaw_setpoint_rad != g->accepted.yaw_setpoint_rad) {
+        const fc_real step_rad = fc_mul(ar, g->p.yaw_rate_max_radps, g->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
+        const fc_real last_yaw = wrapped(ar, g->accepted.yaw_setpoint_rad);
+        const fc_real turn = wrapped(ar, fc_sub(ar, wrapped(ar, in->yaw_setpoint_rad), last_yaw));
+        out->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
+    }
 }
 
 /* The pad's speed and acceleration (feed-forward of the reference) at their rates. */
