@@ -43,6 +43,7 @@ fc_init_result fc_land_detector_init(fc_land_detector *d, const fc_land_detector
     }
     d->p = *p;
     d->step_s = fc_convert(&d->ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    d->held_accel_mps2 = fc_mul(&d->ar, p->still_accel_mps2, FC_C(0.5f, UNIT), FC_SHIFT(ACCEL, UNIT, ACCEL));
     d->ready = true;
     return FC_INIT_OK;
 }
@@ -82,8 +83,11 @@ fc_land_state fc_land_detector_step(fc_land_detector *d, const fc_land_detector_
     if (d->state == FC_LAND_LANDED) {
         return d->state;
     }
-    const bool still = fc_within(in->vz_mps, d->p.still_speed_mps) && fc_within(in->accel_z_mps2, d->p.still_accel_mps2);
     const bool pushing_down = in->descending && thrust_below(ar, in, d->p.contact_thrust_ratio);
+    /* the ground holds it: pushed down, yet not accelerating down by half of what the acceleration test allows */
+    const bool held = pushing_down && fc_within(in->accel_z_mps2, d->held_accel_mps2);
+    const bool still = fc_within(in->accel_z_mps2, d->p.still_accel_mps2) &&
+                       (fc_within(in->vz_mps, d->p.still_speed_mps) || held);
     const bool contact = still && pushing_down && !fc_land_detector_range_says_airborne(d, in);
     d->contact_timer_s = land_timer(d, d->contact_timer_s, contact);
     /* each stage needs its evidence at this step, and held for its time */

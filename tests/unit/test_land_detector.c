@@ -141,7 +141,9 @@ static void test_never_landed_while_not_descending(void **state)
 }
 
 typedef enum sign_of_flight {
-    FLIGHT_MOTION,       /* |vz| 0.15 >= still 0.1 m/s */
+    FLIGHT_MOTION,       /* |vz| 0.15 >= still 0.1 m/s, and |a_z| 0.6 > held 0.5 m/s^2 (a speed
+                          * alone, with no acceleration while pushed down, is the ground holding
+                          * the vehicle: test_held_despite_a_drifting_speed) */
     FLIGHT_ACCEL,        /* |a_z| 1.5 >= still 1 m/s^2 */
     FLIGHT_RANGE,        /* a fresh range sample putting the gear 0.06 > 0.05 m up */
     FLIGHT_COUNT
@@ -150,7 +152,7 @@ typedef enum sign_of_flight {
 static void show_sign(fixture *f, sign_of_flight sign, bool on)
 {
     f->in.vz_mps = F(on && sign == FLIGHT_MOTION ? -0.15 : 0.0, VEL);
-    f->in.accel_z_mps2 = F(on && sign == FLIGHT_ACCEL ? 1.5 : 0.0, ACCEL);
+    f->in.accel_z_mps2 = F(on && sign == FLIGHT_ACCEL ? 1.5 : on && sign == FLIGHT_MOTION ? -0.6 : 0.0, ACCEL);
     f->in.gear_height_known = true;
     f->in.gear_height_m = F(on && sign == FLIGHT_RANGE ? 0.06 : 0.0, LENGTH);
     f->in.gear_height_age_s = F(0.1, TIME);
@@ -176,6 +178,28 @@ static void test_airborne_at_once_on_any_sign_of_flight(void **state)
             show_sign(&f, (sign_of_flight)sign, false);
             assert_int_equal(steps_until(&f, FC_LAND_GROUND_CONTACT, 1000), k_contact_steps_doc);
         }
+    }
+}
+
+/* Held by the ground (header): with no speed input and no range finder the
+ * dead-reckoned speed drifts on the ground; pushed down, with the
+ * acceleration inside half the still band (0.4 < 0.5 m/s^2), a speed of
+ * -0.3 m/s (three times the still speed) does not keep it airborne: the
+ * stages come on time. With the acceleration just outside half the band
+ * (0.6 m/s^2) and the same speed, it stays AIRBORNE. */
+static void test_held_despite_a_drifting_speed(void **state)
+{
+    (void)state;
+    fixture f;
+    fixture_init(&f);
+    f.in.vz_mps = F(-0.3, VEL);
+    f.in.accel_z_mps2 = F(0.4, ACCEL);
+    assert_int_equal(steps_until(&f, FC_LAND_GROUND_CONTACT, 1000), k_contact_steps_doc);
+    fixture_init(&f);
+    f.in.vz_mps = F(-0.3, VEL);
+    f.in.accel_z_mps2 = F(0.6, ACCEL);
+    for (int k = 0; k < 1000; k++) {
+        assert_int_equal(step(&f), FC_LAND_AIRBORNE);
     }
 }
 
@@ -336,6 +360,7 @@ int main(void)
         cmocka_unit_test(test_contact_without_low_thrust_stays_in_contact),
         cmocka_unit_test(test_never_landed_while_not_descending),
         cmocka_unit_test(test_airborne_at_once_on_any_sign_of_flight),
+        cmocka_unit_test(test_held_despite_a_drifting_speed),
         cmocka_unit_test(test_evidence_just_inside_lands),
         cmocka_unit_test(test_range_says_airborne),
         cmocka_unit_test(test_landed_latched_until_reset),

@@ -9,7 +9,16 @@
  *   any stage --any sign of flight--> AIRBORNE (LANDED is kept until reset)
  *
  * Evidence (each step):
- *   still        |vz| < still_speed_mps and |a_z| < still_accel_mps2
+ *   still        |a_z| < still_accel_mps2, and either |vz| < still_speed_mps
+ *                or held: pushing down (below) while |a_z| < still_accel / 2.
+ *                Held needs no speed: with no speed input and no range finder
+ *                the dead-reckoned speed drifts on the ground (an impact
+ *                integrates to an offset), while the thrust short of hover
+ *                by 1 - contact_thrust_ratio would accelerate a vehicle in
+ *                the air down by about still_accel (0.1 g): only the ground
+ *                stops it. A hover thrust learnt too high can make a vehicle
+ *                in the air look held; the thrust then ramps down and it
+ *                accelerates, which ends the contact long before LANDED.
  *   pushing down the caller is asking to descend and the vertical thrust
  *                T k_h is under contact_thrust_ratio x the hover thrust: in
  *                the air such a thrust accelerates the vehicle down within a
@@ -68,6 +77,7 @@ typedef struct fc_land_detector {
     fc_real contact_timer_s;        /* TIME: still and pushing down this long */
     fc_real low_thrust_timer_s;     /* TIME: ... with low thrust this long */
     fc_real step_s;                 /* TIME: dt */
+    fc_real held_accel_mps2;        /* ACCEL: still_accel / 2 */
     bool ready;
     fc_arith ar;
 } fc_land_detector;
