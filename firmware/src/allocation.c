@@ -35,6 +35,8 @@
 #define SCALED_THRUST_M_LIMIT FC_C(1000.0f, PER_M)            /* T 2^ek, e >= 0 */
 #define SCALED_THRUST_M_FINE_LIMIT FC_C(100.0f, PER_M_FINE)  /* T 2^ek, e < 0 */
 #define SCALED_TORQUE_LIMIT FC_C(100.0f, MAT)       /* Q 2^ek */
+/* The least F_max: 1 / F_max must fit PER_FORCE. */
+#define THRUST_TOTAL_MIN FC_C(1.0f / 16.0f, FORCE)
 /* Row scales 2^e, e in [-16, 14] (exact in GAIN). */
 #define ROW_SCALE_MIN FC_C(1.0f / 65536.0f, GAIN)
 #define ROW_SCALE_MAX FC_INT(16384, GAIN)
@@ -191,9 +193,9 @@ static bool choose_row_scale(fc_arith *ar, fc_real row_max, int shift_to_ratio, 
 static void clear(fc_allocation *a)
 {
     *a = (fc_allocation){0};
-    a->last_good.thrust_n = FC_INT(0, FORCE);
-    a->last_good.moment_nm = fc_vec3_zero();
-    a->delta_warm_nm = fc_vec3_zero();
+    a->last_good.thrust = FC_INT16(0, NORM16);
+    a->last_good.moment = fc_vec3_16_zero();
+    a->delta_warm = fc_vec3_zero();
 }
 
 static void derive_rotor(fc_arith *ar, const fc_rotor_params *p, fc_allocation_rotor *r)
@@ -223,8 +225,25 @@ static void derive_rotor(fc_arith *ar, const fc_rotor_params *p, fc_allocation_r
     r->v_min = fc_convert(ar, v_min, FC_UNIT_FRAC, FC_RATIO_FRAC);
 }
 
-/* Row sums (the demand limits) and row scales: FC_INIT_BAD_PARAM beyond the
- * range limits, FC_INIT_RANK_DEFICIENT for a row too small to scale. */
+/* The authorities (fc/allocation.h): F_max = sum_i |A_0i| (FORCE) and per
+ * moment axis sum_i |A_ki| / 2 (MOMENT), from the rotors as init derives them. */
+static void authorities(fc_arith *ar, const fc_allocation_rotor *rotor, int count, fc_real *thrust_max_n,
+                        fc_vec3 *moment_nm)
+{
+    fc_real sum[ROWS] = {FC_INT(0, FORCE), FC_INT(0, MOMENT), FC_INT(0, MOMENT), FC_INT(0, MOMENT)};
+    for (int k = 0; k < ROWS; k++) {
+        for (int i = 0; i < count; i++) {
+            sum[k] = fc_add(ar, sum[k], fc_abs(ar, physical_entry(ar, &rotor[i], k)));
+        }
+    }
+    const int half = FC_SHIFT(MOMENT, UNIT, MOMENT);
+    *thrust_max_n = sum[0];
+    *moment_nm = fc_vec3_make(fc_mul(ar, sum[1], FC_C(0.5f, UNIT), half), fc_mul(ar, sum[2], FC_C(0.5f, UNIT), half),
+                              fc_mul(ar, sum[3], FC_C(0.5f, UNIT), half));
+}
+
+/* Row scales and authorities: FC_INIT_BAD_PARAM beyond the range limits,
+ * FC_INIT_RANK_DEFICIENT for a row too small to scale. */
 static fc_init_result derive_rows(fc_arith *ar, fc_allocation *a)
 {
     for (int k = 0; k < ROWS; k++) {
@@ -235,23 +254,21 @@ static fc_init_result derive_rows(fc_arith *ar, fc_allocation *a)
             sum = fc_add(ar, sum, entry);
             largest = fc_max(largest, entry);
         }
-        a->demand_limit[k] = sum;
-        if (k == 0) {
-            if (!(sum <= FORCE_ROW_SUM_LIMIT)) {
-                return FC_INIT_BAD_PARAM;
-            }
-            if (!choose_row_scale(ar, largest, FC_SHIFT(FORCE, GAIN, RATIO), &a->row_scale[k])) {
-                return FC_INIT_RANK_DEFICIENT;
-            }
-        } else {
-            if (!(sum <= MOMENT_ROW_SUM_LIMIT)) {
-                return FC_INIT_BAD_PARAM;
-            }
-            if (!choose_row_scale(ar, largest, FC_SHIFT(MOMENT, GAIN, RATIO), &a->row_scale[k])) {
-                return FC_INIT_RANK_DEFICIENT;
-            }
+        const bool in_range = k == 0 ? sum <= FORCE_ROW_SUM_LIMIT : sum <= MOMENT_ROW_SUM_LIMIT;
+        if (!in_range) {
+            return FC_INIT_BAD_PARAM;
+        }
+        const int shift_to_ratio = k == 0 ? FC_SHIFT(FORCE, GAIN, RATIO) : FC_SHIFT(MOMENT, GAIN, RATIO);
+        if (!choose_row_scale(ar, largest, shift_to_ratio, &a->row_scale[k])) {
+            return FC_INIT_RANK_DEFICIENT;
         }
     }
+    authorities(ar, a->rotor, a->rotor_count, &a->thrust_max_n, &a->moment_authority_nm);
+    /* 1 / F_max in PER_FORCE: F_max of at least 1/16 N */
+    if (!(a->thrust_max_n >= THRUST_TOTAL_MIN)) {
+        return FC_INIT_BAD_PARAM;
+    }
+    a->inv_thrust_max = fc_div(ar, FC_INT(1, PER_FORCE), a->thrust_max_n, FC_DIV_SHIFT(PER_FORCE, FORCE, PER_FORCE));
     return FC_INIT_OK;
 }
 
@@ -287,7 +304,38 @@ static void refine_pinv(fc_arith *ar, const fc_mat *a, fc_mat *p)
     }
 }
 
-/* P = pinv(D A) and what the thrust shift needs per rotor. */
+/* B = N A from D A: each row of D A times row_norm (1 / its absolute sum,
+ * 2 / it for the moment rows), the most each axis can get (demand_limit) and
+ * each rotor's reaction-torque column of B (torque_norm, for r != s). */
+static void normalise_rows(fc_arith *ar, fc_allocation *a, fc_mat *m)
+{
+    for (int k = 0; k < ROWS; k++) {
+        fc_real sum = FC_INT(0, MAT);
+        for (int i = 0; i < a->rotor_count; i++) {
+            sum = fc_add(ar, sum, fc_abs(ar, m->a[k][i]));
+        }
+        const fc_real numerator = k == 0 ? FC_INT(1, RATIO) : FC_INT(2, RATIO);
+        a->row_norm[k] = fc_div(ar, numerator, sum, FC_DIV_SHIFT(RATIO, MAT, RATIO));
+        fc_real limit = FC_INT(0, RATIO);
+        for (int i = 0; i < a->rotor_count; i++) {
+            m->a[k][i] = fc_mul(ar, m->a[k][i], a->row_norm[k], FC_SHIFT(MAT, RATIO, MAT));
+            limit = fc_add(ar, limit, fc_abs(ar, m->a[k][i]));
+        }
+        a->demand_limit[k] = limit;
+    }
+    for (int i = 0; i < a->rotor_count; i++) {
+        fc_allocation_rotor *r = &a->rotor[i];
+        fc_real column[3];
+        for (int k = 1; k < ROWS; k++) {
+            const fc_real torque = fc_mul(ar, r->torque_max_nm, a->row_scale[k], FC_SHIFT(MOMENT, GAIN, MAT));
+            const fc_real scaled = fc_mul(ar, torque, component(r->axis_unit, k - 1), FC_SHIFT(MAT, UNIT, MAT));
+            column[k - 1] = fc_mul(ar, scaled, a->row_norm[k], FC_SHIFT(MAT, RATIO, MAT));
+        }
+        r->torque_norm = fc_vec3_make(column[0], column[1], column[2]);
+    }
+}
+
+/* P = pinv(B) and what the thrust shift needs per rotor. */
 static fc_init_result derive_inverse(fc_arith *ar, fc_allocation *a)
 {
     fc_mat normalised;
@@ -298,6 +346,7 @@ static fc_init_result derive_inverse(fc_arith *ar, fc_allocation *a)
     if (a->rotor_count < ROWS) {
         return FC_INIT_RANK_DEFICIENT;
     }
+    normalise_rows(ar, a, &normalised);
     fc_arith inv_ar = {0u};
     if (fc_mat_pinv(&inv_ar, &normalised, &inverse) != FC_MAT_OK || inv_ar.saturated != 0u) {
         return FC_INIT_RANK_DEFICIENT;
@@ -374,9 +423,9 @@ void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled)
 
 void fc_allocation_reset(fc_allocation *a)
 {
-    a->delta_warm_nm = fc_vec3_zero();
-    a->last_good.thrust_n = FC_INT(0, FORCE);
-    a->last_good.moment_nm = fc_vec3_zero();
+    a->delta_warm = fc_vec3_zero();
+    a->last_good.thrust = FC_INT16(0, NORM16);
+    a->last_good.moment = fc_vec3_16_zero();
 }
 
 /* ---- the forward model (2.2)-(2.3) -------------------------------------- */
@@ -448,8 +497,8 @@ void fc_allocation_forward(fc_allocation *a, const fc_real *speed, fc_real *thru
     *thrust_n = force.z;
 }
 
-/* delta(v) = sum Q_max,i d_i (v_i^(s/r) - v_i): the reaction torque the linear
- * model misses when r != s (rotors with r = s add nothing). */
+/* N delta(v) = sum N Q_max,i d_i (v_i^(s/r) - v_i) (RATIO): the reaction
+ * torque the linear model misses when r != s (rotors with r = s add nothing). */
 static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
 {
     fc_arith *ar = &a->ar;
@@ -462,14 +511,13 @@ static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
         const fc_real v_unit = fc_convert(ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
         const fc_real excess =
             fc_sub(ar, fc_pow_unit(ar, v_unit, r->exponent_ratio), v_unit); /* u^s - u^r */
-        const fc_real torque = fc_mul(ar, r->torque_max_nm, excess, FC_SHIFT(MOMENT, UNIT, MOMENT));
         for (int k = 0; k < 3; k++) {
-            sum[k] = fc_acc_mac(sum[k], torque, component(r->axis_unit, k));
+            sum[k] = fc_acc_mac(sum[k], component(r->torque_norm, k), excess);
         }
     }
-    return fc_vec3_make(fc_acc_result(ar, sum[0], FC_SHIFT(MOMENT, UNIT, MOMENT)),
-                        fc_acc_result(ar, sum[1], FC_SHIFT(MOMENT, UNIT, MOMENT)),
-                        fc_acc_result(ar, sum[2], FC_SHIFT(MOMENT, UNIT, MOMENT)));
+    const int shift = FC_SHIFT(MAT, UNIT, RATIO);
+    return fc_vec3_make(fc_acc_result(ar, sum[0], shift), fc_acc_result(ar, sum[1], shift),
+                        fc_acc_result(ar, sum[2], shift));
 }
 
 /* ---- the desaturating linear allocation --------------------------------- */
@@ -630,21 +678,23 @@ static uint8_t direction_bit(fc_real demand, int row)
     return 0u;
 }
 
-/* The demand clamped to what all rotors together can give per axis (roll and
- * pitch scaled together), then normalised: x = D w (exact in fixed, D holds
- * powers of two). Returns the bits of the clamped axes. */
-static uint8_t normalise_demand(fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm, fc_real *x)
+/* The normalised demand w (RATIO) clamped to what all rotors together can
+ * give per axis (roll and pitch scaled together) into x. Returns the bits of
+ * the clamped axes. */
+static uint8_t limit_demand(fc_allocation *a, const fc_real *w_in, fc_real *x)
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
-    fc_real w[ROWS] = {thrust_n, moment_nm.x, moment_nm.y, moment_nm.z};
+    for (int k = 0; k < ROWS; k++) {
+        x[k] = w_in[k];
+    }
     for (int k = 0; k < ROWS; k += 3) { /* F_z and M_z on their own */
         const fc_real limit = a->demand_limit[k];
-        if (w[k] > limit) {
-            w[k] = limit;
+        if (x[k] > limit) {
+            x[k] = limit;
             saturation |= sat_bit(k, true);
-        } else if (w[k] < fc_neg(ar, limit)) {
-            w[k] = fc_neg(ar, limit);
+        } else if (x[k] < fc_neg(ar, limit)) {
+            x[k] = fc_neg(ar, limit);
             saturation |= sat_bit(k, false);
         } else {
             /* within the limit */
@@ -652,31 +702,27 @@ static uint8_t normalise_demand(fc_allocation *a, fc_real thrust_n, fc_vec3 mome
     }
     fc_real keep = FC_INT(1, UNIT); /* roll/pitch: one factor, the direction kept */
     for (int k = 1; k <= 2; k++) {
-        const fc_real size = fc_abs(ar, w[k]);
+        const fc_real size = fc_abs(ar, x[k]);
         if (size > a->demand_limit[k]) {
-            keep = fc_min(keep, fc_div(ar, a->demand_limit[k], size, FC_DIV_SHIFT(MOMENT, MOMENT, UNIT)));
+            keep = fc_min(keep, fc_div(ar, a->demand_limit[k], size, FC_DIV_SHIFT(RATIO, RATIO, UNIT)));
         }
     }
     if (keep < FC_INT(1, UNIT)) {
-        saturation = (uint8_t)(saturation | direction_bit(w[1], 1) | direction_bit(w[2], 2));
-        w[1] = fc_mul(ar, w[1], keep, FC_SHIFT(MOMENT, UNIT, MOMENT));
-        w[2] = fc_mul(ar, w[2], keep, FC_SHIFT(MOMENT, UNIT, MOMENT));
-    }
-    x[0] = fc_mul(ar, w[0], a->row_scale[0], FC_SHIFT(FORCE, GAIN, RATIO));
-    for (int k = 1; k < ROWS; k++) {
-        x[k] = fc_mul(ar, w[k], a->row_scale[k], FC_SHIFT(MOMENT, GAIN, RATIO));
+        saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
+        x[1] = fc_mul(ar, x[1], keep, FC_SHIFT(RATIO, UNIT, RATIO));
+        x[2] = fc_mul(ar, x[2], keep, FC_SHIFT(RATIO, UNIT, RATIO));
     }
     return saturation;
 }
 
-/* v (RATIO, in [v_min, 1]) for the wrench [thrust_n; moment_nm], with the
- * priorities of fc/allocation.h; returns the FC_SAT_* bits. */
-static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm, fc_real *v)
+/* v (RATIO, in [v_min, 1]) for the normalised wrench w (RATIO: F_z, M_x,
+ * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
+static uint8_t allocate_linear(fc_allocation *a, const fc_real *w, fc_real *v)
 {
     fc_arith *ar = &a->ar;
     const int n = a->rotor_count;
-    fc_real x[ROWS] = {0}; /* all written by normalise_demand; zeroed for -fanalyzer (loop widening) */
-    uint8_t saturation = normalise_demand(a, thrust_n, moment_nm, x);
+    fc_real x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
+    uint8_t saturation = limit_demand(a, w, x);
 
     /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
     /* entries 0..n-1 written below, only those read; roll_pitch and
@@ -772,7 +818,8 @@ static uint8_t allocate_linear(fc_allocation *a, fc_real thrust_n, fc_vec3 momen
 
 static bool demand_is_finite(const fc_allocation_demand *d)
 {
-    return fc_is_finite(d->thrust_n) && fc_vec3_is_finite(d->moment_nm);
+    return fc_is_finite(d->thrust) && fc_is_finite(d->moment.x) && fc_is_finite(d->moment.y) &&
+           fc_is_finite(d->moment.z);
 }
 
 fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
@@ -799,6 +846,9 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         demand = *d;
         a->last_good = *d;
     }
+    /* the 16-bit demand in the allocation's RATIO, exactly */
+    const fc_vec3 moment = fc_vec3_widen16(demand.moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
+    fc_real w[ROWS] = {fc_widen16(demand.thrust, FC_NORM16_FRAC, FC_RATIO_FRAC), moment.x, moment.y, moment.z};
 
     /* rotor_count entries written by allocate_linear; zeroed for -fanalyzer
      * by stores (an initialiser is a memset call, ~70 cycles on the M4F) */
@@ -806,21 +856,22 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         v[i] = FC_INT(0, RATIO);
     }
-    uint8_t saturation;
+    uint8_t saturation = 0u;
     if (a->nonlinear != 0u) {
         /* r != s: iterate on the linear solution with the torque correction,
          * warm-started from the last step's (fc/allocation.h) */
-        fc_vec3 delta = a->delta_warm_nm;
-        saturation = allocate_linear(a, demand.thrust_n,
-                                     fc_vec3_sub(&a->ar, demand.moment_nm, delta), v);
-        for (int pass = 0; pass < a->newton_iterations; pass++) {
-            delta = torque_correction(a, v);
-            saturation = allocate_linear(a, demand.thrust_n,
-                                         fc_vec3_sub(&a->ar, demand.moment_nm, delta), v);
+        fc_vec3 delta = a->delta_warm;
+        for (int pass = 0; pass <= a->newton_iterations; pass++) {
+            if (pass > 0) {
+                delta = torque_correction(a, v);
+            }
+            const fc_real corrected[ROWS] = {w[0], fc_sub(&a->ar, moment.x, delta.x),
+                                             fc_sub(&a->ar, moment.y, delta.y), fc_sub(&a->ar, moment.z, delta.z)};
+            saturation = allocate_linear(a, corrected, v);
         }
-        a->delta_warm_nm = torque_correction(a, v);
+        a->delta_warm = torque_correction(a, v);
     } else {
-        saturation = allocate_linear(a, demand.thrust_n, demand.moment_nm, v);
+        saturation = allocate_linear(a, w, v);
     }
 
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
@@ -872,8 +923,7 @@ fc_mat_status fc_allocation_effectiveness(const fc_allocation *a, fc_mat *out)
     return FC_MAT_OK;
 }
 
-fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out,
-                                                     fc_real *row_scale)
+fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out)
 {
     if (a->ready == 0u) {
         (void)fc_mat_zero(out, 0, 0);
@@ -881,9 +931,9 @@ fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_
     }
     fc_arith ar = {0u};
     (void)build_normalised(&ar, a, out);
-    if (row_scale != NULL) {
-        for (int k = 0; k < ROWS; k++) {
-            row_scale[k] = a->row_scale[k];
+    for (int k = 0; k < ROWS; k++) {
+        for (int i = 0; i < a->rotor_count; i++) {
+            out->a[k][i] = fc_mul(&ar, out->a[k][i], a->row_norm[k], FC_SHIFT(MAT, RATIO, MAT));
         }
     }
     return FC_MAT_OK;
@@ -902,6 +952,70 @@ fc_mat_status fc_allocation_pinv_normalised(const fc_allocation *a, fc_mat *out)
         }
     }
     return FC_MAT_OK;
+}
+
+/* ---- normalised and physical units --------------------------------------- */
+
+bool fc_allocation_authority_of(const fc_allocation_params *p, fc_real *thrust_max_n, fc_vec3 *moment_nm)
+{
+    *thrust_max_n = FC_INT(0, FORCE);
+    *moment_nm = fc_vec3_zero();
+    if (p == NULL || p->rotor_count < 1u || p->rotor_count > FC_MAX_ROTORS) {
+        return false;
+    }
+    fc_arith ar = {0u};
+    fc_allocation_rotor rotor[FC_MAX_ROTORS];
+    for (int i = 0; i < p->rotor_count; i++) {
+        if (!rotor_params_valid(&ar, &p->rotor[i])) {
+            return false;
+        }
+        derive_rotor(&ar, &p->rotor[i], &rotor[i]);
+    }
+    authorities(&ar, rotor, p->rotor_count, thrust_max_n, moment_nm);
+    return true;
+}
+
+fc_real16 fc_allocation_thrust_fraction(const fc_allocation *a, fc_real thrust_n)
+{
+    fc_arith ar = {0u};
+    const fc_real share = fc_mul(&ar, thrust_n, a->inv_thrust_max, FC_SHIFT(FORCE, PER_FORCE, RATIO));
+    return fc_narrow16(&ar, fc_clamp(share, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC,
+                       FC_NORM16_FRAC);
+}
+
+/* x / authority in NORM16, within +-1.99; 0 for a zero authority (not ready). */
+static fc_real16 normalised(fc_arith *ar, fc_real x, fc_real authority)
+{
+    if (!(authority > FC_INT(0, MOMENT))) {
+        return FC_INT16(0, NORM16);
+    }
+    /* x and authority share a format: the quotient is RATIO */
+    const fc_real ratio = fc_div(ar, x, authority, FC_RATIO_FRAC);
+    return fc_narrow16(ar, fc_clamp(ratio, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC,
+                       FC_NORM16_FRAC);
+}
+
+fc_allocation_demand fc_allocation_normalise(const fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm)
+{
+    fc_arith ar = {0u};
+    const fc_vec3 m = a->moment_authority_nm;
+    const fc_allocation_demand d = {
+        normalised(&ar, thrust_n, a->thrust_max_n),
+        {normalised(&ar, moment_nm.x, m.x), normalised(&ar, moment_nm.y, m.y), normalised(&ar, moment_nm.z, m.z)}};
+    return d;
+}
+
+void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *d, fc_real *thrust_n,
+                            fc_vec3 *moment_nm)
+{
+    fc_arith ar = {0u};
+    const fc_vec3 m = a->moment_authority_nm;
+    const fc_vec3 x = fc_vec3_widen16(d->moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
+    *thrust_n = fc_mul(&ar, fc_widen16(d->thrust, FC_NORM16_FRAC, FC_RATIO_FRAC), a->thrust_max_n,
+                       FC_SHIFT(RATIO, FORCE, FORCE));
+    *moment_nm = fc_vec3_make(fc_mul(&ar, x.x, m.x, FC_SHIFT(RATIO, MOMENT, MOMENT)),
+                              fc_mul(&ar, x.y, m.y, FC_SHIFT(RATIO, MOMENT, MOMENT)),
+                              fc_mul(&ar, x.z, m.z, FC_SHIFT(RATIO, MOMENT, MOMENT)));
 }
 
 /* ---- presets (FC_C constants only) -------------------------------------- */

@@ -29,6 +29,7 @@ void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real d
     /* thrust in [0, 2 x weight] as in the dissertation's simulation */
     p->thrust_min_n = FC_INT(0, FORCE);
     p->thrust_max_n = fc_mul(&ar, mass_kg, FC_C(2.0f * 9.81f, ACCEL), FC_SHIFT(MASS, ACCEL, FORCE));
+    p->thrust_authority_n = p->thrust_max_n;
     /* 4.4: tau_av = 0.1, K1 = l0 = 2, a_m = 5, kappa_m = 1, rho = 50, gamma = 5, for
      * its 4 kg vehicle. For another mass the law is scaled so that the closed
      * loop is the same in accelerations: forces (rho, delta, k0 |sigma|) and
@@ -125,6 +126,7 @@ static bool altitude_params_valid(const fc_altitude_control_params *p)
            p->mass_min_kg <= p->theta0_kg && p->theta0_kg <= p->mass_max_kg &&
            p->ground_gain_max >= FC_INT(1, RATIO) && p->ground_gain_max <= FC_INT(10, RATIO) &&
            p->mass_max_kg <= FC_INT(100, MASS) && p->thrust_max_n <= FC_INT(2000, FORCE) &&
+           p->thrust_authority_n >= FC_C(1.0f / 16.0f, FORCE) && p->thrust_authority_n <= FC_INT(2000, FORCE) &&
            p->rho_n <= FC_INT(2000, FORCE) && p->delta_n <= FC_INT(2000, FORCE) &&
            p->tau_av_s >= FC_C(1.0e-3f, DT) && p->tau_av_s <= FC_INT(1, DT) &&
            (p->velocity_measured || (p->tau_f_s >= FC_C(1.0e-3f, DT) && p->tau_f_s <= FC_INT(1, DT))) &&
@@ -263,6 +265,8 @@ static void compute_discretisation(fc_altitude_control *c)
     c->gamma_dt = fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
     c->l0_sq = fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
     c->inv_boundary_layer = fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN));
+    c->inv_thrust_authority =
+        fc_div(ar, FC_INT(1, PER_FORCE), p->thrust_authority_n, FC_DIV_SHIFT(PER_FORCE, FORCE, PER_FORCE));
 }
 
 /* The constants the modulation rho is built from (kp_max = k_g_max/m_min,
@@ -306,6 +310,7 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
     c->hold = false;
     c->ar.saturated = 0u;
     c->p = *p;
+    c->inv_thrust_authority = FC_INT(0, PER_FORCE);
     if (!altitude_params_valid(p)) {
         c->p.thrust_min_n = FC_INT(0, FORCE);
         c->p.theta0_kg = FC_INT(0, MASS);
@@ -524,9 +529,19 @@ static void adapt_theta(fc_altitude_control *c, const tracking_signals *t)
     c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
 }
 
+/* A body thrust in N as the normalised thrust the allocation takes. */
+static fc_real16 thrust_fraction(const fc_altitude_control *c, fc_real thrust_n)
+{
+    fc_arith ar = {0u};
+    const fc_real share = fc_mul(&ar, thrust_n, c->inv_thrust_authority, FC_SHIFT(FORCE, PER_FORCE, RATIO));
+    return fc_narrow16(&ar, fc_clamp(share, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC,
+                       FC_NORM16_FRAC);
+}
+
 static void safe_output(const fc_altitude_control *c, fc_altitude_control_output *out)
 {
     out->thrust_n = c->p.thrust_min_n;
+    out->thrust = thrust_fraction(c, out->thrust_n);
     out->vertical_force_n = c->p.thrust_min_n;
     out->error_m = FC_INT(0, LENGTH);
     out->sigma_mps = FC_INT(0, VEL);
@@ -568,6 +583,7 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         /* hold the last thrust command: the filters and Theta are not fed garbage */
         safe_output(c, out);
         out->thrust_n = c->last_thrust_n;
+        out->thrust = thrust_fraction(c, out->thrust_n);
         out->vertical_force_n = c->last_thrust_n;
         return FC_STEP_BAD_INPUT;
     }
@@ -619,6 +635,7 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     if (out->clamped) {
         status |= FC_STEP_OUTPUT_LIMITED;
     }
+    out->thrust = thrust_fraction(c, out->thrust_n);
     c->last_thrust_n = out->thrust_n;
     c->last_error_m = t.e_m;
 

@@ -8,7 +8,10 @@
 #define MAX_INERTIA_KGM2 FC_C(1.99f, INERTIA)
 #define MAX_GAIN FC_C(30000.0f, GAIN)
 #define MAX_INTEGRAL_LIMIT FC_C(4.0f, ANGLE)
-#define MAX_MOMENT_LIMIT_NM FC_C(100.0f, MOMENT)
+#define MAX_AUTHORITY_NM FC_C(100.0f, MOMENT)
+#define MAX_MOMENT_LIMIT FC_C(1.99f, RATIO)
+/* J / authority (s^2) inside INERTIA */
+#define MAX_INERTIA_NORM FC_C(1.99f, INERTIA)
 /* Rates beyond this are out of range (a gyro reads up to 35 rad/s). */
 #define MAX_RATE_RADPS FC_C(100.0f, RATE)
 /* Below this |w^2 + z^2| of the error the heading is undefined (header). */
@@ -16,8 +19,9 @@
 
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
-/* A held moment below this is zero (fixed rounding would stall the decay). */
-#define HOLD_ZERO_NM FC_C(1.0e-6f, MOMENT)
+/* A held moment below this (half a NORM16 LSB) is zero (fixed rounding would
+ * stall the decay). */
+#define HOLD_ZERO FC_C(3.0e-5f, RATIO)
 
 static bool finite_in(fc_real x, fc_real lo, fc_real hi)
 {
@@ -47,7 +51,16 @@ static bool attitude_params_valid(const fc_attitude_control_params *p)
            vec_in(p->ki_per_s3, zero, MAX_GAIN) &&
            vec_positive_upto(p->integral_limit_rad, MAX_INTEGRAL_LIMIT) &&
            finite_in(p->yaw_weight, FC_INT(0, RATIO), FC_INT(1, RATIO)) &&
-           vec_positive_upto(p->moment_limit_nm, MAX_MOMENT_LIMIT_NM);
+           vec_positive_upto(p->authority_nm, MAX_AUTHORITY_NM) &&
+           vec_positive_upto(p->moment_limit, MAX_MOMENT_LIMIT);
+}
+
+/* x / authority per axis (INERTIA over MOMENT gives INERTIA: s^2 for J) */
+static fc_vec3 per_authority(fc_arith *ar, fc_vec3 x, fc_vec3 authority)
+{
+    const int shift = FC_DIV_SHIFT(INERTIA, MOMENT, INERTIA);
+    return fc_vec3_make(fc_div(ar, x.x, authority.x, shift), fc_div(ar, x.y, authority.y, shift),
+                        fc_div(ar, x.z, authority.z, shift));
 }
 
 fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitude_control_params *p)
@@ -56,18 +69,25 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
     c->ar.saturated = 0u;
     c->p = *p;
     c->integral_rad_s = fc_vec3_zero();
-    c->last_moment_nm = fc_vec3_zero();
+    c->last_moment = fc_vec3_zero();
     c->last_error_rad = fc_vec3_zero();
     c->integral_hold = 0u;
-    c->inertia_diff_kgm2 = fc_vec3_zero();
+    c->inertia_norm = fc_vec3_zero();
+    c->inertia_diff_norm = fc_vec3_zero();
     c->hold_decay = FC_INT(0, UNIT);
     if (!attitude_params_valid(p)) {
         return FC_INIT_BAD_PARAM;
     }
     fc_arith ar = {0u};
     const fc_vec3 j = p->inertia_kgm2;
-    /* w x J w = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for diagonal J */
-    c->inertia_diff_kgm2 = fc_vec3_make(fc_sub(&ar, j.z, j.y), fc_sub(&ar, j.x, j.z), fc_sub(&ar, j.y, j.x));
+    /* w x J w = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for diagonal J;
+     * both per authority, so that the law gives normalised moments */
+    const fc_vec3 j_diff = fc_vec3_make(fc_sub(&ar, j.z, j.y), fc_sub(&ar, j.x, j.z), fc_sub(&ar, j.y, j.x));
+    c->inertia_norm = per_authority(&ar, j, p->authority_nm);
+    c->inertia_diff_norm = per_authority(&ar, j_diff, p->authority_nm);
+    if (!vec_positive_upto(c->inertia_norm, MAX_INERTIA_NORM)) {
+        return FC_INIT_BAD_PARAM;
+    }
     /* ZOH pole of the decay of the held moment: e^(-dt/tau) */
     const fc_real dt_over_tau =
         fc_mul(&ar, p->dt_s, FC_C(1.0f / FC_ATTITUDE_CONTROL_HOLD_TAU_S, RATIO), FC_SHIFT(DT, RATIO, RATIO));
@@ -107,8 +127,9 @@ void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real d
     p->ki_per_s3 = fc_vec3_make(FC_INT(0, GAIN), FC_INT(0, GAIN), FC_INT(0, GAIN));
     p->integral_limit_rad = fc_vec3_make(FC_C(0.2f, ANGLE), FC_C(0.2f, ANGLE), FC_C(0.2f, ANGLE));
     p->yaw_weight = FC_INT(1, RATIO);
-    p->moment_limit_nm = fc_vec3_scale(&ar, inertia_kgm2, FC_C(FC_ATTITUDE_CONTROL_DEFAULT_ALPHA_MAX, GAIN),
-                                       FC_SHIFT(INERTIA, GAIN, MOMENT));
+    p->authority_nm = fc_vec3_scale(&ar, inertia_kgm2, FC_C(FC_ATTITUDE_CONTROL_DEFAULT_ALPHA_MAX, GAIN),
+                                    FC_SHIFT(INERTIA, GAIN, MOMENT));
+    p->moment_limit = fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO));
 }
 
 static bool rate_valid(fc_vec3 r)
@@ -169,7 +190,7 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
     const fc_real abs_x = fc_abs(ar, m.x);
     const fc_real abs_y = fc_abs(ar, m.y);
     if (abs_x > limit.x || abs_y > limit.y) {
-        const int ratio_shift = FC_DIV_SHIFT(MOMENT, MOMENT, UNIT);
+        const int ratio_shift = FC_DIV_SHIFT(RATIO, RATIO, UNIT);
         fc_real f = FC_INT(1, UNIT);
         if (abs_x > limit.x) {
             f = fc_min(f, fc_div(ar, limit.x, abs_x, ratio_shift));
@@ -177,8 +198,8 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
         if (abs_y > limit.y) {
             f = fc_min(f, fc_div(ar, limit.y, abs_y, ratio_shift));
         }
-        m.x = fc_mul(ar, m.x, f, FC_SHIFT(MOMENT, UNIT, MOMENT));
-        m.y = fc_mul(ar, m.y, f, FC_SHIFT(MOMENT, UNIT, MOMENT));
+        m.x = fc_mul(ar, m.x, f, FC_SHIFT(RATIO, UNIT, RATIO));
+        m.y = fc_mul(ar, m.y, f, FC_SHIFT(RATIO, UNIT, RATIO));
     }
     /* the hard clamp catches the last rounding of the scaling */
     return fc_vec3_make(fc_clamp(m.x, fc_neg(ar, limit.x), limit.x),
@@ -188,8 +209,8 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 
 static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
 {
-    const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(MOMENT, UNIT, MOMENT));
-    return fc_abs(ar, d) < HOLD_ZERO_NM ? FC_INT(0, MOMENT) : d;
+    const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(RATIO, UNIT, RATIO));
+    return fc_abs(ar, d) < HOLD_ZERO ? FC_INT(0, RATIO) : d;
 }
 
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
@@ -197,7 +218,7 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 {
     c->ar.saturated = 0u;
     if (c->ready == 0u) {
-        out->moment_nm = fc_vec3_zero();
+        out->moment = fc_vec3_16_zero();
         out->attitude_error_rad = fc_vec3_zero();
         return FC_STEP_NOT_READY;
     }
@@ -219,9 +240,9 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
     fc_vec3 moment;
     if (!q_ok || !qd_ok || !rate_valid(rate)) {
         /* hold the last good moment, decaying to zero; integrals frozen */
-        moment = fc_vec3_make(hold_decayed(ar, c->last_moment_nm.x, c->hold_decay),
-                              hold_decayed(ar, c->last_moment_nm.y, c->hold_decay),
-                              hold_decayed(ar, c->last_moment_nm.z, c->hold_decay));
+        moment = fc_vec3_make(hold_decayed(ar, c->last_moment.x, c->hold_decay),
+                              hold_decayed(ar, c->last_moment.y, c->hold_decay),
+                              hold_decayed(ar, c->last_moment.z, c->hold_decay));
         status |= FC_STEP_BAD_INPUT;
     } else {
         const fc_vec3 err = attitude_error(ar, q, qd);
@@ -234,17 +255,18 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         const fc_vec3 alpha = fc_vec3_make(angular_accel(ar, kp.x, e.x, ki.x, i.x, kd.x, rate_err.x),
                                            angular_accel(ar, kp.y, e.y, ki.y, i.y, kd.y, rate_err.y),
                                            angular_accel(ar, kp.z, e.z, ki.z, i.z, kd.z, rate_err.z));
-        /* M = J alpha + w x J w, each component one rounding; w_i w_j in GAIN (rad^2/s^2) */
+        /* m = (J alpha + w x J w) / authority, each component one rounding;
+         * w_i w_j in GAIN (rad^2/s^2) */
         const int ww_shift = FC_SHIFT(RATE, RATE, GAIN);
         const fc_vec3 ww =
             fc_vec3_make(fc_mul(ar, rate.y, rate.z, ww_shift), fc_mul(ar, rate.z, rate.x, ww_shift),
                          fc_mul(ar, rate.x, rate.y, ww_shift));
-        const fc_vec3 j = p->inertia_kgm2, dj = c->inertia_diff_kgm2;
-        const int m_shift = FC_SHIFT(INERTIA, GAIN, MOMENT);
+        const fc_vec3 j = c->inertia_norm, dj = c->inertia_diff_norm;
+        const int m_shift = FC_SHIFT(INERTIA, GAIN, RATIO);
         const fc_vec3 raw = fc_vec3_make(fc_dot2(ar, j.x, alpha.x, dj.x, ww.x, m_shift),
                                          fc_dot2(ar, j.y, alpha.y, dj.y, ww.y, m_shift),
                                          fc_dot2(ar, j.z, alpha.z, dj.z, ww.z, m_shift));
-        moment = limit_moment(ar, raw, p->moment_limit_nm);
+        moment = limit_moment(ar, raw, p->moment_limit);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
             moment = fc_vec3_zero();
@@ -269,8 +291,8 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
                                          integrate_axis(ar, i.y, e.y, dt, ki.y, lim.y, pitch_pos, pitch_neg),
                                          integrate_axis(ar, i.z, e.z, dt, ki.z, lim.z, yaw_pos, yaw_neg));
     }
-    c->last_moment_nm = moment;
-    out->moment_nm = moment;
+    c->last_moment = moment;
+    out->moment = fc_vec3_narrow16(ar, moment, FC_RATIO_FRAC, FC_NORM16_FRAC);
     out->attitude_error_rad = c->last_error_rad;
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;

@@ -702,6 +702,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         status |= passed_on(tm->altitude_status);
         thrust_n = tm->altitude.thrust_n;
     }
+    /* the thrust in the allocation's normalised units: the altitude law gives
+     * it so; the failsafe, the ramp and the hover hold set N */
+    const fc_real16 thrust = fly_reference ? tm->altitude.thrust
+                                           : fc_allocation_thrust_fraction(&ctl->allocation, thrust_n);
 
     /* attitude: setpoint from the horizontal loop (level in the failsafe and the ramp), then the moments */
     if (level) {
@@ -714,20 +718,20 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
      * the moments hold the attitude: the integrals hold their trim */
     fc_attitude_control_hold_integral(&ctl->attitude, ctl->landing.state == FC_LANDING_TOUCHDOWN ||
                                                           ctl->landing.state == FC_LANDING_DISARM);
-    fc_vec3 moment_nm = fc_vec3_zero();
+    fc_vec3_16 moment = fc_vec3_16_zero();
     if (c.rate_known) {
         const fc_attitude_control_input attitude_in = {c.attitude, tm->attitude_setpoint, c.rate_radps,
                                                        fc_vec3_zero(), ctl->last_saturation};
         fc_attitude_control_output attitude_out;
         tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
         status |= passed_on(tm->attitude_status);
-        moment_nm = attitude_out.moment_nm;
+        moment = attitude_out.moment;
     } else {
         status |= FC_STEP_DEGRADED; /* no rate: no moments (the header says why) */
     }
 
     /* allocation */
-    const fc_allocation_demand demand = {thrust_n, moment_nm};
+    const fc_allocation_demand demand = {thrust, moment};
     fc_allocation_output allocation_out;
     tm->allocation_status = fc_allocation_step(&ctl->allocation, &demand, &allocation_out);
     status |= passed_on(tm->allocation_status);
@@ -740,8 +744,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     }
     out->rotor_count = ctl->allocation.rotor_count;
     out->motors_on = true;
-    out->thrust_n = demand.thrust_n;
-    out->moment_nm = demand.moment_nm;
+    /* at the library's edge in N and N m: the thrust as set, the moments as sent */
+    fc_real sent_thrust_n;
+    fc_allocation_physical(&ctl->allocation, &demand, &sent_thrust_n, &out->moment_nm);
+    out->thrust_n = thrust_n;
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

@@ -48,24 +48,6 @@ static void thrust_range_n(const fc_allocation_params *a, fc_real *min_n, fc_rea
     }
 }
 
-/* Half of what the rotors together can give about each axis: the budget the
- * attitude loop may ask for while the collective thrust keeps the other half. */
-static fc_vec3 moment_budget_nm(const fc_allocation_params *a)
-{
-    fc_arith ar = {0u};
-    fc_vec3 sum = fc_vec3_zero();
-    for (int i = 0; i < a->rotor_count && i < FC_MAX_ROTORS; i++) {
-        const fc_rotor_params *r = &a->rotor[i];
-        /* l x d in LENGTH, times T_max: MOMENT */
-        const fc_vec3 lever = fc_vec3_cross(&ar, r->position_m, r->axis_unit, FC_SHIFT(LENGTH, UNIT, LENGTH));
-        const fc_vec3 moment = fc_vec3_scale(&ar, lever, r->thrust_max_n, FC_SHIFT(LENGTH, FORCE, MOMENT));
-        sum.x = fc_add(&ar, sum.x, fc_abs(&ar, moment.x));
-        sum.y = fc_add(&ar, sum.y, fc_abs(&ar, moment.y));
-        sum.z = fc_add(&ar, sum.z, fc_abs(&ar, r->torque_max_nm));
-    }
-    return fc_vec3_scale(&ar, sum, FC_C(0.5f, UNIT), FC_SHIFT(MOMENT, UNIT, MOMENT));
-}
-
 /* The landing mission's defaults common to every airframe (fc/landing.h, fc/pad_motion.h). */
 static void landing_common_defaults(fc_controller_params *p)
 {
@@ -269,11 +251,11 @@ static fc_vec3 airframe_defaults(fc_controller_params *p, fc_airframe airframe)
 
 /* What a gyro sample may change by (fc/attitude_estimator.h): the angular
  * acceleration all the rotors give on the roll or pitch axis (twice the
- * attitude loop's budget, over the inertia), and 0.5 rad/s of noise. */
+ * authority, over the inertia), and 0.5 rad/s of noise. */
 static void gyro_plausibility(fc_controller_params *p, fc_vec3 inertia)
 {
     fc_arith ar = {0u};
-    const fc_vec3 budget = p->attitude.moment_limit_nm;
+    const fc_vec3 budget = p->attitude.authority_nm;
     const fc_real roll = fc_div(&ar, fc_add(&ar, budget.x, budget.x), inertia.x, FC_DIV_SHIFT(MOMENT, INERTIA, GAIN));
     const fc_real pitch = fc_div(&ar, fc_add(&ar, budget.y, budget.y), inertia.y, FC_DIV_SHIFT(MOMENT, INERTIA, GAIN));
     p->estimator.gyro_accel_max_radps2 = fc_clamp(fc_max(roll, pitch), FC_INT(1, GAIN), FC_INT(30000, GAIN));
@@ -290,7 +272,9 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     p->use_external_attitude = false;
     fc_attitude_estimator_default_params(&p->estimator, dt_s);
     fc_attitude_control_default_params(&p->attitude, dt_s, inertia);
-    p->attitude.moment_limit_nm = moment_budget_nm(&p->allocation);
+    /* the normalised units of the attitude and altitude laws are the allocation's */
+    fc_real thrust_authority_n;
+    (void)fc_allocation_authority_of(&p->allocation, &thrust_authority_n, &p->attitude.authority_nm);
     gyro_plausibility(p, inertia);
     if (airframe == FC_AIRFRAME_CRAZYFLIE2) {
         attitude_crazyflie_gains(&p->attitude);
@@ -304,6 +288,7 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     p->reference.bias_m = FC_C(0.18f, LENGTH);
     fc_altitude_control_variant_params(&p->altitude, variant, dt_s, p->mass_kg);
     thrust_range_n(&p->allocation, &p->altitude.thrust_min_n, &p->altitude.thrust_max_n);
+    p->altitude.thrust_authority_n = thrust_authority_n;
     /* horizontal PID (2.6.4): wn = 1.5 rad/s, zeta = 0.9, a slow integral,
      * tilt at most 30 deg; no acceleration feedback (k_a = 0). The Crazyflie
      * (position at 100 Hz, 5-11 ms old, its attitude loop at wn = 15):
@@ -360,10 +345,25 @@ static bool one_mass(const fc_controller_params *p)
            fc_in_range(p->altitude.theta0_kg, p->altitude.mass_min_kg, p->altitude.mass_max_kg);
 }
 
+/* SPEC "Units between modules": the attitude and altitude laws' normalised
+ * units are the allocation's authorities, bit for bit (one function forms them). */
+static bool one_authority(const fc_controller_params *p)
+{
+    fc_real thrust_n;
+    fc_vec3 moment_nm;
+    if (!fc_allocation_authority_of(&p->allocation, &thrust_n, &moment_nm)) {
+        return true; /* the allocation's own init reports its parameters */
+    }
+    const fc_vec3 a = p->attitude.authority_nm;
+    return p->altitude.thrust_authority_n == thrust_n && a.x == moment_nm.x && a.y == moment_nm.y &&
+           a.z == moment_nm.z;
+}
+
 /* The parameters' agreement across modules: one step (the inner group's
  * dt, the outer group's dt outer_divider), then SPEC's "Safety contract":
  * one g, one nominal mass, and a maximum thrust of at least 1.5 x the
- * weight and at most what the rotors give (their sum, to a rounding of 1 %). */
+ * weight and at most what the rotors give (their sum, to a rounding of 1 %);
+ * and one set of normalised units. */
 fc_init_result fc_controller_params_agree(const fc_controller_params *p)
 {
     const bool divider_ok = p->outer_divider >= 1u && p->outer_divider <= FC_OUTER_DIVIDER_MAX;
@@ -394,5 +394,5 @@ fc_init_result fc_controller_params_agree(const fc_controller_params *p)
     if (p->altitude.thrust_max_n > fc_mul(&ar, rotors_max_n, FC_C(1.01f, RATIO), FC_SHIFT(FORCE, RATIO, FORCE))) {
         return FC_INIT_THRUST_ABOVE_ROTORS;
     }
-    return FC_INIT_OK;
+    return one_authority(p) ? FC_INIT_OK : FC_INIT_AUTHORITY_MISMATCH;
 }

@@ -1,10 +1,14 @@
 /*
  * fuzz_allocation: fc_allocation_step on raw fc_allocation_demand bit
- * patterns. Byte 0 picks the preset (Crazyflie 2, F450, 4 kg hexa); bit 2 of
- * it makes every rotor r != s (torque exponent 2.3: the iterated correction).
- * Then up to FUZZ_MAX_STEPS demands, then FUZZ_CLEAN_STEPS zero demands.
+ * patterns. The demand is normalised (NORM16, fc/allocation.h): in fixed four
+ * int16 values, every pattern a demand in [-2, 2) of F_max and the moment
+ * authorities (-32768 included, one below the symmetric range); in float four
+ * floats, NaN, infinities and any magnitude included. Byte 0 picks the preset
+ * (Crazyflie 2, F450, 4 kg hexa); bit 2 of it makes every rotor r != s
+ * (torque exponent 2.3: the iterated correction). Then up to FUZZ_MAX_STEPS
+ * demands, then FUZZ_CLEAN_STEPS zero demands.
  * Checks: speed[i] in [u_min,i, 1] for i < n and 0 above, rotor thrusts in
- * [0, T_max,i], achieved thrust and moments finite.
+ * [0, T_max,i], achieved thrust and moments (physical: N, N m) finite.
  */
 #include "fc/allocation.h"
 #include "fuzz_common.h"

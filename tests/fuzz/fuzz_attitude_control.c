@@ -2,21 +2,35 @@
  * fuzz_attitude_control: fc_attitude_control_step on raw
  * fc_attitude_control_input bit patterns (quaternions of any length, NaN, inf,
  * denormal rates, any saturation bits). Byte 0 picks the airframe (the
- * controller's default attitude parameters for it, whose moment limit is the
- * allocation's budget); bit 2 of it sets ki to kp so that the integrals and
- * the anti-windup run too. Then up to FUZZ_MAX_STEPS inputs, then
- * FUZZ_CLEAN_STEPS level ones. Checks: every moment finite and inside
- * +-moment_limit, the error finite.
+ * controller's default attitude parameters for it: the allocation's authority
+ * and the normalised budget); bit 2 of it sets ki to kp so that the integrals
+ * and the anti-windup run too. Then up to FUZZ_MAX_STEPS inputs, then
+ * FUZZ_CLEAN_STEPS level ones. Checks: every (normalised) moment finite and
+ * inside +-moment_limit plus its rounding to NORM16, the error finite.
  */
 #include "fc/controller.h"
 #include "fuzz_common.h"
 
+/* The bound of a normalised output moment (RATIO): the budget, which the law
+ * clamps to exactly in RATIO, plus the output's rounding to NORM16 (half an
+ * LSB, 2^-15 = 2^9 LSB of RATIO) in fixed; in float fc_real16 is float and the
+ * output is not rounded. */
+static fc_real moment_bound(fc_real limit)
+{
+#if FC_NUMERIC_FIXED
+    return limit + ((fc_real)1 << (FC_RATIO_FRAC - FC_NORM16_FRAC - 1));
+#else
+    return limit;
+#endif
+}
+
 static void check(const fc_attitude_control_params *p, const fc_attitude_control_output *out)
 {
-    FUZZ_FINITE_VEC3(out->moment_nm, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.x, p->moment_limit_nm.x, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.y, p->moment_limit_nm.y, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.z, p->moment_limit_nm.z, MOMENT);
+    FUZZ_FINITE_VEC3(out->moment, NORM16);
+    const fc_vec3 m = fc_vec3_widen16(out->moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
+    FUZZ_ABS_LE(m.x, moment_bound(p->moment_limit.x), RATIO);
+    FUZZ_ABS_LE(m.y, moment_bound(p->moment_limit.y), RATIO);
+    FUZZ_ABS_LE(m.z, moment_bound(p->moment_limit.z), RATIO);
     FUZZ_FINITE_VEC3(out->attitude_error_rad, ANGLE);
 }
 

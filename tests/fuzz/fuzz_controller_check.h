@@ -9,6 +9,16 @@
 #include "fc/controller.h"
 #include "fuzz_common.h"
 
+/* The bound of a moment in N m: its normalised limit (RATIO) times the
+ * authority (MOMENT), plus one NORM16 LSB of the authority for the rounding
+ * of the normalised moment. */
+static inline fc_real fuzz_moment_bound_nm(fc_real limit, fc_real authority_nm)
+{
+    fc_arith ar = {0u};
+    const fc_real bound = fc_add(&ar, limit, FC_C(1.0f / 16384.0f, RATIO));
+    return fc_mul(&ar, bound, authority_nm, FC_SHIFT(RATIO, MOMENT, MOMENT));
+}
+
 static inline void fuzz_check_controller(const fc_controller_params *p, const fc_controller_outputs *out)
 {
     FUZZ_CHECK(out->rotor_count <= FC_MAX_ROTORS);
@@ -30,9 +40,11 @@ static inline void fuzz_check_controller(const fc_controller_params *p, const fc
                     p->altitude.thrust_max_n, FORCE);
     }
     FUZZ_FINITE_VEC3(out->moment_nm, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.x, p->attitude.moment_limit_nm.x, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.y, p->attitude.moment_limit_nm.y, MOMENT);
-    FUZZ_ABS_LE(out->moment_nm.z, p->attitude.moment_limit_nm.z, MOMENT);
+    /* the normalised budget times the authority (the attitude law's own, which
+     * init checked is the allocation's) */
+    FUZZ_ABS_LE(out->moment_nm.x, fuzz_moment_bound_nm(p->attitude.moment_limit.x, p->attitude.authority_nm.x), MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.y, fuzz_moment_bound_nm(p->attitude.moment_limit.y, p->attitude.authority_nm.y), MOMENT);
+    FUZZ_ABS_LE(out->moment_nm.z, fuzz_moment_bound_nm(p->attitude.moment_limit.z, p->attitude.authority_nm.z), MOMENT);
 
     const fc_controller_telemetry *t = &out->telemetry;
     FUZZ_UNIT_QUAT(t->attitude);

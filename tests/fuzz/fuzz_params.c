@@ -56,6 +56,19 @@ static void run_estimator(fuzz_bytes *b, const fc_controller_params *d, uint8_t 
     }
 }
 
+/* The bound of a normalised attitude moment (RATIO): the budget, clamped to
+ * exactly in RATIO, plus the output's rounding to NORM16 (half an LSB, 2^9 LSB
+ * of RATIO) in fixed; none in float (fc_real16 is float). limit <= 1.99 once
+ * init accepted it: no overflow. */
+static fc_real attitude_moment_bound(fc_real limit)
+{
+#if FC_NUMERIC_FIXED
+    return limit + ((fc_real)1 << (FC_RATIO_FRAC - FC_NORM16_FRAC - 1));
+#else
+    return limit;
+#endif
+}
+
 static void run_attitude_control(fuzz_bytes *b, const fc_controller_params *d, uint8_t off)
 {
     fc_attitude_control_params p = d->attitude;
@@ -70,14 +83,15 @@ static void run_attitude_control(fuzz_bytes *b, const fc_controller_params *d, u
     fc_attitude_control_output out;
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
         const fc_step_status s = fc_attitude_control_step(&c, &in, &out);
-        FUZZ_FINITE_VEC3(out.moment_nm, MOMENT);
+        FUZZ_FINITE_VEC3(out.moment, NORM16);
         FUZZ_FINITE_VEC3(out.attitude_error_rad, ANGLE);
         if (r != FC_INIT_OK) {
             FUZZ_CHECK(s & FC_STEP_NOT_READY);
         } else {
-            FUZZ_ABS_LE(out.moment_nm.x, p.moment_limit_nm.x, MOMENT);
-            FUZZ_ABS_LE(out.moment_nm.y, p.moment_limit_nm.y, MOMENT);
-            FUZZ_ABS_LE(out.moment_nm.z, p.moment_limit_nm.z, MOMENT);
+            const fc_vec3 m = fc_vec3_widen16(out.moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
+            FUZZ_ABS_LE(m.x, attitude_moment_bound(p.moment_limit.x), RATIO);
+            FUZZ_ABS_LE(m.y, attitude_moment_bound(p.moment_limit.y), RATIO);
+            FUZZ_ABS_LE(m.z, attitude_moment_bound(p.moment_limit.z), RATIO);
         }
     }
 }
@@ -88,9 +102,11 @@ static void run_allocation(fuzz_bytes *b, const fc_controller_params *d, uint8_t
     overlay(b, &p, sizeof p, off);
     static fc_allocation a;
     const fc_init_result r = fc_allocation_init(&a, &p);
-    fc_allocation_demand dem;
-    dem.thrust_n = d->altitude.thrust_max_n;
-    dem.moment_nm = fc_vec3_make(FC_C(0.001f, MOMENT), FC_C(-0.002f, MOMENT), FC_C(0.0005f, MOMENT));
+    /* the altitude law's thrust limits and a small moment, in N and N m,
+     * normalised by the authorities of the accepted parameters (a zero demand
+     * when init failed: there are none) */
+    const fc_vec3 moment = fc_vec3_make(FC_C(0.001f, MOMENT), FC_C(-0.002f, MOMENT), FC_C(0.0005f, MOMENT));
+    fc_allocation_demand dem = fc_allocation_normalise(&a, d->altitude.thrust_max_n, moment);
     fc_allocation_output out;
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
         const fc_step_status s = fc_allocation_step(&a, &dem, &out);
@@ -108,7 +124,7 @@ static void run_allocation(fuzz_bytes *b, const fc_controller_params *d, uint8_t
         if (r != FC_INIT_OK) {
             FUZZ_CHECK(s & FC_STEP_NOT_READY);
         }
-        dem.thrust_n = d->altitude.thrust_min_n;
+        dem = fc_allocation_normalise(&a, d->altitude.thrust_min_n, moment);
     }
 }
 

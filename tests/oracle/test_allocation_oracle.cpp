@@ -1,6 +1,9 @@
 // test_allocation_oracle.cpp - control allocation (fc/allocation.h) against
 // Eigen: the effectiveness matrix against its definition (2.5), computed in
-// double, and the pseudo-inverse against Eigen's CompleteOrthogonalDecomposition.
+// double, the authorities and the normalised effectiveness B = N A against
+// their definitions (fc/allocation.h, "Normalised units"), computed in double
+// from that A, and the pseudo-inverse against Eigen's
+// CompleteOrthogonalDecomposition.
 //
 // Geometries: the three presets and kCases random ones (std::mt19937, fixed
 // seed): n in [4, 8] rotors at 0.05-1 m from the centre at jittered angles,
@@ -18,21 +21,52 @@
 //                   T/2 LSB of MAT once multiplied by T in N) and each product
 //                   once more: bound 1.5 + T/2 LSB. float: a few roundings of
 //                   the terms: bound 4 eps (|T| |l| + |Q| + |T|).
-//   normalised      D A vs 2^e_k A in double, row scales exact powers of two with
-//                   the row's largest entry in (0.5, 1]. fixed: T 2^e rounded once
-//                   (exact for e >= -4), l x d as above scaled by T 2^e:
-//                   bound 1.5 + T 2^e / 2 LSB. float: 4 eps (T 2^e (|l| + 1) + |Q| 2^e).
-//   pinv            P = pinv(D A) vs COD of the library's own D A (read back
+//   authority       F_max = sum_i |A_0i| (FORCE) and the moment authorities
+//                   sum_i |A_ki| / 2 (MOMENT) vs the same sums of |A| in double.
+//                   fixed, in LSB of FORCE / MOMENT: each T d_z rounded once to
+//                   FORCE (n/2 LSB); each moment entry as A above (1.5 + T/2
+//                   LSB of MOMENT, the same Q24), half their sum plus the
+//                   halving's rounding: sum_i (1.5 + T_i/2) / 2 + 1/2 LSB.
+//                   float: the entries' bounds (eps T d_z; the 4 eps (...) of
+//                   A) summed, halved for the moments, plus n eps of the sum.
+//   normalised      B = N A, N = diag(1 / F_max, 1 / authority_k) from the
+//                   double sums above: B_ki = A_ki / F_max (thrust row, which
+//                   sums to 1 in absolute value) and 2 A_ki / sum_i |A_ki|
+//                   (moment rows, sum 2). The library forms it from D A
+//                   (the row scales 2^e_k, checked to be exact powers of two
+//                   with the row's largest entry of D A in (0.5, 1]) times
+//                   rn_k = c_k / sum_i |(D A)_ki| (c_0 = 1, c_k = 2); 2^e
+//                   cancels. With e_ki the bound of (D A)_ki (fixed: T 2^e
+//                   rounded once, exact for e >= -4, l x d as above scaled by
+//                   T 2^e: 1.5 + T 2^e / 2 LSB; float: 4 eps (T 2^e (|l| + 1) +
+//                   |Q| 2^e)) and S_k = sum_i |(D A)_ki|: rn_k is within
+//                   rn_k (sum_i e_ki / S_k) plus its own rounding (fixed: 1/2
+//                   LSB of RATIO, Q24; float: the n - 1 additions of S_k and
+//                   the division, (n + 1) eps / 2 relative), and
+//                   B_ki = (D A)_ki rn_k rounded once more (1/2 LSB; eps / 2
+//                   relative): bound rn_k e_ki + |B_ki| rel(rn_k) + that rounding.
+//   pinv            P = pinv(B) vs COD of the library's own B (read back
 //                   exactly): the error of fc_mat_pinv alone, which grows with
 //                   cond^2 (normal equations): bound 2 cond^2 LSB (fixed),
 //                   4 eps cond^2 max|P| (float), as in oracle_pinv.
-//   pinv_chain      P D (the physical pseudo-inverse pinv(A), from the library)
-//                   against COD of A in double from the definition: everything
-//                   together, relative to max|pinv(A)|: bound 2e-6 cond^2
-//                   (fixed), 8 eps cond^2 (float).
-//   accept          every geometry with cond(D A) <= 30 inside the documented
-//                   range limits (row sums of |A| <= 1500 N, 100 N m) inits
-//                   OK; one beyond them gives FC_INIT_BAD_PARAM.
+//   pinv_chain      P N (the physical pseudo-inverse pinv(A) the step applies:
+//                   x = N w with the library's authorities, v = P x) against
+//                   COD of A in double from the definition: everything
+//                   together, relative to max|pinv(A)|. Column k of P N is
+//                   scaled by 1 / the library's authority k, so it carries
+//                   that authority's relative error rel(authority_k) =
+//                   |authority_k / authority_lib,k - 1| (the authority check
+//                   bounds it; in fixed it reaches 2e-5, the smallest random
+//                   vehicles' yaw authority being a few thousand LSB of
+//                   MOMENT) on top of B's and P's, which grow with cond(B)^2:
+//                   bound 2e-6 cond(B)^2 + max_k rel(authority_k) (fixed),
+//                   8 eps cond(B)^2 + the same (float).
+//   accept          every geometry inside the documented range limits (row sums
+//                   of |A| <= 1500 N, 100 N m, F_max >= 1/16 N) whose
+//                   max|pinv(B)| (double) is <= 15.9 inits OK, and none with
+//                   max|pinv(B)| >= 16.1 does (the library's rule: a P entry
+//                   above 16 is rank deficient; the margin: kPinvLimit); one
+//                   beyond the range limits gives FC_INIT_BAD_PARAM.
 //   rank            geometries built rank deficient (all rotors on one line
 //                   through the centre of mass, a coaxial stack, one spin
 //                   direction on a planar layout, n < 4) must give
@@ -52,7 +86,20 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kCondSkip = 50.0;
-constexpr double kCondMustAccept = 30.0;
+// The library rejects a geometry with an entry of P = pinv(B) above 16 as
+// rank deficient (fc/allocation.h), B = N A the matrix it inverts: a geometry
+// inside the range limits with max|pinv(B)| <= kPinvMustAccept (pinv of B in
+// double) must be accepted, and one with max|pinv(B)| >= kPinvMustReject
+// rejected. The margin of 0.1 is far above how much the library's P can
+// differ from pinv(B) in double: the pinv bound (2 cond^2 LSB, 1e-3 at cond
+// 100) plus ||P||_2^2 ||B_lib - B||_2 (16^2 x a few hundred LSB of Q24, 2e-3).
+// (Until B replaced D A this check was "every geometry with cond(D A) <= 30
+// is accepted"; with B's row sums of 1 and 2 the entries of P grew and one
+// random geometry of cond(D A) 27.3 now has max|pinv(B)| 20.5: the note of
+// the accept line counts them.)
+constexpr double kPinvLimit = 16.0;
+constexpr double kPinvMustAccept = kPinvLimit - 0.1;
+constexpr double kPinvMustReject = kPinvLimit + 0.1;
 constexpr double kPi = 3.14159265358979323846;
 
 // The quantised parameters of a vehicle, read back in double.
@@ -177,16 +224,20 @@ std::string show(const Vehicle &v)
 struct Checks {
     Check effectiveness{"alloc.effectiveness", unit_name(FC_MAT_FRAC),
                         kFixed ? "1.5 + T/2 LSB" : "4 eps (T|l| + |Q| + T)"};
-    Check normalised{"alloc.normalised", unit_name(FC_MAT_FRAC),
-                     kFixed ? "1.5 + T 2^e/2 LSB" : "4 eps 2^e (T(|l|+1) + |Q|)"};
+    Check authority{"alloc.authority", kFixed ? "LSB(Q20/Q24)" : "abs",
+                    kFixed ? "n/2; sum(1.5 + T/2)/2 + 1/2 LSB" : "sum of the entries' + n eps"};
+    Check normalised{"alloc.normalised", unit_name(FC_MAT_FRAC), "rn e + |B| rel(rn) + rounding"};
     Check pinv{"alloc.pinv", unit_name(FC_MAT_FRAC), kFixed ? "2 cond^2 LSB" : "4 eps cond^2 max|P|"};
-    Check chain{"alloc.pinv_chain", "rel", kFixed ? "2e-6 cond^2" : "8 eps cond^2"};
-    Check accept{"alloc.accept", "-", "init OK for cond <= 30"};
+    Check chain{"alloc.pinv_chain", "rel",
+                kFixed ? "2e-6 cond^2 + rel(authority)" : "8 eps cond^2 + rel(authority)"};
+    Check accept{"alloc.accept", "-", "OK iff max|pinv(B)| <= 16 (+-0.1)"};
     double worst_pinv_per_cond2 = 0.0;
     double worst_chain_per_cond2 = 0.0;
+    double worst_authority_rel = 0.0; // the largest relative authority error met (pinv_chain)
     double worst_cond = 0.0;
     long out_of_range = 0; // rejected for the documented range limits (not counted as failures)
-    long rejected_ill_conditioned = 0; // rejected with cond > 30 (allowed)
+    long rejected_ill_conditioned = 0; // rejected with max|pinv(B)| > 15.9 (allowed)
+    long rejected_cond_da_30 = 0; // of those, with cond(D A) <= 30 (the old criterion)
 };
 
 // All checks on one vehicle (a rejected one only for the accept check).
@@ -203,11 +254,28 @@ void check_vehicle(Checks &c, const Vehicle &v, const std::string &label)
         const double largest = a_double.row(k).cwiseAbs().maxCoeff();
         scale_double[k] = largest > 0.0 ? std::ldexp(1.0, -static_cast<int>(std::ceil(std::log2(largest)))) : 0.0;
     }
-    MatrixXd normalised_double = scale_double.asDiagonal() * a_double;
-    const double cond = cond_of(normalised_double);
+    // cond(D A), which the skip of the accuracy checks and the worst-cond
+    // note refer to (as before B replaced D A)
+    const double cond = cond_of(scale_double.asDiagonal() * a_double);
+    // B = N A from the authorities as fc/allocation.h defines them, from |A|:
+    // F_max = sum_i |A_0i|, sum_i |A_ki| / 2 per moment axis
+    Eigen::Vector4d authority_double;
+    authority_double[0] = a_double.row(0).cwiseAbs().sum();
+    for (int k = 1; k < 4; k++) {
+        authority_double[k] = 0.5 * a_double.row(k).cwiseAbs().sum();
+    }
+    const MatrixXd b_double = authority_double.cwiseInverse().asDiagonal() * a_double;
+    // max|pinv(B)|; infinite for a B of rank < 4 (whose COD pseudo-inverse
+    // would be finite)
+    const double cond_b = cond_of(b_double);
+    const double pinv_max =
+        cond_b < 1e12
+            ? Eigen::CompleteOrthogonalDecomposition<MatrixXd>(b_double).pseudoInverse().cwiseAbs().maxCoeff()
+            : INFINITY;
     // the documented range limits (fc/allocation.h): sum_i |A_ki| <= 1500 N
-    // (F_z) and <= 100 N m (moments); a vehicle near them may go either way
-    bool near_limits = a_double.row(0).cwiseAbs().sum() > 1490.0;
+    // (F_z) and <= 100 N m (moments), F_max >= 1/16 N; a vehicle near them
+    // may go either way (the random ones have F_max >= 0.14 N)
+    bool near_limits = a_double.row(0).cwiseAbs().sum() > 1490.0 || a_double.row(0).cwiseAbs().sum() < 0.0626;
     for (int k = 1; k < 4; k++) {
         near_limits = near_limits || a_double.row(k).cwiseAbs().sum() > 99.0;
     }
@@ -219,17 +287,24 @@ void check_vehicle(Checks &c, const Vehicle &v, const std::string &label)
                 c.accept.fail("init " + std::to_string(static_cast<int>(init)) +
                               " beyond the range limits, " + describe());
             }
-        } else if (cond > kCondMustAccept) {
+        } else if (pinv_max > kPinvMustAccept) {
             c.rejected_ill_conditioned++;
+            if (cond <= 30.0) {
+                c.rejected_cond_da_30++;
+            }
         } else {
-            c.accept.fail("init " + std::to_string(static_cast<int>(init)) + " at cond " +
-                          std::to_string(cond) + ", " + describe());
+            c.accept.fail("init " + std::to_string(static_cast<int>(init)) + " at max|pinv(B)| " +
+                          std::to_string(pinv_max) + " (cond(D A) " + std::to_string(cond) + "), " + describe());
         }
         return;
     }
     c.accept.record(0.0, 0.0, describe);
+    if (pinv_max >= kPinvMustReject) {
+        c.accept.fail("init OK with max|pinv(B)| " + std::to_string(pinv_max) + ", " + describe());
+    }
     if (!(cond <= kCondSkip)) {
         c.effectiveness.skip();
+        c.authority.skip();
         c.normalised.skip();
         c.pinv.skip();
         c.chain.skip();
@@ -261,13 +336,43 @@ void check_vehicle(Checks &c, const Vehicle &v, const std::string &label)
     }
     c.effectiveness.record(eff_err, eff_bound, describe);
 
-    // normalised matrix and its row scales
-    fc_mat n_lib;
-    fc_real scale_lib[4];
-    (void)fc_allocation_effectiveness_normalised(&a, &n_lib, scale_lib);
+    // the authorities: F_max = sum_i |A_0i|, sum_i |A_ki| / 2 per moment axis
+    const int n = v.n;
+    Eigen::Vector4d authority_lib, authority_bound;
+    authority_lib << to_double(a.thrust_max_n, FC_FORCE_FRAC), to_double(a.moment_authority_nm.x, FC_MOMENT_FRAC),
+        to_double(a.moment_authority_nm.y, FC_MOMENT_FRAC), to_double(a.moment_authority_nm.z, FC_MOMENT_FRAC);
+    {
+        double fixed_moment = 0.0, float_moment = 0.0, float_thrust = 0.0;
+        for (int i = 0; i < n; i++) {
+            fixed_moment += 1.5 + 0.5 * v.thrust[i];
+            float_moment += 4.0 * FLT_EPSILON *
+                            (v.thrust[i] * v.position[i].norm() + std::fabs(v.torque[i]) + v.thrust[i]);
+            float_thrust += FLT_EPSILON * std::fabs(a_double(0, i));
+        }
+        // fixed in LSB of FORCE (row 0) and MOMENT; float absolute
+        authority_bound[0] = kFixed ? 0.5 * n : float_thrust + n * FLT_EPSILON * authority_double[0];
+        for (int k = 1; k < 4; k++) {
+            authority_bound[k] =
+                kFixed ? 0.5 * fixed_moment + 0.5 : 0.5 * float_moment + n * FLT_EPSILON * authority_double[k];
+        }
+    }
+    // the relative error of the library's authorities, each within its bound
+    // (checked here), carried by the columns of P N (pinv_chain)
+    double authority_rel = 0.0;
+    for (int k = 0; k < 4; k++) {
+        const int frac = k == 0 ? FC_FORCE_FRAC : FC_MOMENT_FRAC;
+        const double err = error_units(authority_lib[k] - authority_double[k], frac);
+        c.authority.record(err, authority_bound[k],
+                           [&] { return "row " + std::to_string(k) + " " + describe(); });
+        authority_rel = std::max(authority_rel, std::fabs(authority_double[k] / authority_lib[k] - 1.0));
+    }
+    c.worst_authority_rel = std::max(c.worst_authority_rel, authority_rel);
+
+    // the row scales (the struct's own, fixed-point exact): 2^e with the
+    // largest entry of D A in (0.5, 1]
     Eigen::Vector4d scale;
     for (int k = 0; k < 4; k++) {
-        scale[k] = to_double(scale_lib[k], FC_GAIN_FRAC);
+        scale[k] = to_double(a.row_scale[k], FC_GAIN_FRAC);
         const double largest = (scale[k] * a_double.row(k)).cwiseAbs().maxCoeff();
         if (scale[k] != scale_double[k] &&
             !(largest > 0.5 - 1e-6 && largest <= 1.0 + 1e-6)) { // a rounding at a power of two is fine
@@ -275,44 +380,60 @@ void check_vehicle(Checks &c, const Vehicle &v, const std::string &label)
                               ", expected " + std::to_string(scale_double[k]) + ", " + describe());
         }
     }
-    normalised_double = scale.asDiagonal() * a_double;
-    const MatrixXd n_eig = to_eigen(n_lib);
-    double n_err = 0.0, n_ratio = -1.0, n_bound = 0.0;
-    for (int i = 0; i < v.n; i++) {
-        for (int k = 0; k < 4; k++) {
-            const double err = error_units(n_eig(k, i) - normalised_double(k, i), FC_MAT_FRAC);
+
+    // B = N A in double (above), against the library's
+    fc_mat b_lib;
+    if (fc_allocation_effectiveness_normalised(&a, &b_lib) != FC_MAT_OK || b_lib.rows != 4 || b_lib.cols != n) {
+        c.normalised.fail("normalised status/size, " + describe());
+        return;
+    }
+    const MatrixXd b_eig = to_eigen(b_lib);
+    const double lsb = std::ldexp(1.0, -FC_MAT_FRAC);
+    double b_err = 0.0, b_ratio = -1.0, b_bound = 0.0;
+    for (int k = 0; k < 4; k++) {
+        // e_ki, the bound of (D A)_ki (value units), and S_k = sum_i |(D A)_ki|
+        Eigen::VectorXd e(n);
+        for (int i = 0; i < n; i++) {
             const double t2e = v.thrust[i] * scale[k];
-            const double bound = kFixed ? 1.5 + 0.5 * t2e
-                                        : 4.0 * FLT_EPSILON *
-                                              (t2e * (v.position[i].norm() + 1.0) +
-                                               std::fabs(v.torque[i]) * scale[k]);
-            if (err / bound > n_ratio) {
-                n_ratio = err / bound;
-                n_err = err;
-                n_bound = bound;
+            e[i] = kFixed ? (1.5 + 0.5 * t2e) * lsb
+                          : 4.0 * FLT_EPSILON *
+                                (t2e * (v.position[i].norm() + 1.0) + std::fabs(v.torque[i]) * scale[k]);
+        }
+        const double s_k = scale[k] * a_double.row(k).cwiseAbs().sum();
+        const double rn = (k == 0 ? 1.0 : 2.0) / s_k;
+        const double rel_rn = e.sum() / s_k + (kFixed ? 0.5 * lsb / rn : 0.5 * (n + 1) * FLT_EPSILON);
+        for (int i = 0; i < n; i++) {
+            const double b = std::fabs(b_double(k, i));
+            const double bound_value = rn * e[i] + b * rel_rn + (kFixed ? 0.5 * lsb : 0.5 * FLT_EPSILON * b);
+            const double bound = kFixed ? bound_value / lsb : bound_value;
+            const double err = error_units(b_eig(k, i) - b_double(k, i), FC_MAT_FRAC);
+            if (err / bound > b_ratio) {
+                b_ratio = err / bound;
+                b_err = err;
+                b_bound = bound;
             }
         }
     }
-    c.normalised.record(n_err, n_bound, describe);
+    c.normalised.record(b_err, b_bound, describe);
 
-    // pinv of the library's own D A
+    // pinv of the library's own B
     fc_mat p_lib;
     (void)fc_allocation_pinv_normalised(&a, &p_lib);
     const MatrixXd p_eig = to_eigen(p_lib);
-    const double cond_lib = cond_of(n_eig);
-    const MatrixXd p_want = Eigen::CompleteOrthogonalDecomposition<MatrixXd>(n_eig).pseudoInverse();
+    const double cond_lib = cond_of(b_eig);
+    const MatrixXd p_want = Eigen::CompleteOrthogonalDecomposition<MatrixXd>(b_eig).pseudoInverse();
     const double p_scale = kFixed ? 1.0 : p_want.cwiseAbs().maxCoeff();
     const double p_err = error_units((p_eig - p_want).cwiseAbs().maxCoeff(), FC_MAT_FRAC);
     c.worst_pinv_per_cond2 = std::max(c.worst_pinv_per_cond2, p_err / (cond_lib * cond_lib * p_scale));
     c.pinv.record(p_err, pick(2.0, 4.0 * FLT_EPSILON) * cond_lib * cond_lib * p_scale, describe);
 
-    // the whole chain: P D against pinv(A) from the definition
-    const MatrixXd chain = p_eig * scale.asDiagonal();
+    // the whole chain: P N (the library's authorities) against pinv(A) from the definition
+    const MatrixXd chain = p_eig * authority_lib.cwiseInverse().asDiagonal();
     const MatrixXd chain_want = Eigen::CompleteOrthogonalDecomposition<MatrixXd>(a_double).pseudoInverse();
     const double chain_err =
         (chain - chain_want).cwiseAbs().maxCoeff() / chain_want.cwiseAbs().maxCoeff();
-    c.worst_chain_per_cond2 = std::max(c.worst_chain_per_cond2, chain_err / (cond * cond));
-    c.chain.record(chain_err, pick(2e-6, 8.0 * FLT_EPSILON) * cond * cond, describe);
+    c.worst_chain_per_cond2 = std::max(c.worst_chain_per_cond2, (chain_err - authority_rel) / (cond_b * cond_b));
+    c.chain.record(chain_err, pick(2e-6, 8.0 * FLT_EPSILON) * cond_b * cond_b + authority_rel, describe);
 }
 
 bool run_accuracy()
@@ -332,12 +453,16 @@ bool run_accuracy()
                   kFixed ? c.worst_pinv_per_cond2 : c.worst_pinv_per_cond2 / FLT_EPSILON, kFixed ? " LSB" : " eps",
                   c.worst_cond);
     c.pinv.set_note(note);
-    std::snprintf(note, sizeof note, "worst rel err/cond^2 %.3g", c.worst_chain_per_cond2);
+    std::snprintf(note, sizeof note, "worst (rel err - rel(authority))/cond^2 %.3g, largest rel(authority) %.3g",
+                  c.worst_chain_per_cond2, c.worst_authority_rel);
     c.chain.set_note(note);
-    std::snprintf(note, sizeof note, "rejected: %ld beyond the range limits, %ld with cond > %.0f",
-                  c.out_of_range, c.rejected_ill_conditioned, kCondMustAccept);
+    std::snprintf(note, sizeof note,
+                  "rejected: %ld beyond the range limits, %ld with max|pinv(B)| > %.1f "
+                  "(%ld of them cond(D A) <= 30)",
+                  c.out_of_range, c.rejected_ill_conditioned, kPinvMustAccept, c.rejected_cond_da_30);
     c.accept.set_note(note);
     bool ok = c.effectiveness.summary();
+    ok &= c.authority.summary();
     ok &= c.normalised.summary();
     ok &= c.pinv.summary();
     ok &= c.chain.summary();

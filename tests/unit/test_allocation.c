@@ -1,19 +1,31 @@
 /*
  * test_allocation.c - control allocation (fc/allocation.h), both backends.
  *
+ * The demand is normalised (NORM16: thrust / F_max, moment / authority,
+ * fc/allocation.h); the achieved wrench (the forward model of the allocated
+ * speeds, out->thrust_n and out->moment_nm) is physical. A demand written in N
+ * and N m goes through fc_allocation_normalise (demand_make), which rounds it
+ * to NORM16 (an LSB is 2^-14 of the authority: 4.8e-7 N m of the Crazyflie's
+ * roll, 8 LSB of MOMENT; 7.2e-4 N m of the hexa's, 12 000 LSB, far beyond the
+ * round-trip bounds). What the achieved wrench is compared with is the
+ * physical value of the demand actually passed (fc_allocation_physical of the
+ * quantised demand: demanded()), so that rounding is not counted as
+ * allocation error, and no tolerance below grows with it (the quad's
+ * speed recovery carries the rounding into its reference speeds instead).
+ *
  * Round trips: a feasible demand is made by the library's own forward model
- * from random speeds (xorshift32, fixed seed), allocated, and the achieved
- * wrench (the forward model of the allocated speeds, out->thrust_n and
- * out->moment_nm) compared with it. Tolerances:
+ * from random speeds (xorshift32, fixed seed), normalised, allocated, and the
+ * achieved wrench compared with the physical value of that demand. Tolerances:
  *   fixed  in LSB of the output format (FORCE 2^-20 N, MOMENT 2^-24 N m);
- *   float  relative to the axis' authority sum_i |A_ki| (the most all rotors
- *          together give on that axis).
+ *   float  relative to the axis' sum_i |A_ki| (the most all rotors together
+ *          give on that axis: F_max for F_z, twice the authority for a moment).
  */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <float.h>
 #include <math.h>
 #include <cmocka.h>
 
@@ -22,6 +34,7 @@
 /* ---- helpers ----------------------------------------------------------- */
 
 #define FIXED (FC_NUMERIC_FIXED != 0)
+#define EPS ((double)FLT_EPSILON)
 
 static float to_f(fc_real x, int frac)
 {
@@ -31,6 +44,17 @@ static float to_f(fc_real x, int frac)
 static fc_real from_f(float x, int frac)
 {
     return fc_from_float(x, frac);
+}
+
+/* The exact value of a backend number (fc_to_float rounds a 31-bit Q-value). */
+static double exact(fc_real x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    return ldexp((double)x, -frac);
+#else
+    (void)frac;
+    return (double)x;
+#endif
 }
 
 static uint32_t rng_state = 0x2545F491u;
@@ -55,13 +79,35 @@ static const preset_fn presets[] = {fc_allocation_preset_crazyflie2, fc_allocati
 static const char *const preset_names[] = {"crazyflie2", "f450", "hexa_x_4kg"};
 #define PRESET_COUNT 3
 
-static fc_allocation_demand demand_make(float thrust_n, float mx, float my, float mz)
+/* A normalised value (NORM16) from a float, rounded to nearest; and back, exactly. */
+static fc_real16 norm16(float x)
+{
+    fc_arith ar = {0u};
+    return fc_narrow16(&ar, from_f(x, FC_RATIO_FRAC), FC_RATIO_FRAC, FC_NORM16_FRAC);
+}
+
+static float norm_value(fc_real16 x)
+{
+    return to_f(fc_widen16(x, FC_NORM16_FRAC, FC_RATIO_FRAC), FC_RATIO_FRAC);
+}
+
+/* A demand given in normalised units (fractions of F_max and of the authorities). */
+static fc_allocation_demand demand_norm(float thrust, float mx, float my, float mz)
 {
     fc_allocation_demand d;
-    d.thrust_n = from_f(thrust_n, FC_FORCE_FRAC);
-    d.moment_nm = fc_vec3_make(from_f(mx, FC_MOMENT_FRAC), from_f(my, FC_MOMENT_FRAC),
-                               from_f(mz, FC_MOMENT_FRAC));
+    d.thrust = norm16(thrust);
+    d.moment.x = norm16(mx);
+    d.moment.y = norm16(my);
+    d.moment.z = norm16(mz);
     return d;
+}
+
+/* A demand in N and N m, normalised by a's authorities (fc_allocation_normalise). */
+static fc_allocation_demand demand_make(const fc_allocation *a, float thrust_n, float mx, float my, float mz)
+{
+    return fc_allocation_normalise(a, from_f(thrust_n, FC_FORCE_FRAC),
+                                   fc_vec3_make(from_f(mx, FC_MOMENT_FRAC), from_f(my, FC_MOMENT_FRAC),
+                                                from_f(mz, FC_MOMENT_FRAC)));
 }
 
 /* Row k of a wrench [F_z; M_x; M_y; M_z] in N or N m. */
@@ -84,9 +130,13 @@ static float achieved(const fc_allocation_output *out, int row)
     return wrench_row(out->thrust_n, out->moment_nm, row);
 }
 
-static float demanded(const fc_allocation_demand *d, int row)
+/* Row k of the physical value of the demand as passed (quantised to NORM16). */
+static float demanded(const fc_allocation *a, const fc_allocation_demand *d, int row)
 {
-    return wrench_row(d->thrust_n, d->moment_nm, row);
+    fc_real thrust_n;
+    fc_vec3 moment_nm;
+    fc_allocation_physical(a, d, &thrust_n, &moment_nm);
+    return wrench_row(thrust_n, moment_nm, row);
 }
 
 static float row_lsb(int row)
@@ -94,36 +144,53 @@ static float row_lsb(int row)
     return row == 0 ? 1.0f / 1048576.0f : 1.0f / 16777216.0f;
 }
 
-/* sum_i |A_ki| in N or N m */
-static float authority(const fc_allocation *a, int row)
+/* What a normalised 1 stands for on row k: F_max (FORCE) or the moment
+ * authority (MOMENT), as the allocation holds it. */
+static fc_real authority_of_row(const fc_allocation *a, int row)
 {
-    const int frac = row == 0 ? FC_FORCE_FRAC : FC_MOMENT_FRAC;
-    return to_f(a->demand_limit[row], frac);
+    switch (row) {
+    case 0:
+        return a->thrust_max_n;
+    case 1:
+        return a->moment_authority_nm.x;
+    case 2:
+        return a->moment_authority_nm.y;
+    default:
+        return a->moment_authority_nm.z;
+    }
 }
 
-/* |error| in the unit of the bounds: LSB in fixed, relative to the authority in float */
+/* sum_i |A_ki| in N or N m: F_max for F_z, twice the authority for a moment
+ * (fc/allocation.h; in fixed within 1 LSB of the sum, the halving's rounding) */
+static float row_abs_sum(const fc_allocation *a, int row)
+{
+    return row == 0 ? to_f(a->thrust_max_n, FC_FORCE_FRAC)
+                    : 2.0f * to_f(authority_of_row(a, row), FC_MOMENT_FRAC);
+}
+
+/* |error| in the unit of the bounds: LSB in fixed, relative to sum_i |A_ki| in float */
 static float error_units(const fc_allocation *a, int row, float error)
 {
-    return FIXED ? fabsf(error) / row_lsb(row) : fabsf(error) / authority(a, row);
+    return FIXED ? fabsf(error) / row_lsb(row) : fabsf(error) / row_abs_sum(a, row);
 }
 
 /* Fixed: the speed of a rotor with r = 2 is v's root to 16 bits
  * (fc_sqrt_unit16, within 2^-17), so the rotor's v = u^2 is met within 2^-16
- * and the wrench within 2^-16 of the authority: in N or N m. */
+ * and the wrench within 2^-16 of sum_i |A_ki|: in N or N m. */
 static float speed_rounding(const fc_allocation *a, int row)
 {
-    return FIXED ? authority(a, row) * (1.0f / 65536.0f) : 0.0f;
+    return FIXED ? row_abs_sum(a, row) * (1.0f / 65536.0f) : 0.0f;
 }
 
 /* The bound of a round trip in the unit of error_units: fixed 8 LSB of the
  * output plus 4 LSB of v (RATIO, 2^-24) on every rotor, i.e. 4 2^-24 times the
- * authority (the allocation resolves v, not the wrench: a 4 kg hexa's 23 N m
- * of roll authority makes that 6 LSB of MOMENT per LSB of v), plus the
+ * sum_i |A_ki| (the allocation resolves v, not the wrench: a 4 kg hexa's
+ * 23 N m of sum_i |A_1i| makes that 6 LSB of MOMENT per LSB of v), plus the
  * speeds' 16-bit roots (speed_rounding); float relative. */
 static float round_trip_bound(const fc_allocation *a, int row, float float_rel)
 {
     if (FIXED) {
-        return 8.0f + (4.0f * authority(a, row) * (1.0f / 16777216.0f) + speed_rounding(a, row)) / row_lsb(row);
+        return 8.0f + (4.0f * row_abs_sum(a, row) * (1.0f / 16777216.0f) + speed_rounding(a, row)) / row_lsb(row);
     }
     return float_rel;
 }
@@ -161,9 +228,10 @@ static void random_speeds(const fc_allocation_params *p, float spread, fc_real *
 
 static fc_allocation_demand demand_of_speeds(fc_allocation *a, const fc_real *speed)
 {
-    fc_allocation_demand d;
-    fc_allocation_forward(a, speed, &d.thrust_n, &d.moment_nm);
-    return d;
+    fc_real thrust_n;
+    fc_vec3 moment_nm;
+    fc_allocation_forward(a, speed, &thrust_n, &moment_nm);
+    return fc_allocation_normalise(a, thrust_n, moment_nm);
 }
 
 /* ---- init --------------------------------------------------------------- */
@@ -177,9 +245,10 @@ static void test_presets_init(void **state)
         presets[k](&p);
         assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
         assert_int_equal(a.ready, 1);
-        /* hover: every rotor at the same speed, nothing saturated */
-        const float hover_n = 0.5f * authority(&a, 0);
-        const fc_allocation_demand d = demand_make(hover_n, 0.0f, 0.0f, 0.0f);
+        /* hover at half of F_max: every rotor at the same speed, nothing saturated */
+        const fc_allocation_demand d = demand_norm(0.5f, 0.0f, 0.0f, 0.0f);
+        const float hover_n = demanded(&a, &d, 0);
+        assert_true(fabsf(hover_n - 0.5f * row_abs_sum(&a, 0)) <= (FIXED ? row_lsb(0) : 1e-7f * hover_n));
         fc_allocation_output out;
         assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
         assert_int_equal(out.saturation, 0);
@@ -217,17 +286,39 @@ static void test_crazyflie_effectiveness(void **state)
         }
     }
     /* row scales: powers of two with the largest entry of D A in (0.5, 1] */
-    fc_real scale[4];
-    fc_mat n;
-    assert_int_equal(fc_allocation_effectiveness_normalised(&a, &n, scale), FC_MAT_OK);
     const float expect_scale[4] = {8.0f, 256.0f, 256.0f, 1024.0f};
     for (int k = 0; k < 4; k++) {
-        assert_true(to_f(scale[k], FC_GAIN_FRAC) == expect_scale[k]);
+        assert_true(to_f(a.row_scale[k], FC_GAIN_FRAC) == expect_scale[k]);
         float largest = 0.0f;
         for (int i = 0; i < 4; i++) {
-            largest = fmaxf(largest, fabsf(to_f(n.a[k][i], FC_MAT_FRAC)));
+            largest = fmaxf(largest, fabsf(want[k][i]) * expect_scale[k]);
         }
         assert_true(largest > 0.5f && largest <= 1.0f);
+    }
+    /* B = N A: a symmetric quad's entries all share their row's magnitude, so
+     * the thrust row is 1/4 (absolute sum 1) and the moment rows 1/2 (sum 2),
+     * with the signs of A. Fixed: the entries of a row of D A are equal in
+     * magnitude (the preset's coordinates are +-the same value), so
+     * B = round(|DA| round(c / (4 |DA|))) is c/4 within |DA| 0.5 LSB (the
+     * RATIO rounding of the row's 1/sum, |DA| <= 1) + 0.5 LSB (the product in
+     * MAT): 1 LSB. Float: the sum (3 |DA| may round), the division and the
+     * product: 3 eps of the entry, 4 eps allowed. */
+    fc_mat n;
+    assert_int_equal(fc_allocation_effectiveness_normalised(&a, &n), FC_MAT_OK);
+    assert_int_equal(n.rows, 4);
+    assert_int_equal(n.cols, 4);
+    for (int k = 0; k < 4; k++) {
+        const float size = k == 0 ? 0.25f : 0.5f;
+        const float entry_tol = FIXED ? 1.0f / 16777216.0f : 4.0f * FLT_EPSILON * size;
+        double row_sum = 0.0; /* exact in double */
+        for (int i = 0; i < 4; i++) {
+            const float b = to_f(n.a[k][i], FC_MAT_FRAC);
+            const float expect = want[k][i] > 0.0f ? size : -size;
+            assert_true(fabsf(b - expect) <= entry_tol);
+            row_sum += fabs((double)b);
+        }
+        /* the absolute sums 1 (thrust) and 2 (moments): four entries' bounds */
+        assert_true(fabs(row_sum - 4.0 * (double)size) <= 4.0 * (double)entry_tol);
     }
 }
 
@@ -274,9 +365,9 @@ static void test_rank_deficient(void **state)
                                              from_f(0.05f * (float)i - 0.1f, FC_LENGTH_FRAC));
     }
     assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_RANK_DEFICIENT);
-    /* not ready: motors stopped */
+    /* not ready: motors stopped (whatever the demand: half of F_max here) */
     fc_allocation_output out;
-    const fc_allocation_demand d = demand_make(10.0f, 0.0f, 0.0f, 0.0f);
+    const fc_allocation_demand d = demand_norm(0.5f, 0.0f, 0.0f, 0.0f);
     assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_NOT_READY);
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         assert_true(out.speed[i] == FC_INT(0, UNIT));
@@ -292,7 +383,7 @@ static void expect_bad(const fc_allocation_params *p)
     assert_int_equal(fc_allocation_init(&a, p), FC_INIT_BAD_PARAM);
     assert_int_equal(a.ready, 0);
     fc_allocation_output out;
-    const fc_allocation_demand d = demand_make(1.0f, 0.0f, 0.0f, 0.0f);
+    const fc_allocation_demand d = demand_norm(0.5f, 0.0f, 0.0f, 0.0f);
     assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_NOT_READY);
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         assert_true(out.speed[i] == FC_INT(0, UNIT));
@@ -353,6 +444,17 @@ static void test_bad_params(void **state)
     p = good;
     p.rotor[0].position_m.x = FC_C(20.0f, LENGTH);
     expect_bad(&p);
+    /* F_max below 1/16 N (1 / F_max must fit PER_FORCE): four 0.0155 N rotors
+     * give 0.062 N; four 0.016 N rotors, 0.064 N, are fine */
+    fc_allocation_preset_crazyflie2(&p);
+    for (int i = 0; i < 4; i++) {
+        p.rotor[i].thrust_max_n = FC_C(0.0155f, FORCE);
+    }
+    expect_bad(&p);
+    for (int i = 0; i < 4; i++) {
+        p.rotor[i].thrust_max_n = FC_C(0.016f, FORCE);
+    }
+    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
     /* exponents at the edges of (0.5, 4] are fine */
     p = good;
     p.rotor[0].thrust_exponent = FC_C(4.0f, RATIO);
@@ -402,7 +504,7 @@ static void round_trip(const fc_allocation_params *p, int cases, float spread, b
             (*saturated_steps)++;
         }
         for (int k = 0; k < 4; k++) {
-            worst[k] = fmaxf(worst[k], error_units(&a, k, achieved(&out, k) - demanded(&d, k)));
+            worst[k] = fmaxf(worst[k], error_units(&a, k, achieved(&out, k) - demanded(&a, &d, k)));
         }
     }
     for (int k = 0; k < 4; k++) {
@@ -414,10 +516,10 @@ static void test_round_trip_r_equals_s(void **state)
 {
     (void)state;
     /* measured (fixed, LSB of F_z/M_x/M_y/M_z; the speeds' 16-bit roots
-     * dominate): crazyflie 6/3/3/1, f450 328/903/832/100, hexa
-     * 712/3330/3420/168 (bounds 16/12/12/8.9, 528/1330/1330/141,
-     * 1280/6130/5310/334, i.e. 2^-16 of the authority and a few LSB);
-     * float, relative to the authority: below 2e-7 (bound 1e-6) */
+     * dominate): crazyflie 6/3/3/2, f450 342/825/891/93, hexa
+     * 664/3800/3210/177 (bounds 16/12/12/8.9, 528/1330/1330/141,
+     * 1280/6130/5310/334, i.e. 2^-16 of sum_i |A_ki| and a few LSB);
+     * float, relative to sum_i |A_ki|: below 2e-7 (bound 1e-6) */
     rng_seed(0x0A110C01u);
     for (int k = 0; k < PRESET_COUNT; k++) {
         fc_allocation_params p;
@@ -469,24 +571,53 @@ static void test_round_trip_other_exponents(void **state)
 static void test_round_trip_quad_speeds_unique(void **state)
 {
     (void)state;
-    /* a quad's A is square: the allocation must return the speeds that made the demand */
+    /* a quad's A is square: the allocation must return the speeds that made
+     * the demand. The demand passed is the generating wrench rounded to NORM16
+     * (up to 2^-15 per axis; through P, |P_i0| = 1 and |P_ik| = 1/2, that moves
+     * v by up to 7.6e-5 and u by up to 1.4e-4 at the lowest speed drawn, 7x
+     * the bound): the speeds that make the demand passed are the generating
+     * ones moved by P times that rounding, v = u_gen^2 + P (x - w / authority).
+     * P is the library's (fc_allocation_pinv_normalised), used only to carry
+     * the rounding: its own error, 1e-7 relative, is 1e-11 of v there. */
     rng_seed(0x0A110C02u);
     fc_allocation_params p;
     fc_allocation a;
     fc_allocation_preset_f450(&p);
     assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+    fc_mat pinv;
+    assert_int_equal(fc_allocation_pinv_normalised(&a, &pinv), FC_MAT_OK);
     float worst = 0.0f;
+    double worst_shift = 0.0;
     for (int c = 0; c < 1000; c++) {
         fc_real speed[FC_MAX_ROTORS];
         random_speeds(&p, 0.9f, speed);
-        const fc_allocation_demand d = demand_of_speeds(&a, speed);
+        fc_real thrust_n;
+        fc_vec3 moment_nm;
+        fc_allocation_forward(&a, speed, &thrust_n, &moment_nm);
+        const fc_allocation_demand d = fc_allocation_normalise(&a, thrust_n, moment_nm);
+        const fc_real w[4] = {thrust_n, moment_nm.x, moment_nm.y, moment_nm.z};
+        const fc_real16 x[4] = {d.thrust, d.moment.x, d.moment.y, d.moment.z};
+        double rounding[4];
+        for (int k = 0; k < 4; k++) {
+            const int frac = k == 0 ? FC_FORCE_FRAC : FC_MOMENT_FRAC;
+            rounding[k] = (double)norm_value(x[k]) - exact(w[k], frac) / exact(authority_of_row(&a, k), frac);
+        }
         fc_allocation_output out;
         (void)fc_allocation_step(&a, &d, &out);
         for (int i = 0; i < 4; i++) {
-            worst = fmaxf(worst, fabsf(to_f(out.speed[i], FC_UNIT_FRAC) - to_f(speed[i], FC_UNIT_FRAC)));
+            const double u_gen = exact(speed[i], FC_UNIT_FRAC);
+            double v = u_gen * u_gen;
+            for (int k = 0; k < 4; k++) {
+                v += exact(pinv.a[i][k], FC_MAT_FRAC) * rounding[k];
+            }
+            const double u_want = sqrt(v);
+            worst_shift = fmax(worst_shift, fabs(u_want - u_gen));
+            worst = fmaxf(worst, (float)fabs(exact(out.speed[i], FC_UNIT_FRAC) - u_want));
         }
     }
-    print_message("quad speeds recovered: worst |u - u_gen| %.3g\n", (double)worst);
+    print_message("quad speeds recovered: worst |u - u_want| %.3g (the NORM16 rounding moved u_gen by up to "
+                  "%.3g)\n",
+                  (double)worst, worst_shift);
     assert_true(worst <= (FIXED ? 2e-5f : 2e-6f));
 }
 
@@ -532,7 +663,7 @@ static void test_round_trip_tilted(void **state)
     fc_allocation a;
     assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
     fc_allocation_output out;
-    const fc_allocation_demand d = demand_make(40.0f, 0.0f, -3.0f, 0.0f);
+    const fc_allocation_demand d = demand_make(&a, 40.0f, 0.0f, -3.0f, 0.0f);
     assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
     fc_vec3 force, moment;
     fc_allocation_forward_wrench(&a, out.speed, &force, &moment);
@@ -592,7 +723,7 @@ static void r_not_s_case(float r_exp, float s_exp, const float *bound_yaw)
                 yaw_authority += fabsf(to_f(p.rotor[i].torque_max_nm, FC_MOMENT_FRAC));
             }
             /* back from the error unit to N m, then relative to sum |Q_max| */
-            const float yaw_nm = FIXED ? worst[3] * row_lsb(3) : worst[3] * authority(&a, 3);
+            const float yaw_nm = FIXED ? worst[3] * row_lsb(3) : worst[3] * row_abs_sum(&a, 3);
             const float yaw_rel = yaw_nm / yaw_authority;
             /* fixed: nothing below 4 LSB of MOMENT, nor below the speeds'
              * 16-bit roots (r = 2: u within 2^-17, Q_max u^s within s 2^-17 Q_max) */
@@ -649,12 +780,12 @@ static void test_r_not_s_warm_start(void **state)
     for (int step = 0; step < 1000; step++) {
         const float phase = 6.2831853f * (float)step / 500.0f;
         const fc_allocation_demand d =
-            demand_make(16.0f + 3.0f * sinf(phase), 0.3f * sinf(phase), 0.2f * cosf(phase),
+            demand_make(&a, 16.0f + 3.0f * sinf(phase), 0.3f * sinf(phase), 0.2f * cosf(phase),
                         0.15f * sinf(0.5f * phase));
         fc_allocation_output out;
         assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_OK);
         if (step >= 10) {
-            worst = fmaxf(worst, fabsf(achieved(&out, 3) - demanded(&d, 3)));
+            worst = fmaxf(worst, fabsf(achieved(&out, 3) - demanded(&a, &d, 3)));
         }
     }
     const float rel = worst / (4.0f * 0.128f);
@@ -666,16 +797,30 @@ static void test_r_not_s_warm_start(void **state)
 
 /* ---- saturation priorities ---------------------------------------------- */
 
-static void step_crazyflie(const fc_allocation_demand *d, fc_allocation_output *out,
+/* A fresh Crazyflie allocation: the demands are normalised by its authorities. */
+static void crazyflie(fc_allocation *a, fc_allocation_params *p)
+{
+    fc_allocation_preset_crazyflie2(p);
+    assert_int_equal(fc_allocation_init(a, p), FC_INIT_OK);
+}
+
+/* One step of a freshly initialised Crazyflie allocation. */
+static void step_crazyflie(fc_allocation *a, const fc_allocation_demand *d, fc_allocation_output *out,
                            fc_step_status *status)
 {
     fc_allocation_params p;
-    fc_allocation a;
-    fc_allocation_preset_crazyflie2(&p);
-    assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
-    *status = fc_allocation_step(&a, d, out);
+    crazyflie(a, &p);
+    *status = fc_allocation_step(a, d, out);
     assert_outputs_valid(&p, out);
     assert_int_equal(*status & FC_STEP_ARITH_SATURATED, 0);
+}
+
+/* The demand is inside NORM16's +-1.99 (not clamped by fc_allocation_normalise),
+ * so what the step gives up is the allocation's doing. */
+static void assert_not_clamped(const fc_allocation_demand *d)
+{
+    assert_true(fabsf(norm_value(d->thrust)) < 1.98f && fabsf(norm_value(d->moment.x)) < 1.98f &&
+                fabsf(norm_value(d->moment.y)) < 1.98f && fabsf(norm_value(d->moment.z)) < 1.98f);
 }
 
 /* some rotor at a bound: the axis that gave way gave no more than it had to */
@@ -698,29 +843,34 @@ static float kept_tolerance(int row)
 static void test_saturation_yaw(void **state)
 {
     (void)state;
+    fc_allocation a;
+    fc_allocation_params p;
+    crazyflie(&a, &p);
     /* Crazyflie at 0.3 N with a small roll: about 1.3e-3 N m of yaw is possible */
-    const fc_allocation_demand d = demand_make(0.3f, 0.001f, -0.0005f, 0.003f);
+    const fc_allocation_demand d = demand_make(&a, 0.3f, 0.001f, -0.0005f, 0.003f);
+    assert_not_clamped(&d);
     fc_allocation_output out;
     fc_step_status status;
-    step_crazyflie(&d, &out, &status);
+    step_crazyflie(&a, &d, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
     assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
     for (int r = 0; r < 3; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&d, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &d, r)) <= kept_tolerance(r));
     }
     assert_true(achieved(&out, 3) > 0.0005f && achieved(&out, 3) < 0.003f);
     assert_true(some_rotor_at_bound(&out));
     /* near full thrust: yaw gives way before the thrust does */
-    const fc_allocation_demand top = demand_make(0.46f, 0.0f, 0.0f, 0.001f);
-    step_crazyflie(&top, &out, &status);
+    const fc_allocation_demand top = demand_make(&a, 0.46f, 0.0f, 0.0f, 0.001f);
+    step_crazyflie(&a, &top, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
     for (int r = 0; r < 3; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&top, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &top, r)) <= kept_tolerance(r));
     }
     assert_true(achieved(&out, 3) > 0.0f && achieved(&out, 3) < 0.001f);
-    /* the other way */
-    const fc_allocation_demand d2 = demand_make(0.3f, 0.0f, 0.0f, -0.01f);
-    step_crazyflie(&d2, &out, &status);
+    /* the other way (-0.003 N m: -1.79 of the yaw authority) */
+    const fc_allocation_demand d2 = demand_make(&a, 0.3f, 0.0f, 0.0f, -0.003f);
+    assert_not_clamped(&d2);
+    step_crazyflie(&a, &d2, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_YAW_NEG);
     assert_true(achieved(&out, 3) < -0.0005f);
 }
@@ -728,30 +878,34 @@ static void test_saturation_yaw(void **state)
 static void test_saturation_thrust(void **state)
 {
     (void)state;
-    /* more than 4 x 0.12 N: thrust down to what fits, the moments kept */
-    const fc_allocation_demand high = demand_make(0.7f, 0.0005f, -0.0007f, 0.0f);
+    fc_allocation a;
+    fc_allocation_params p;
+    crazyflie(&a, &p);
+    /* more than 4 x 0.12 N (1.46 F_max): thrust down to what fits, the moments kept */
+    const fc_allocation_demand high = demand_make(&a, 0.7f, 0.0005f, -0.0007f, 0.0f);
+    assert_not_clamped(&high);
     fc_allocation_output out;
     fc_step_status status;
-    step_crazyflie(&high, &out, &status);
+    step_crazyflie(&a, &high, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_THRUST_HIGH);
     assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
     assert_true(achieved(&out, 0) < 0.48f && achieved(&out, 0) > 0.4f);
     for (int r = 1; r < 4; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&high, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &high, r)) <= kept_tolerance(r));
     }
     assert_true(some_rotor_at_bound(&out));
     /* within the thrust range but not with this moment: the thrust shifts down */
-    const fc_allocation_demand near_top = demand_make(0.46f, 0.002f, 0.0f, 0.0f);
-    step_crazyflie(&near_top, &out, &status);
+    const fc_allocation_demand near_top = demand_make(&a, 0.46f, 0.002f, 0.0f, 0.0f);
+    step_crazyflie(&a, &near_top, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_THRUST_HIGH);
-    assert_true(fabsf(achieved(&out, 1) - 0.002f) <= kept_tolerance(1));
+    assert_true(fabsf(achieved(&out, 1) - demanded(&a, &near_top, 1)) <= kept_tolerance(1));
     /* zero thrust demanded with a pitch moment: the thrust shifts up */
-    const fc_allocation_demand low = demand_make(0.0f, 0.0f, 0.001f, 0.0f);
-    step_crazyflie(&low, &out, &status);
+    const fc_allocation_demand low = demand_make(&a, 0.0f, 0.0f, 0.001f, 0.0f);
+    step_crazyflie(&a, &low, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_THRUST_LOW);
     assert_true(achieved(&out, 0) > 0.05f);
     for (int r = 1; r < 4; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&low, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &low, r)) <= kept_tolerance(r));
     }
     assert_true(some_rotor_at_bound(&out));
 }
@@ -759,32 +913,41 @@ static void test_saturation_thrust(void **state)
 static void test_saturation_roll_pitch(void **state)
 {
     (void)state;
-    /* far more roll and pitch than the Crazyflie has, with some yaw: yaw gives
-     * way entirely, the thrust moves to where roll/pitch get the most, and
-     * roll/pitch are scaled together */
-    const fc_allocation_demand d = demand_make(0.3f, 0.02f, 0.01f, 0.0005f);
+    fc_allocation a;
+    fc_allocation_params p;
+    crazyflie(&a, &p);
+    /* far more roll and pitch than the Crazyflie has (1.92 and 0.96 of the
+     * authority of 7.8e-3 N m: inside NORM16, so the direction of the demand
+     * passed is (2, 1)), with some yaw: yaw gives way entirely, the thrust
+     * moves to where roll/pitch get the most, and roll/pitch are scaled
+     * together */
+    const fc_allocation_demand d = demand_make(&a, 0.3f, 0.015f, 0.0075f, 0.0005f);
+    assert_not_clamped(&d);
     fc_allocation_output out;
     fc_step_status status;
-    step_crazyflie(&d, &out, &status);
+    step_crazyflie(&a, &d, &out, &status);
     assert_true((out.saturation & (FC_SAT_ROLL_POS | FC_SAT_PITCH_POS)) ==
                 (FC_SAT_ROLL_POS | FC_SAT_PITCH_POS));
     assert_true((out.saturation & FC_SAT_YAW_POS) != 0u);
     assert_true((out.saturation & (FC_SAT_ROLL_NEG | FC_SAT_PITCH_NEG | FC_SAT_YAW_NEG)) == 0u);
     const float mx = achieved(&out, 1), my = achieved(&out, 2);
-    assert_true(mx > 0.003f && mx < 0.02f);
-    /* direction kept: (mx, my) parallel to (0.02, 0.01) */
-    const float cross = mx * 0.01f - my * 0.02f;
-    print_message("roll/pitch saturation: achieved (%.6g, %.6g) N m, yaw %.3g N m, thrust %.4g N, "
-                  "direction error %.3g rad\n",
-                  (double)mx, (double)my, (double)achieved(&out, 3), (double)achieved(&out, 0),
-                  (double)(cross / (sqrtf(mx * mx + my * my) * 0.02236068f)));
-    assert_true(fabsf(cross) / (sqrtf(mx * mx + my * my) * 0.02236068f) <= (FIXED ? 1e-4f : 1e-5f));
+    const float dx = demanded(&a, &d, 1), dy = demanded(&a, &d, 2);
+    assert_true(mx > 0.003f && mx < dx);
+    /* direction kept: (mx, my) parallel to the demand passed (dx, dy) */
+    const float cross = mx * dy - my * dx;
+    const float sine = cross / (sqrtf(mx * mx + my * my) * sqrtf(dx * dx + dy * dy));
+    print_message("roll/pitch saturation: achieved (%.6g, %.6g) N m of (%.6g, %.6g), yaw %.3g N m, "
+                  "thrust %.4g N, direction error %.3g rad\n",
+                  (double)mx, (double)my, (double)dx, (double)dy, (double)achieved(&out, 3),
+                  (double)achieved(&out, 0), (double)sine);
+    assert_true(fabsf(sine) <= (FIXED ? 1e-4f : 1e-5f));
     assert_true(fabsf(achieved(&out, 3)) <= (FIXED ? 1e-6f : 1e-7f));
     assert_true(some_rotor_at_bound(&out));
-    /* negative roll alone: only the roll bit (pitch demand zero, thrust at the
-     * middle of the range is where roll gets the most) */
-    const fc_allocation_demand d2 = demand_make(0.2657f, -0.02f, 0.0f, 0.0f);
-    step_crazyflie(&d2, &out, &status);
+    /* negative roll alone (-1.92 of the authority): only the roll bit (pitch
+     * demand zero, thrust at the middle of the range is where roll gets the most) */
+    const fc_allocation_demand d2 = demand_make(&a, 0.2657f, -0.015f, 0.0f, 0.0f);
+    assert_not_clamped(&d2);
+    step_crazyflie(&a, &d2, &out, &status);
     assert_true((out.saturation & (FC_SAT_ROLL_NEG | FC_SAT_ROLL_POS | FC_SAT_PITCH_POS |
                                    FC_SAT_PITCH_NEG | FC_SAT_YAW_POS | FC_SAT_YAW_NEG)) ==
                 FC_SAT_ROLL_NEG);
@@ -795,22 +958,201 @@ static void test_saturation_roll_pitch(void **state)
 static void test_saturation_hexa(void **state)
 {
     (void)state;
-    /* the same priorities on six rotors: too much yaw at hover */
+    /* the same priorities on six rotors: too much yaw at hover (1.2 N m, 1.91
+     * of the yaw authority of 0.628 N m) */
     fc_allocation_params p;
     fc_allocation a;
     fc_allocation_preset_hexa_x_4kg(&p);
     assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
-    const fc_allocation_demand d = demand_make(39.24f, 2.0f, 1.0f, 5.0f);
+    const fc_allocation_demand d = demand_make(&a, 39.24f, 2.0f, 1.0f, 1.2f);
+    assert_not_clamped(&d);
     fc_allocation_output out;
     const fc_step_status status = fc_allocation_step(&a, &d, &out);
     assert_outputs_valid(&p, &out);
     assert_int_equal(status, FC_STEP_OUTPUT_LIMITED);
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
     for (int r = 0; r < 3; r++) {
-        assert_true(error_units(&a, r, achieved(&out, r) - demanded(&d, r)) <=
+        assert_true(error_units(&a, r, achieved(&out, r) - demanded(&a, &d, r)) <=
                     round_trip_bound(&a, r, 1e-6f));
     }
-    assert_true(achieved(&out, 3) > 0.1f && achieved(&out, 3) < 5.0f);
+    assert_true(achieved(&out, 3) > 0.1f && achieved(&out, 3) < 1.2f);
+}
+
+/* ---- normalised units ---------------------------------------------------- */
+
+/* |got - want| <= tol, printed on failure */
+static void assert_near(const char *what, double got, double want, double tol)
+{
+    if (!(fabs(got - want) <= tol)) {
+        fail_msg("%s = %.9g, expected %.9g (error %.3g > %.3g)", what, got, want, fabs(got - want), tol);
+    }
+}
+
+static void test_preset_authorities(void **state)
+{
+    (void)state;
+    /* F_max = n T_max and the moment authorities sum_i |A_ki| / 2 by hand:
+     * a quad-X at +-h = arm / sqrt 2 on x and y has |A_1i| = |A_2i| = T h and
+     * |A_3i| = |Q_max|; the hexa's rotors at 0.45 m and -30, 30, ..., 270 deg
+     * have sum |y| = 0.45 (4 sin 30 + 2) = 1.8 m and sum |x| = 0.45 4 cos 30. */
+    const double cf_h = 0.046 / sqrt(2.0), f450_h = 0.225 / sqrt(2.0);
+    const double hexa_y = 0.45 * (4.0 * 0.5 + 2.0), hexa_x = 0.45 * 4.0 * sqrt(3.0) / 2.0;
+    const double want[PRESET_COUNT][4] = {
+        {4.0 * 0.12, 4.0 * 0.12 * cf_h / 2.0, 4.0 * 0.12 * cf_h / 2.0, 4.0 * 0.12 * 0.00699 / 2.0},
+        {4.0 * 8.0, 4.0 * 8.0 * f450_h / 2.0, 4.0 * 8.0 * f450_h / 2.0, 4.0 * 8.0 * 0.016 / 2.0},
+        {6.0 * 13.08, 13.08 * hexa_y / 2.0, 13.08 * hexa_x / 2.0, 6.0 * 13.08 * 0.016 / 2.0}};
+    /* the presets' largest T_max and arm coordinate, for the tolerance */
+    const double thrust[PRESET_COUNT] = {0.12, 8.0, 13.08};
+    const double coordinate[PRESET_COUNT] = {0.046 / sqrt(2.0), 0.225 / sqrt(2.0), 0.45};
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        fc_allocation_params p;
+        fc_allocation a;
+        presets[k](&p);
+        assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+        const int n = p.rotor_count;
+        const double got[4] = {exact(a.thrust_max_n, FC_FORCE_FRAC),
+                               exact(a.moment_authority_nm.x, FC_MOMENT_FRAC),
+                               exact(a.moment_authority_nm.y, FC_MOMENT_FRAC),
+                               exact(a.moment_authority_nm.z, FC_MOMENT_FRAC)};
+        /* Tolerances. Fixed: the preset's inputs are FC_C constants, each
+         * within 1 LSB of its format (half an LSB for the rounding to it, and
+         * up to as much again for the float FC_C computes X 2^FRAC in: the
+         * hexa's 13.08 N is 1.4e7 LSB of FORCE); each entry of A is then
+         * rounded to MOMENT: T (l x d) with l x d in LEVER (T/2 LSB) and both
+         * products (1/2 LSB each), as the oracle bounds A, 1.5 + T/2 LSB. So
+         * an entry T h + Q is within T LSB(LENGTH) + h LSB(FORCE) + LSB(MOMENT)
+         * + (1.5 + T/2) LSB(MOMENT), and the moment authority, half the sum of
+         * n entries, within n/2 of that plus the halving's rounding (1/2 LSB).
+         * F_max = n T_max d_z with d_z = 1 (exact products): n LSB of FORCE.
+         * Float: the presets' constants are products of two rounded floats
+         * (1.5 eps relative), the entries one product more and the sums n - 1
+         * additions: 16 eps relative. */
+        const double lsb_force = ldexp(1.0, -FC_FORCE_FRAC), lsb_length = ldexp(1.0, -FC_LENGTH_FRAC);
+        const double lsb_moment = ldexp(1.0, -FC_MOMENT_FRAC);
+        const double entry = thrust[k] * lsb_length + coordinate[k] * lsb_force + lsb_moment +
+                             (1.5 + 0.5 * thrust[k]) * lsb_moment;
+        double worst = 0.0;
+        for (int r = 0; r < 4; r++) {
+            const double tol = FIXED ? (r == 0 ? n * lsb_force : 0.5 * n * entry + 0.5 * lsb_moment)
+                                     : 16.0 * EPS * want[k][r];
+            char what[64];
+            snprintf(what, sizeof what, "%s authority %d", preset_names[k], r);
+            assert_near(what, got[r], want[k][r], tol);
+            worst = fmax(worst, fabs(got[r] - want[k][r]) / tol);
+        }
+        print_message("%-11s F_max %.6g N, authority (%.6g, %.6g, %.6g) N m (worst %.2g of the tolerance)\n",
+                      preset_names[k], got[0], got[1], got[2], got[3], worst);
+        /* fc_allocation_authority_of computes the same from the parameters */
+        fc_real f_max;
+        fc_vec3 m;
+        assert_true(fc_allocation_authority_of(&p, &f_max, &m));
+        assert_true(f_max == a.thrust_max_n);
+        assert_true(m.x == a.moment_authority_nm.x && m.y == a.moment_authority_nm.y &&
+                    m.z == a.moment_authority_nm.z);
+    }
+    /* not a geometry: false and zeros */
+    fc_allocation_params bad;
+    fc_allocation_preset_f450(&bad);
+    bad.rotor[1].thrust_max_n = FC_INT(0, FORCE);
+    fc_real f_max = FC_INT(1, FORCE);
+    fc_vec3 m = fc_vec3_make(FC_INT(1, MOMENT), FC_INT(1, MOMENT), FC_INT(1, MOMENT));
+    assert_false(fc_allocation_authority_of(&bad, &f_max, &m));
+    assert_true(f_max == FC_INT(0, FORCE) && m.x == FC_INT(0, MOMENT) && m.y == FC_INT(0, MOMENT) &&
+                m.z == FC_INT(0, MOMENT));
+    bad.rotor_count = 0u;
+    assert_false(fc_allocation_authority_of(&bad, &f_max, &m));
+}
+
+static void test_normalise_round_trip(void **state)
+{
+    (void)state;
+    rng_seed(0x0A110C07u);
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        fc_allocation_params p;
+        fc_allocation a;
+        presets[k](&p);
+        assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+        const float auth[4] = {to_f(a.thrust_max_n, FC_FORCE_FRAC), to_f(a.moment_authority_nm.x, FC_MOMENT_FRAC),
+                               to_f(a.moment_authority_nm.y, FC_MOMENT_FRAC),
+                               to_f(a.moment_authority_nm.z, FC_MOMENT_FRAC)};
+        const int frac[4] = {FC_FORCE_FRAC, FC_MOMENT_FRAC, FC_MOMENT_FRAC, FC_MOMENT_FRAC};
+        double worst_norm = 0.0, worst_phys = 0.0;
+        for (int c = 0; c < 2000; c++) {
+            /* physical demands within +-1.9 authorities */
+            fc_real w[4];
+            for (int r = 0; r < 4; r++) {
+                w[r] = from_f(uniform(-1.9f, 1.9f) * auth[r], frac[r]);
+            }
+            const fc_allocation_demand d = fc_allocation_normalise(&a, w[0], fc_vec3_make(w[1], w[2], w[3]));
+            const float x[4] = {norm_value(d.thrust), norm_value(d.moment.x), norm_value(d.moment.y),
+                                norm_value(d.moment.z)};
+            fc_real back_thrust;
+            fc_vec3 back_moment;
+            fc_allocation_physical(&a, &d, &back_thrust, &back_moment);
+            const fc_real back[4] = {back_thrust, back_moment.x, back_moment.y, back_moment.z};
+            for (int r = 0; r < 4; r++) {
+                const double value = exact(w[r], frac[r]);
+                const double ratio = value / exact(authority_of_row(&a, r), frac[r]);
+                /* normalise: w / authority rounded to NORM16, half an LSB
+                 * (2^-15) plus the quotient's rounding in RATIO (2^-25) before
+                 * it; float: the division's rounding */
+                const double norm_tol = FIXED ? ldexp(1.0, -15) + ldexp(1.0, -25) : EPS * fabs(ratio);
+                worst_norm = fmax(worst_norm, fabs((double)x[r] - ratio) / norm_tol);
+                assert_near("normalised", x[r], ratio, norm_tol);
+                /* physical: back within that times the authority, plus the
+                 * product's rounding (half an LSB of FORCE or MOMENT) */
+                const double phys_tol = FIXED ? norm_tol * (double)auth[r] + ldexp(0.5, -frac[r])
+                                              : 3.0 * EPS * fabs(value);
+                worst_phys = fmax(worst_phys, fabs(exact(back[r], frac[r]) - value) / phys_tol);
+                assert_near("physical", exact(back[r], frac[r]), value, phys_tol);
+            }
+            /* the physical value of a normalised demand normalises back to it:
+             * exactly in fixed (the product's half LSB of FORCE or MOMENT over
+             * F_max or the authority, plus the quotient's 2^-25, stays below
+             * half a NORM16 LSB, 2^-15, for F_max >= 1/16 N, which init
+             * demands, and authorities above 2^-10 N m, as the presets' are:
+             * the rounding to NORM16 lands on x again); within 2 ulp in float
+             * (a product and a division) */
+            const fc_allocation_demand again = fc_allocation_normalise(&a, back_thrust, back_moment);
+            const fc_real16 first[4] = {d.thrust, d.moment.x, d.moment.y, d.moment.z};
+            const fc_real16 second[4] = {again.thrust, again.moment.x, again.moment.y, again.moment.z};
+            for (int r = 0; r < 4; r++) {
+                if (FIXED) {
+                    assert_true(first[r] == second[r]);
+                } else {
+                    assert_near("normalised again", norm_value(second[r]), norm_value(first[r]),
+                                2.0 * EPS * fabs((double)norm_value(first[r])));
+                }
+            }
+            /* the thrust alone: fc_allocation_thrust_fraction (a product by
+             * 1 / F_max in PER_FORCE, 2^-27 relative of 1 / F_max at worst)
+             * within one NORM16 LSB of the division */
+            const fc_real16 fraction = fc_allocation_thrust_fraction(&a, w[0]);
+            assert_near("thrust fraction", norm_value(fraction), x[0], FIXED ? ldexp(1.0, -14) : 2.0 * EPS);
+        }
+        print_message("%-11s normalise/physical: worst %.3g / %.3g of the tolerance\n", preset_names[k],
+                      worst_norm, worst_phys);
+        /* beyond the range: clamped to +-1.99 (NORM16 holds [-2, 2)) */
+        const fc_allocation_demand big = fc_allocation_normalise(
+            &a, from_f(5.0f * auth[0], FC_FORCE_FRAC),
+            fc_vec3_make(from_f(-3.0f * auth[1], FC_MOMENT_FRAC), FC_INT(0, MOMENT),
+                         from_f(2.5f * auth[3], FC_MOMENT_FRAC)));
+        assert_near("clamped thrust", norm_value(big.thrust), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+        assert_near("clamped roll", norm_value(big.moment.x), -1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+        assert_true(big.moment.y == FC_INT16(0, NORM16));
+        assert_near("clamped yaw", norm_value(big.moment.z), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+    }
+    /* not ready: a zero demand (no authority to divide by) */
+    fc_allocation idle;
+    fc_allocation_params p;
+    fc_allocation_preset_f450(&p);
+    p.rotor_count = 0u;
+    assert_int_equal(fc_allocation_init(&idle, &p), FC_INIT_BAD_PARAM);
+    const fc_allocation_demand zero =
+        fc_allocation_normalise(&idle, FC_INT(10, FORCE),
+                                fc_vec3_make(FC_INT(1, MOMENT), FC_INT(1, MOMENT), FC_INT(1, MOMENT)));
+    assert_true(zero.thrust == FC_INT16(0, NORM16) && zero.moment.x == FC_INT16(0, NORM16) &&
+                zero.moment.y == FC_INT16(0, NORM16) && zero.moment.z == FC_INT16(0, NORM16));
 }
 
 /* ---- bad input and ranges ---------------------------------------------- */
@@ -831,7 +1173,7 @@ static void test_bad_input(void **state)
                     2e-9f);
     }
     /* a good demand, then a bad one: the good one is held */
-    const fc_allocation_demand good = demand_make(20.0f, 0.5f, -0.3f, 0.1f);
+    const fc_allocation_demand good = demand_make(&a, 20.0f, 0.5f, -0.3f, 0.1f);
     fc_allocation_output held;
     assert_int_equal(fc_allocation_step(&a, &good, &held), FC_STEP_OK);
     assert_int_equal(fc_allocation_step(&a, NULL, &out), FC_STEP_BAD_INPUT);
@@ -844,13 +1186,13 @@ static void test_bad_input(void **state)
         for (int field = 0; field < 4; field++) {
             fc_allocation_demand d = good;
             if (field == 0) {
-                d.thrust_n = bad_values[b];
+                d.thrust = bad_values[b];
             } else if (field == 1) {
-                d.moment_nm.x = bad_values[b];
+                d.moment.x = bad_values[b];
             } else if (field == 2) {
-                d.moment_nm.y = bad_values[b];
+                d.moment.y = bad_values[b];
             } else {
-                d.moment_nm.z = bad_values[b];
+                d.moment.z = bad_values[b];
             }
             assert_int_equal(fc_allocation_step(&a, &d, &out), FC_STEP_BAD_INPUT);
             assert_outputs_valid(&p, &out);
@@ -862,13 +1204,33 @@ static void test_bad_input(void **state)
     /* a NaN right after init: u_min */
     assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
     fc_allocation_demand nan_demand = good;
-    nan_demand.moment_nm.y = NAN;
+    nan_demand.moment.y = NAN;
     assert_int_equal(fc_allocation_step(&a, &nan_demand, &out) & FC_STEP_BAD_INPUT,
                      FC_STEP_BAD_INPUT);
     for (int i = 0; i < 4; i++) {
         assert_true(out.speed[i] == p.rotor[i].speed_min);
     }
 #endif
+}
+
+/* One component of an extreme demand: the largest NORM16 value (in float the
+ * largest float: a caller may pass anything), +-1, 0. */
+static fc_real16 extreme_component(void)
+{
+    const float pick = uniform(0.0f, 5.0f);
+    if (pick < 1.0f) {
+        return FC_REAL16_MAX;
+    }
+    if (pick < 2.0f) {
+        return fc_neg16(FC_REAL16_MAX);
+    }
+    if (pick < 3.0f) {
+        return norm16(1.0f);
+    }
+    if (pick < 4.0f) {
+        return norm16(-1.0f);
+    }
+    return FC_INT16(0, NORM16);
 }
 
 static void test_extreme_demands(void **state)
@@ -886,12 +1248,18 @@ static void test_extreme_demands(void **state)
             }
             assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
             for (int c = 0; c < 2000; c++) {
-                /* FORCE is +-2048 N and MOMENT +-128 N m in fixed */
-                const float f_range = c % 2 == 0 ? 2000.0f : 2.0f * authority(&a, 0);
-                const float m_range = c % 2 == 0 ? 120.0f : 2.0f * authority(&a, 1);
-                const fc_allocation_demand d =
-                    demand_make(uniform(-f_range, f_range), uniform(-m_range, m_range),
-                                uniform(-m_range, m_range), uniform(-m_range, m_range));
+                /* NORM16 holds [-2, 2) in fixed: uniform over it, or its
+                 * extremes (and +-1, 0) mixed per axis */
+                fc_allocation_demand d;
+                if (c % 2 == 0) {
+                    d = demand_norm(uniform(-1.9999f, 1.9999f), uniform(-1.9999f, 1.9999f),
+                                    uniform(-1.9999f, 1.9999f), uniform(-1.9999f, 1.9999f));
+                } else {
+                    d.thrust = extreme_component();
+                    d.moment.x = extreme_component();
+                    d.moment.y = extreme_component();
+                    d.moment.z = extreme_component();
+                }
                 fc_allocation_output out;
                 const fc_step_status status = fc_allocation_step(&a, &d, &out);
                 assert_outputs_valid(&p, &out);
@@ -924,6 +1292,8 @@ int main(void)
         cmocka_unit_test(test_saturation_thrust),
         cmocka_unit_test(test_saturation_roll_pitch),
         cmocka_unit_test(test_saturation_hexa),
+        cmocka_unit_test(test_preset_authorities),
+        cmocka_unit_test(test_normalise_round_trip),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_extreme_demands),
     };

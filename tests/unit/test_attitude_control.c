@@ -3,16 +3,25 @@
  *
  * One source for both backends. The reference is a double-precision copy of
  * the law in the header (ref_law below), fed with the parameters as the
- * backend holds them, so the comparison measures the arithmetic only.
- * Tolerance of a moment component (moment_tol):
- *   float: J_i * 1e-4 rad/s^2 + 1e-6 |M|      (single precision through ~100 rad/s^2)
- *   fixed: J_i * 4 LSB of GAIN (6.1e-5 rad/s^2: two roundings of the angular
- *          acceleration, Q16) + J_i kp_i ERROR_TOL_RAD (the attitude error,
+ * backend holds them (J / authority too, as init computed it), so the
+ * comparison measures the arithmetic only. test_normalisation checks J /
+ * authority itself against the parameters.
+ *
+ * Moments are compared in the law's normalised units (moment / authority,
+ * fc_attitude_control_output.moment); jn_i = J_i / authority_i (s^2).
+ * Tolerance of a moment component (moment_tol), the former N m bound divided
+ * by the authority, plus the output's rounding to NORM16:
+ *   float: jn_i * 1e-4 rad/s^2 + 1e-6 |m|     (single precision through ~100 rad/s^2;
+ *          fc_real16 is float, the output is not rounded)
+ *   fixed: jn_i * 4 LSB of GAIN (6.1e-5 rad/s^2: two roundings of the angular
+ *          acceleration, Q16) + jn_i kp_i ERROR_TOL_RAD (the attitude error,
  *          formed in 16 bits: 3.9e-4 rad up to 90 deg of tilt error) + 2 LSB
- *          of MOMENT (1.2e-7 N m)
+ *          of RATIO (6.0e-8: the sum rounded to RATIO, the budget's scaling)
+ *          + half an LSB of NORM16 (2^-15 = 3.05e-5: the output rounded from
+ *          RATIO to NORM16)
  * The closed loops fly a rigid body integrated in double (explicit Euler at
  * 1 kHz) with the controller at 500 Hz, once with the library and once with
- * ref_law in the same plant, and compare the two.
+ * ref_law in the same plant (moment x authority, N m), and compare the two.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -55,7 +64,17 @@ static double D(fc_real x, int frac)
 
 #define RU(x) R((x), FC_UNIT_FRAC)
 #define RRATE(x) R((x), FC_RATE_FRAC)
-#define DMOM(x) D((x), FC_MOMENT_FRAC)
+
+/* A normalised output moment (NORM16) as a double, exactly: widened to RATIO. */
+static double DN(fc_real16 x)
+{
+    return D(fc_widen16(x, FC_NORM16_FRAC, FC_RATIO_FRAC), FC_RATIO_FRAC);
+}
+
+/* The output's rounding from the RATIO the law computes in to NORM16: at most
+ * half an LSB (2^-15 of the authority) in fixed; none in float, where
+ * fc_real16 is float. */
+#define NORM16_HALF_LSB (FC_NUMERIC_FIXED ? ldexp(1.0, -FC_NORM16_FRAC - 1) : 0.0)
 
 static const double kPi = 3.14159265358979323846;
 static const double kDeg = 3.14159265358979323846 / 180.0;
@@ -127,17 +146,34 @@ static fc_vec3 vec_all(double x, int frac)
     return fc_vec3_make(R(x, frac), R(x, frac), R(x, frac));
 }
 
+/* A budget given in N m per axis as the law's normalised moment_limit:
+ * limit_nm / authority_nm (RATIO). */
+static fc_vec3 limit_of(const fc_attitude_control_params *p, double nm_x, double nm_y, double nm_z)
+{
+    return fc_vec3_make(R(nm_x / D(p->authority_nm.x, FC_MOMENT_FRAC), FC_RATIO_FRAC),
+                        R(nm_y / D(p->authority_nm.y, FC_MOMENT_FRAC), FC_RATIO_FRAC),
+                        R(nm_z / D(p->authority_nm.z, FC_MOMENT_FRAC), FC_RATIO_FRAC));
+}
+
+/* The largest normalised budget init accepts: "unclamped" for the tests whose
+ * moments stay below it (they check FC_STEP_OUTPUT_LIMITED is not set). */
+#define LIMIT_MAX 1.99
+
+/* The 4 kg hexa: the default authority (J * 50 rad/s^2: 4.1, 4.1, 7.45 N m)
+ * and a budget of +-2 N m on each axis. */
 static fc_attitude_control_params hexa_params(void)
 {
     fc_attitude_control_params p;
     fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kHexaJ, FC_INERTIA_FRAC));
-    p.moment_limit_nm = vec_all(2.0, FC_MOMENT_FRAC);
+    p.moment_limit = limit_of(&p, 2.0, 2.0, 2.0);
     return p;
 }
 
-/* The parameters as the backend holds them, in double. */
+/* The parameters as the backend holds them, in double; jn and djn are J /
+ * authority and (Jz - Jy, Jx - Jz, Jy - Jx) / authority as init computed
+ * them, mlim the normalised budget, auth the authority (N m). */
 typedef struct ref_params {
-    double dt, j[3], kp[3], kd[3], ki[3], ilim[3], yaw_weight, mlim[3];
+    double dt, j[3], jn[3], djn[3], auth[3], kp[3], kd[3], ki[3], ilim[3], yaw_weight, mlim[3];
 } ref_params;
 
 static void vec_to(fc_vec3 v, int frac, double out[3])
@@ -147,17 +183,22 @@ static void vec_to(fc_vec3 v, int frac, double out[3])
     out[2] = D(v.z, frac);
 }
 
-static ref_params ref_from(const fc_attitude_control_params *p)
+/* from an initialised controller: its parameters and what init derived */
+static ref_params ref_from(const fc_attitude_control *c)
 {
+    const fc_attitude_control_params *p = &c->p;
     ref_params r;
     r.dt = D(p->dt_s, FC_DT_FRAC);
     vec_to(p->inertia_kgm2, FC_INERTIA_FRAC, r.j);
+    vec_to(c->inertia_norm, FC_INERTIA_FRAC, r.jn);
+    vec_to(c->inertia_diff_norm, FC_INERTIA_FRAC, r.djn);
+    vec_to(p->authority_nm, FC_MOMENT_FRAC, r.auth);
     vec_to(p->kp_per_s2, FC_GAIN_FRAC, r.kp);
     vec_to(p->kd_per_s, FC_GAIN_FRAC, r.kd);
     vec_to(p->ki_per_s3, FC_GAIN_FRAC, r.ki);
     vec_to(p->integral_limit_rad, FC_ANGLE_FRAC, r.ilim);
     r.yaw_weight = D(p->yaw_weight, FC_RATIO_FRAC);
-    vec_to(p->moment_limit_nm, FC_MOMENT_FRAC, r.mlim);
+    vec_to(p->moment_limit, FC_RATIO_FRAC, r.mlim);
     return r;
 }
 
@@ -180,20 +221,19 @@ static void ref_error(dq q, dq qd, double err[3])
     err[2] = 2.0 * s;
 }
 
-/* Moment (clamped as the library does) for the integral state I; returns
- * also the unclamped moment. */
+/* Normalised moment (clamped as the library does) for the integral state I;
+ * returns also the unclamped moment. */
 static void ref_law(const ref_params *p, dq q, dq qd, const double w[3], const double wff[3],
                     const double integral[3], double m[3], double raw[3])
 {
     double err[3];
     ref_error(q, qd, err);
     err[2] *= p->yaw_weight;
-    const double jw[3] = {p->j[0] * w[0], p->j[1] * w[1], p->j[2] * w[2]};
-    const double gyro[3] = {w[1] * jw[2] - w[2] * jw[1], w[2] * jw[0] - w[0] * jw[2],
-                            w[0] * jw[1] - w[1] * jw[0]};
+    /* (w x J w) / authority = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) / authority */
+    const double gyro[3] = {p->djn[0] * w[1] * w[2], p->djn[1] * w[2] * w[0], p->djn[2] * w[0] * w[1]};
     for (int i = 0; i < 3; i++) {
         const double alpha = -(p->kp[i] * err[i] + p->ki[i] * integral[i] + p->kd[i] * (w[i] - wff[i]));
-        raw[i] = p->j[i] * alpha + gyro[i];
+        raw[i] = p->jn[i] * alpha + gyro[i];
         m[i] = raw[i];
     }
     const double fx = fabs(m[0]) > p->mlim[0] ? p->mlim[0] / fabs(m[0]) : 1.0;
@@ -219,31 +259,39 @@ static double error_tol_at(double n)
 /* ... and for the tilt errors of the tests below, up to 90 deg (N >= 0.707) */
 #define ERROR_TOL_RAD error_tol_at(0.7071)
 
-/* Tolerance of a moment component (the header's comment), plus in fixed the
- * attitude error's through kp, for the error's N. */
-static double moment_tol_at(double j, double kp, double m_ref, double n)
+/* Tolerance of a normalised moment component (the header's comment), plus in
+ * fixed the attitude error's through kp, for the error's N; jn = J / authority. */
+static double moment_tol_at(double jn, double kp, double m_ref, double n)
 {
 #if FC_NUMERIC_FIXED
     (void)m_ref;
-    return j * (4.0 * ldexp(1.0, -FC_GAIN_FRAC) + kp * error_tol_at(n)) + 2.0 * ldexp(1.0, -FC_MOMENT_FRAC);
+    return jn * (4.0 * ldexp(1.0, -FC_GAIN_FRAC) + kp * error_tol_at(n)) + 2.0 * ldexp(1.0, -FC_RATIO_FRAC) +
+           NORM16_HALF_LSB;
 #else
     (void)kp;
     (void)n;
-    return j * 1e-4 + 1e-6 * fabs(m_ref);
+    return jn * 1e-4 + 1e-6 * fabs(m_ref);
 #endif
 }
 
 /* ... for tilt errors up to 90 deg */
-static double moment_tol(double j, double kp, double m_ref)
+static double moment_tol(double jn, double kp, double m_ref)
 {
-    return moment_tol_at(j, kp, m_ref, 0.7071);
+    return moment_tol_at(jn, kp, m_ref, 0.7071);
 }
 
-static void assert_moment_near_at(const fc_vec3 *m, const double ref[3], const ref_params *r, double n)
+/* The bound of an output on axis i: the budget plus the output's rounding (a
+ * moment clamped to the limit in RATIO may round up to NORM16 by half an LSB). */
+static double out_bound(const ref_params *r, int i)
 {
-    const double got[3] = {DMOM(m->x), DMOM(m->y), DMOM(m->z)};
+    return r->mlim[i] + NORM16_HALF_LSB;
+}
+
+static void assert_moment_near_at(const fc_vec3_16 *m, const double ref[3], const ref_params *r, double n)
+{
+    const double got[3] = {DN(m->x), DN(m->y), DN(m->z)};
     for (int i = 0; i < 3; i++) {
-        const double tol = moment_tol_at(r->j[i], r->kp[i], ref[i], n);
+        const double tol = moment_tol_at(r->jn[i], r->kp[i], ref[i], n);
         if (!(fabs(got[i] - ref[i]) <= tol)) {
             print_error("axis %d: moment %.9g, reference %.9g, tolerance %.3g\n", i, got[i], ref[i], tol);
             fail();
@@ -251,7 +299,7 @@ static void assert_moment_near_at(const fc_vec3 *m, const double ref[3], const r
     }
 }
 
-static void assert_moment_near(const fc_vec3 *m, const double ref[3], const ref_params *r)
+static void assert_moment_near(const fc_vec3_16 *m, const double ref[3], const ref_params *r)
 {
     assert_moment_near_at(m, ref, r, 0.7071);
 }
@@ -286,16 +334,24 @@ static void test_default_params(void **state)
     const fc_attitude_control_params p = hexa_params();
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     /* kp = wn^2, kd = 2 zeta wn: tilt wn 10 rad/s zeta 0.8, yaw wn 5 rad/s zeta 0.9 */
     assert_true(fabs(r.kp[0] - 100.0) < 1e-4 && fabs(r.kp[1] - 100.0) < 1e-4 && fabs(r.kp[2] - 25.0) < 1e-4);
     assert_true(fabs(r.kd[0] - 16.0) < 1e-4 && fabs(r.kd[1] - 16.0) < 1e-4 && fabs(r.kd[2] - 9.0) < 1e-4);
     assert_true(r.ki[0] == 0.0 && r.ki[1] == 0.0 && r.ki[2] == 0.0);
     assert_true(fabs(r.yaw_weight - 1.0) < 1e-6);
-    /* default budget J * 50 rad/s^2 */
+    /* default authority J * 50 rad/s^2, within 1e-7 N m (fixed: J rounded to
+     * INERTIA, 4.7e-10 x 50, and the product to MOMENT, 3.0e-8), and the whole
+     * of it as the budget */
     fc_attitude_control_params d;
     fc_attitude_control_default_params(&d, R(0.002, FC_DT_FRAC), vec_from(kCfJ, FC_INERTIA_FRAC));
-    assert_true(fabs(D(d.moment_limit_nm.x, FC_MOMENT_FRAC) - 50.0 * kCfJ[0]) < 1e-6);
+    const double auth[3] = {D(d.authority_nm.x, FC_MOMENT_FRAC), D(d.authority_nm.y, FC_MOMENT_FRAC),
+                            D(d.authority_nm.z, FC_MOMENT_FRAC)};
+    for (int i = 0; i < 3; i++) {
+        assert_true(fabs(auth[i] - 50.0 * kCfJ[i]) < 1e-7);
+    }
+    assert_true(d.moment_limit.x == FC_INT(1, RATIO) && d.moment_limit.y == FC_INT(1, RATIO) &&
+                d.moment_limit.z == FC_INT(1, RATIO));
     assert_int_equal(fc_attitude_control_init(&c, &d), FC_INIT_OK);
 }
 
@@ -309,8 +365,8 @@ static void expect_bad(const fc_attitude_control_params *p)
     fc_attitude_control_output out;
     memset(&out, 0x5A, sizeof out);
     assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_NOT_READY);
-    assert_true(out.moment_nm.x == FC_INT(0, MOMENT) && out.moment_nm.y == FC_INT(0, MOMENT) &&
-                out.moment_nm.z == FC_INT(0, MOMENT));
+    assert_true(out.moment.x == FC_INT16(0, NORM16) && out.moment.y == FC_INT16(0, NORM16) &&
+                out.moment.z == FC_INT16(0, NORM16));
 }
 
 /* Parameter set number k with one field spoiled; false past the last one. */
@@ -329,20 +385,24 @@ static bool spoil(fc_attitude_control_params *p, int k)
     case 8: p->integral_limit_rad.y = FC_INT(0, ANGLE); break;
     case 9: p->yaw_weight = R(-0.1, FC_RATIO_FRAC); break;
     case 10: p->yaw_weight = R(1.1, FC_RATIO_FRAC); break;
-    case 11: p->moment_limit_nm.z = FC_INT(0, MOMENT); break;
-    case 12: p->moment_limit_nm.x = R(-2.0, FC_MOMENT_FRAC); break;
+    case 11: p->moment_limit.z = FC_INT(0, RATIO); break;
+    case 12: p->moment_limit.x = R(-0.5, FC_RATIO_FRAC); break;
+    case 13: p->authority_nm.x = FC_INT(0, MOMENT); break;
+    case 14: p->authority_nm.z = R(-4.0, FC_MOMENT_FRAC); break;
     /* above the ranges (in fixed the conversion saturates, still above) */
-    case 13: p->kd_per_s.x = R(40000.0, FC_GAIN_FRAC); break;
-    case 14: p->inertia_kgm2.y = R(2.5, FC_INERTIA_FRAC); break;
-    case 15: p->moment_limit_nm.y = R(120.0, FC_MOMENT_FRAC); break;
-    case 16: p->integral_limit_rad.x = R(5.0, FC_ANGLE_FRAC); break;
+    case 15: p->kd_per_s.x = R(40000.0, FC_GAIN_FRAC); break;
+    case 16: p->inertia_kgm2.y = R(2.5, FC_INERTIA_FRAC); break;
+    case 17: p->moment_limit.y = R(2.5, FC_RATIO_FRAC); break;
+    case 18: p->integral_limit_rad.x = R(5.0, FC_ANGLE_FRAC); break;
+    case 19: p->authority_nm.y = R(120.0, FC_MOMENT_FRAC); break;
 #if !FC_NUMERIC_FIXED
-    case 17: p->dt_s = NAN; break;
-    case 18: p->kp_per_s2.x = INFINITY; break;
-    case 19: p->inertia_kgm2.y = NAN; break;
-    case 20: p->yaw_weight = NAN; break;
-    case 21: p->moment_limit_nm.y = INFINITY; break;
-    case 22: p->integral_limit_rad.z = NAN; break;
+    case 20: p->dt_s = NAN; break;
+    case 21: p->kp_per_s2.x = INFINITY; break;
+    case 22: p->inertia_kgm2.y = NAN; break;
+    case 23: p->yaw_weight = NAN; break;
+    case 24: p->moment_limit.y = INFINITY; break;
+    case 25: p->integral_limit_rad.z = NAN; break;
+    case 26: p->authority_nm.x = NAN; break;
 #endif
     default: return false;
     }
@@ -361,7 +421,7 @@ static void test_bad_params(void **state)
         p = good;
         n++;
     }
-    assert_int_equal(n, FC_NUMERIC_FIXED ? 17 : 23);
+    assert_int_equal(n, FC_NUMERIC_FIXED ? 20 : 27);
     /* the edges are accepted: zero gains, yaw_weight 0 and 1 */
     fc_attitude_control c;
     p = good;
@@ -376,6 +436,100 @@ static void test_bad_params(void **state)
     assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_NOT_READY);
 }
 
+/* ---- normalised units ------------------------------------------------- */
+
+/* m = J alpha / authority per axis, against the parameters (not against what
+ * init derived): J and authority differ per axis and J / authority is 0.025,
+ * 0.016, 0.12 (not 1, so an unnormalised moment is far outside the tolerance);
+ * kp only (kd = ki = 0), zero rate (no w x J w), a 6 deg tilt about (1, -2, 0)
+ * and a 4 deg heading error, so alpha = -kp e with e the step's own error
+ * (its telemetry; yaw_weight 1). Then init's range of J / authority and of
+ * the authority. */
+static void test_normalisation(void **state)
+{
+    (void)state;
+    static const double kJ[3] = {0.03, 0.05, 0.09};
+    static const double kA[3] = {1.2, 3.1, 0.75};
+    const double kp = 64.0; /* exact in GAIN and in float */
+    fc_attitude_control_params p;
+    fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kJ, FC_INERTIA_FRAC));
+    p.kp_per_s2 = vec_all(kp, FC_GAIN_FRAC);
+    p.kd_per_s = vec_all(0.0, FC_GAIN_FRAC);
+    p.ki_per_s3 = vec_all(0.0, FC_GAIN_FRAC);
+    p.yaw_weight = FC_INT(1, RATIO);
+    p.authority_nm = vec_from(kA, FC_MOMENT_FRAC);
+    p.moment_limit = vec_all(1.0, FC_RATIO_FRAC);
+    fc_attitude_control c;
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+
+    const dq qd = dq_make(1.0, 0.0, 0.0, 0.0);
+    const dq q = dq_mul(dq_axis_angle(0.0, 0.0, 1.0, 4.0 * kDeg), dq_axis_angle(1.0, -2.0, 0.0, 6.0 * kDeg));
+    const fc_attitude_control_input in = make_input(q, qd, kZero3, kZero3);
+    fc_attitude_control_output out;
+    assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_OK);
+    const double e[3] = {D(out.attitude_error_rad.x, FC_ANGLE_FRAC), D(out.attitude_error_rad.y, FC_ANGLE_FRAC),
+                         D(out.attitude_error_rad.z, FC_ANGLE_FRAC)};
+    /* the error is the one asked for: (0.047, -0.094, 0.070) rad */
+    double e_ref[3];
+    ref_error(q, qd, e_ref);
+    const double m[3] = {DN(out.moment.x), DN(out.moment.y), DN(out.moment.z)};
+    const double jn_held[3] = {D(c.inertia_norm.x, FC_INERTIA_FRAC), D(c.inertia_norm.y, FC_INERTIA_FRAC),
+                               D(c.inertia_norm.z, FC_INERTIA_FRAC)};
+    for (int i = 0; i < 3; i++) {
+        assert_true(fabs(e[i] - e_ref[i]) < ERROR_TOL_RAD && fabs(e[i]) > 0.04);
+        const double jn = kJ[i] / kA[i];
+        const double alpha = -kp * e[i];
+        const double expect = jn * alpha;
+#if FC_NUMERIC_FIXED
+        /* J / authority as init holds it: J rounded to INERTIA (2^-31), the
+         * authority to MOMENT (2^-25), the quotient to INERTIA (2^-31) */
+        const double jn_tol = jn * (ldexp(1.0, -31) / kJ[i] + ldexp(1.0, -25) / kA[i]) + ldexp(1.0, -31);
+        /* kp e rounded to GAIN (2^-17) through the held jn, the error of jn
+         * through alpha, jn alpha rounded to RATIO (2^-25), the output to
+         * NORM16 (2^-15) */
+        const double tol =
+            (jn + jn_tol) * ldexp(1.0, -17) + fabs(alpha) * jn_tol + ldexp(1.0, -25) + NORM16_HALF_LSB;
+#else
+        /* relative roundings of u = 2^-24: J, the authority (a divisor) and
+         * J / authority; then kp e and jn alpha (the zero terms of the sums add
+         * exactly; fc_real16 is float: no NORM16 rounding) */
+        const double u = ldexp(1.0, -24);
+        const double jn_tol = ((1.0 + u) * (1.0 + u) / (1.0 - u) - 1.0) * jn;
+        const double tol = (pow(1.0 + u, 4.0) / (1.0 - u) - 1.0) * fabs(expect);
+#endif
+        if (!(fabs(jn_held[i] - jn) <= jn_tol && fabs(m[i] - expect) <= tol)) {
+            print_error("axis %d: J/A %.12g (expected %.12g, tolerance %.3g), moment %.9g (expected %.9g, "
+                        "tolerance %.3g)\n",
+                        i, jn_held[i], jn, jn_tol, m[i], expect, tol);
+            fail();
+        }
+        /* not vacuous: the tolerance is far below the moment */
+        assert_true(tol < 1e-3 * fabs(expect));
+    }
+
+    /* init: J / authority above 1.99 (2.0, 1.995, 9e4) and an authority <= 0
+     * are rejected; 1.98 is accepted */
+    fc_attitude_control_params bad = p;
+    bad.authority_nm.z = R(kJ[2] / 2.0, FC_MOMENT_FRAC);
+    expect_bad(&bad);
+    bad = p;
+    bad.authority_nm.x = R(kJ[0] / 1.995, FC_MOMENT_FRAC);
+    expect_bad(&bad);
+    bad = p;
+    bad.authority_nm.z = R(1.0e-6, FC_MOMENT_FRAC);
+    expect_bad(&bad);
+    bad = p;
+    bad.authority_nm.y = FC_INT(0, MOMENT);
+    expect_bad(&bad);
+    bad = p;
+    bad.authority_nm.z = R(-0.75, FC_MOMENT_FRAC);
+    expect_bad(&bad);
+    fc_attitude_control_params edge = p;
+    edge.authority_nm.z = R(kJ[2] / 1.98, FC_MOMENT_FRAC);
+    assert_int_equal(fc_attitude_control_init(&c, &edge), FC_INIT_OK);
+    assert_true(fabs(D(c.inertia_norm.z, FC_INERTIA_FRAC) - 1.98) < 1e-5);
+}
+
 /* ---- the error quaternion ---------------------------------------------- */
 
 /* q and -q (and q_d and -q_d) are one attitude: the same moment. A 150 deg
@@ -386,7 +540,7 @@ static void test_error_sign(void **state)
     const fc_attitude_control_params p = hexa_params();
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq qd = dq_axis_angle(0.2, -0.4, 1.0, 0.7);
     const double w[3] = {0.3, -0.2, 0.1};
     double held_w[3];
@@ -395,7 +549,7 @@ static void test_error_sign(void **state)
     for (int a = 0; a < 3; a++) {
         /* the current attitude: qd turned by the angle about body axis (1, 2, 0.5) */
         const dq q = dq_mul(qd, dq_axis_angle(1.0, 2.0, 0.5, angles[a]));
-        fc_vec3 m[4];
+        fc_vec3_16 m[4];
         const dq qs[4] = {q, dq_neg(q), q, dq_neg(q)};
         const dq qds[4] = {qd, qd, dq_neg(qd), dq_neg(qd)};
         for (int k = 0; k < 4; k++) {
@@ -403,7 +557,7 @@ static void test_error_sign(void **state)
             fc_attitude_control_output out;
             const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
             assert_int_equal(st & (FC_STEP_BAD_INPUT | FC_STEP_NOT_READY | FC_STEP_ARITH_SATURATED), 0);
-            m[k] = out.moment_nm;
+            m[k] = out.moment;
         }
         double ref[3], raw[3];
         ref_law(&r, from_fc(to_fc(q)), from_fc(to_fc(qd)), held_w, kZero3, kZero3, ref, raw);
@@ -502,10 +656,11 @@ static void test_pure_yaw(void **state)
 {
     (void)state;
     fc_attitude_control_params p = hexa_params();
-    p.moment_limit_nm = vec_all(20.0, FC_MOMENT_FRAC); /* unclamped here */
+    /* unclamped here (|Mz| up to 7.1 N m, 0.95 of the authority; st == OK below) */
+    p.moment_limit = vec_all(LIMIT_MAX, FC_RATIO_FRAC);
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq desired[2] = {dq_make(1.0, 0.0, 0.0, 0.0), dq_axis_angle(0.6, 0.8, 0.0, 25.0 * kDeg)};
     const double psi[3] = {0.3, -1.2, 2.5};
     for (int d = 0; d < 2; d++) {
@@ -515,12 +670,12 @@ static void test_pure_yaw(void **state)
             fc_attitude_control_output out;
             const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
             assert_int_equal(st, FC_STEP_OK);
-            const double zero_tol = moment_tol(r.j[0], r.kp[0], 0.0);
-            assert_true(fabs(DMOM(out.moment_nm.x)) <= zero_tol);
-            assert_true(fabs(DMOM(out.moment_nm.y)) <= zero_tol);
-            /* Mz = -Jz kp_z 2 sin(psi/2) */
-            const double mz = -r.j[2] * r.kp[2] * 2.0 * sin(psi[k] / 2.0);
-            assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], r.kp[2], mz) + 1e-6 * r.j[2] * r.kp[2]);
+            const double zero_tol = moment_tol(r.jn[0], r.kp[0], 0.0);
+            assert_true(fabs(DN(out.moment.x)) <= zero_tol);
+            assert_true(fabs(DN(out.moment.y)) <= zero_tol);
+            /* Mz / authority_z = -(Jz / authority_z) kp_z 2 sin(psi/2) */
+            const double mz = -r.jn[2] * r.kp[2] * 2.0 * sin(psi[k] / 2.0);
+            assert_true(fabs(DN(out.moment.z) - mz) <= moment_tol(r.jn[2], r.kp[2], mz) + 1e-6 * r.jn[2] * r.kp[2]);
             assert_true(fabs(D(out.attitude_error_rad.z, FC_ANGLE_FRAC) - 2.0 * sin(psi[k] / 2.0)) < ERROR_TOL_RAD);
         }
     }
@@ -532,7 +687,8 @@ static void test_tilt_heading_split(void **state)
 {
     (void)state;
     fc_attitude_control_params p = hexa_params();
-    p.moment_limit_nm = vec_all(20.0, FC_MOMENT_FRAC); /* unclamped here */
+    /* unclamped here (|M| up to 5.6 N m, 1.4 of the authority; checked below) */
+    p.moment_limit = vec_all(LIMIT_MAX, FC_RATIO_FRAC);
     fc_attitude_control c;
     const dq qd = dq_axis_angle(0.0, 0.0, 1.0, 0.8);
     const dq tilt = dq_axis_angle(0.5, 1.0, 0.0, 40.0 * kDeg); /* world axis: horizontal */
@@ -540,34 +696,36 @@ static void test_tilt_heading_split(void **state)
     for (int weight = 0; weight <= 2; weight++) {
         p.yaw_weight = R(0.5 * weight, FC_RATIO_FRAC);
         assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-        const ref_params r = ref_from(&p);
-        fc_vec3 m_tilt_only = fc_vec3_zero();
+        const ref_params r = ref_from(&c);
+        fc_vec3_16 m_tilt_only = fc_vec3_16_zero();
         for (int k = 0; k < 2; k++) {
             /* current heading 0.8 (= desired) or 0.8 - 1.0 rad, both tilted by 40 deg */
             const dq q = dq_mul(tilt, dq_axis_angle(0.0, 0.0, 1.0, 0.8 - 1.0 * k));
             const fc_attitude_control_input in = make_input(q, qd, w, kZero3);
             fc_attitude_control_output out;
-            fc_attitude_control_step(&c, &in, &out);
+            assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_OK);
             double held_w[3], ref[3], raw[3];
             rates_held(w, held_w);
             ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, kZero3, kZero3, ref, raw);
-            assert_moment_near(&out.moment_nm, ref, &r);
+            assert_moment_near(&out.moment, ref, &r);
             /* the tilt error is 2 sin(20 deg) whatever the heading error */
             const double ex = D(out.attitude_error_rad.x, FC_ANGLE_FRAC);
             const double ey = D(out.attitude_error_rad.y, FC_ANGLE_FRAC);
             assert_true(fabs(sqrt(ex * ex + ey * ey) - 2.0 * sin(20.0 * kDeg)) < ERROR_TOL_RAD);
             if (k == 0) {
-                m_tilt_only = out.moment_nm;
+                m_tilt_only = out.moment;
             } else {
                 /* the tilt axis in the body turns with the heading, its size does not */
-                const double a0 = hypot(DMOM(m_tilt_only.x), DMOM(m_tilt_only.y));
-                const double a1 = hypot(DMOM(out.moment_nm.x), DMOM(out.moment_nm.y));
-                assert_true(fabs(a0 - a1) <= 2.0 * moment_tol(r.j[0], r.kp[0], a0));
-                /* heading error -1 rad -> error.z = -2 sin(0.5); Mz = -Jz (kp w e_z + kd wz) */
+                const double a0 = hypot(DN(m_tilt_only.x), DN(m_tilt_only.y));
+                const double a1 = hypot(DN(out.moment.x), DN(out.moment.y));
+                assert_true(fabs(a0 - a1) <= 2.0 * moment_tol(r.jn[0], r.kp[0], a0));
+                /* heading error -1 rad -> error.z = -2 sin(0.5);
+                 * Mz / authority_z = -(Jz / authority_z) (kp w e_z + kd wz) */
                 const double ez = D(out.attitude_error_rad.z, FC_ANGLE_FRAC);
                 assert_true(fabs(ez + 2.0 * sin(0.5)) < ERROR_TOL_RAD);
-                const double mz = -r.j[2] * (r.kp[2] * r.yaw_weight * ez + r.kd[2] * held_w[2]);
-                assert_true(fabs(DMOM(out.moment_nm.z) - mz) <= moment_tol(r.j[2], r.kp[2], mz) + 1e-6);
+                const double mz = -r.jn[2] * (r.kp[2] * r.yaw_weight * ez + r.kd[2] * held_w[2]);
+                /* (the 1e-6 N m allowed on top before, in the normalised units) */
+                assert_true(fabs(DN(out.moment.z) - mz) <= moment_tol(r.jn[2], r.kp[2], mz) + 1e-6 / r.auth[2]);
             }
         }
     }
@@ -579,11 +737,11 @@ static void test_short_budget_tilt_first(void **state)
 {
     (void)state;
     fc_attitude_control_params p = hexa_params();
-    /* short budget: 1 N m roll/pitch, 0.2 N m yaw */
-    p.moment_limit_nm = fc_vec3_make(R(1.0, FC_MOMENT_FRAC), R(1.0, FC_MOMENT_FRAC), R(0.2, FC_MOMENT_FRAC));
+    /* short budget: 1 N m roll/pitch, 0.2 N m yaw (0.244, 0.244, 0.0268 of the authority) */
+    p.moment_limit = limit_of(&p, 1.0, 1.0, 0.2);
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq qd = dq_make(1.0, 0.0, 0.0, 0.0);
     /* tilt about the body axis at 30 deg from x: sizes 5 deg (inside the budget)
      * and 30 deg (Jx kp 2 sin 15 = 4.2 N m, far outside) */
@@ -598,16 +756,18 @@ static void test_short_budget_tilt_first(void **state)
         const fc_step_status st_tilt = fc_attitude_control_step(&c, &in_tilt, &out_tilt);
         const fc_step_status st_both = fc_attitude_control_step(&c, &in_both, &out_both);
         /* roll and pitch keep their full moment (the same as without the heading error) */
-        assert_true(fabs(DMOM(out_both.moment_nm.x) - DMOM(out_tilt.moment_nm.x)) <=
-                    2.0 * moment_tol(r.j[0], r.kp[0], 1.0));
-        assert_true(fabs(DMOM(out_both.moment_nm.y) - DMOM(out_tilt.moment_nm.y)) <=
-                    2.0 * moment_tol(r.j[1], r.kp[1], 1.0));
-        /* yaw gets its own budget and no more */
-        assert_true(out_both.moment_nm.z == fc_neg(&c.ar, p.moment_limit_nm.z));
+        assert_true(fabs(DN(out_both.moment.x) - DN(out_tilt.moment.x)) <=
+                    2.0 * moment_tol(r.jn[0], r.kp[0], r.mlim[0]));
+        assert_true(fabs(DN(out_both.moment.y) - DN(out_tilt.moment.y)) <=
+                    2.0 * moment_tol(r.jn[1], r.kp[1], r.mlim[1]));
+        /* yaw gets its own budget and no more: -limit exactly in RATIO, so the
+         * output is -limit rounded to NORM16 (within half an LSB; the only
+         * NORM16 value there, bar a tie) */
+        assert_true(fabs(DN(out_both.moment.z) + r.mlim[2]) <= NORM16_HALF_LSB);
         assert_true((st_both & FC_STEP_OUTPUT_LIMITED) != 0u);
         double ref[3], raw[3];
         ref_law(&r, from_fc(in_both.attitude), qd, kZero3, kZero3, kZero3, ref, raw);
-        assert_moment_near(&out_both.moment_nm, ref, &r);
+        assert_moment_near(&out_both.moment, ref, &r);
         if (t == 0) {
             /* inside the budget: roll/pitch untouched, only yaw clamped */
             assert_int_equal(st_tilt & FC_STEP_OUTPUT_LIMITED, 0);
@@ -616,16 +776,23 @@ static void test_short_budget_tilt_first(void **state)
             /* outside: roll at its limit, pitch scaled with it so the tilt axis is kept
              * (My/Mx = tan 30 deg), never reduced further to give yaw room */
             assert_true((st_tilt & FC_STEP_OUTPUT_LIMITED) != 0u);
-            const double mx = DMOM(out_both.moment_nm.x), my = DMOM(out_both.moment_nm.y);
-            assert_true(fabs(fabs(mx) - 1.0) <= 2.0 * ldexp(1.0, -FC_MOMENT_FRAC) + 1e-6);
+            const double mx = DN(out_both.moment.x), my = DN(out_both.moment.y);
+            /* 2 LSB of the scaling in RATIO (was MOMENT), 1e-6 of the limit (was
+             * 1e-6 N m of 1 N m), and the output's rounding to NORM16 */
+            assert_true(fabs(fabs(mx) - r.mlim[0]) <=
+                        2.0 * ldexp(1.0, -FC_RATIO_FRAC) + 1e-6 * r.mlim[0] + NORM16_HALF_LSB);
             /* the tilt axis' direction to the error's rounding over its size
-             * 2 sin(tilt/2); d tan / d angle = 1.34 at 30 deg */
-            assert_true(fabs(my / mx - tan(30.0 * kDeg)) < 1e-5 + 1.34 * ERROR_TOL_RAD / (2.0 * sin(tilts[t] / 2.0)));
-            assert_true(fabs(my) < 1.0);
+             * 2 sin(tilt/2); d tan / d angle = 1.34 at 30 deg. The output's
+             * rounding (h each) moves my/mx by up to h (1 + |my/mx|) / |mx|. */
+            const double ratio_tol = 1e-5 + 1.34 * ERROR_TOL_RAD / (2.0 * sin(tilts[t] / 2.0)) +
+                                     NORM16_HALF_LSB * (1.0 + tan(30.0 * kDeg)) / fabs(mx);
+            assert_true(fabs(my / mx - tan(30.0 * kDeg)) < ratio_tol);
+            assert_true(fabs(my) < r.mlim[1]);
         }
-        /* always inside the limits */
-        assert_true(fabs(DMOM(out_both.moment_nm.x)) <= 1.0 && fabs(DMOM(out_both.moment_nm.y)) <= 1.0 &&
-                    fabs(DMOM(out_both.moment_nm.z)) <= r.mlim[2]);
+        /* always inside the limits (and their rounding to NORM16) */
+        assert_true(fabs(DN(out_both.moment.x)) <= out_bound(&r, 0) &&
+                    fabs(DN(out_both.moment.y)) <= out_bound(&r, 1) &&
+                    fabs(DN(out_both.moment.z)) <= out_bound(&r, 2));
     }
 }
 
@@ -648,7 +815,7 @@ static void test_integral_hold(void **state)
     p.integral_limit_rad = vec_all(0.05, FC_ANGLE_FRAC);
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq q = dq_axis_angle(1.0, 1.0, 1.0, 5.0 * kDeg);
     fc_attitude_control_output out;
     for (int k = 0; k < 10; k++) {
@@ -662,10 +829,11 @@ static void test_integral_hold(void **state)
         step_with(&c, dq_axis_angle(1.0, 1.0, 1.0, -5.0 * kDeg), 0u, &out);
     }
     assert_true(c.integral_rad_s.x == held.x && c.integral_rad_s.y == held.y && c.integral_rad_s.z == held.z);
-    /* the held integral still acts: at zero error the moment is -J ki I */
+    /* the held integral still acts: at zero error the moment is -J ki I
+     * (normalised: -(J / authority) ki I; the 1e-7 N m on top as before) */
     step_with(&c, dq_make(1.0, 0.0, 0.0, 0.0), 0u, &out);
-    const double m_expect = -r.j[0] * r.ki[0] * D(held.x, FC_ANGLE_FRAC);
-    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], r.kp[0], m_expect) + 1e-7);
+    const double m_expect = -r.jn[0] * r.ki[0] * D(held.x, FC_ANGLE_FRAC);
+    assert_true(fabs(DN(out.moment.x) - m_expect) <= moment_tol(r.jn[0], r.kp[0], m_expect) + 1e-7 / r.auth[0]);
     /* released, it integrates again */
     fc_attitude_control_hold_integral(&c, false);
     step_with(&c, q, 0u, &out);
@@ -685,7 +853,7 @@ static void test_integral_anti_windup(void **state)
     p.integral_limit_rad = vec_all(0.05, FC_ANGLE_FRAC);
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     /* a roll error of +5 deg: the P moment is negative, the integral grows and
      * pushes it further negative */
     const dq q = dq_axis_angle(1.0, 0.0, 0.0, 5.0 * kDeg);
@@ -705,13 +873,14 @@ static void test_integral_anti_windup(void **state)
         step_with(&c, q, 0u, &out);
     }
     assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 10.0 * r.dt * ERROR_TOL_RAD + 1e-6);
-    const double m_before = DMOM(out.moment_nm.x);
-    /* the moment includes -Jx ki I */
+    const double m_before = DN(out.moment.x);
+    /* the moment includes -Jx ki I (normalised: over the authority; the 1e-7
+     * N m on top as before) */
     step_with(&c, q, 0u, &out);
     const double i_used = 10.0 * ex * r.dt;
-    const double m_expect = -r.j[0] * (r.kp[0] * ex + r.ki[0] * i_used);
-    assert_true(fabs(DMOM(out.moment_nm.x) - m_expect) <= moment_tol(r.j[0], r.kp[0], m_expect) + 1e-7);
-    assert_true(DMOM(out.moment_nm.x) < m_before);
+    const double m_expect = -r.jn[0] * (r.kp[0] * ex + r.ki[0] * i_used);
+    assert_true(fabs(DN(out.moment.x) - m_expect) <= moment_tol(r.jn[0], r.kp[0], m_expect) + 1e-7 / r.auth[0]);
+    assert_true(DN(out.moment.x) < m_before);
 
     /* unwinding is allowed in the saturated direction's opposite: a negative
      * error with ROLL_NEG reported still decreases I */
@@ -736,14 +905,15 @@ static void test_integral_anti_windup(void **state)
 
     /* the own clamp: with a budget of 0.1 N m the roll moment is clamped
      * negative and the integral does not wind up */
-    p.moment_limit_nm = vec_all(0.1, FC_MOMENT_FRAC);
+    p.moment_limit = limit_of(&p, 0.1, 0.1, 0.1);
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
     for (int k = 0; k < 100; k++) {
         const fc_step_status st = step_with(&c, q, 0u, &out);
         assert_true((st & FC_STEP_OUTPUT_LIMITED) != 0u);
     }
     assert_true(c.integral_rad_s.x == FC_INT(0, ANGLE));
-    assert_true(out.moment_nm.x == fc_neg(&c.ar, p.moment_limit_nm.x));
+    /* -limit exactly in RATIO, rounded to NORM16 on the way out */
+    assert_true(fabs(DN(out.moment.x) + D(p.moment_limit.x, FC_RATIO_FRAC)) <= NORM16_HALF_LSB);
 
     /* ki = 0 disables an axis */
     p = hexa_params();
@@ -762,14 +932,14 @@ static void test_bad_input(void **state)
     const fc_attitude_control_params p = hexa_params();
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq qd = dq_make(1.0, 0.0, 0.0, 0.0);
     const dq q = dq_axis_angle(1.0, 1.0, 0.0, 8.0 * kDeg);
     const double w[3] = {0.2, 0.1, -0.3};
     const fc_attitude_control_input good = make_input(q, qd, w, kZero3);
     fc_attitude_control_output out;
     assert_int_equal(fc_attitude_control_step(&c, &good, &out), FC_STEP_OK);
-    const fc_vec3 m0 = out.moment_nm;
+    const fc_vec3_16 m0 = out.moment;
     const fc_vec3 e0 = out.attitude_error_rad;
 
     fc_attitude_control_input bad[6];
@@ -790,27 +960,33 @@ static void test_bad_input(void **state)
     bad[n_bad++].rate_radps.z = NAN;
 #endif
     const double decay = exp(-r.dt / (double)FC_ATTITUDE_CONTROL_HOLD_TAU_S);
+    /* The held moment is the unrounded (RATIO) one, m0 and the decayed output
+     * are each rounded to NORM16: (1 + decay) half LSBs, on top of the 1e-6 N m
+     * (now over the authority) allowed before for the decay factor. */
+    const double hold_tol[3] = {1e-6 / r.auth[0] + (1.0 + decay) * NORM16_HALF_LSB,
+                                1e-6 / r.auth[1] + (1.0 + decay) * NORM16_HALF_LSB,
+                                1e-6 / r.auth[2] + (1.0 + decay) * NORM16_HALF_LSB};
     for (int b = 0; b < n_bad; b++) {
         assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
         fc_attitude_control_step(&c, &good, &out);
         /* one bad sample: the last moment, decayed by one step; telemetry held */
         const fc_step_status st = fc_attitude_control_step(&c, &bad[b], &out);
         assert_int_equal(st, FC_STEP_BAD_INPUT);
-        assert_true(fabs(DMOM(out.moment_nm.x) - decay * DMOM(m0.x)) < 1e-6);
-        assert_true(fabs(DMOM(out.moment_nm.y) - decay * DMOM(m0.y)) < 1e-6);
-        assert_true(fabs(DMOM(out.moment_nm.z) - decay * DMOM(m0.z)) < 1e-6);
+        assert_true(fabs(DN(out.moment.x) - decay * DN(m0.x)) < hold_tol[0]);
+        assert_true(fabs(DN(out.moment.y) - decay * DN(m0.y)) < hold_tol[1]);
+        assert_true(fabs(DN(out.moment.z) - decay * DN(m0.z)) < hold_tol[2]);
         assert_true(out.attitude_error_rad.x == e0.x && out.attitude_error_rad.y == e0.y);
         /* a lasting fault fades to zero (1 s = 20 tau) */
         for (int k = 0; k < 500; k++) {
             assert_int_equal(fc_attitude_control_step(&c, &bad[b], &out), FC_STEP_BAD_INPUT);
-            assert_true(fc_vec3_is_finite(out.moment_nm));
-            assert_true(fabs(DMOM(out.moment_nm.x)) <= r.mlim[0] && fabs(DMOM(out.moment_nm.z)) <= r.mlim[2]);
+            assert_true(fc_vec3_is_finite(fc_vec3_widen16(out.moment, FC_NORM16_FRAC, FC_RATIO_FRAC)));
+            assert_true(fabs(DN(out.moment.x)) <= out_bound(&r, 0) && fabs(DN(out.moment.z)) <= out_bound(&r, 2));
         }
-        assert_true(out.moment_nm.x == FC_INT(0, MOMENT) && out.moment_nm.y == FC_INT(0, MOMENT) &&
-                    out.moment_nm.z == FC_INT(0, MOMENT));
+        assert_true(out.moment.x == FC_INT16(0, NORM16) && out.moment.y == FC_INT16(0, NORM16) &&
+                    out.moment.z == FC_INT16(0, NORM16));
         /* and good input brings the control back */
         assert_int_equal(fc_attitude_control_step(&c, &good, &out), FC_STEP_OK);
-        assert_true(out.moment_nm.x == m0.x && out.moment_nm.y == m0.y && out.moment_nm.z == m0.z);
+        assert_true(out.moment.x == m0.x && out.moment.y == m0.y && out.moment.z == m0.z);
     }
 
     /* a bad feed-forward alone is ignored (taken as zero) and reported */
@@ -821,7 +997,7 @@ static void test_bad_input(void **state)
 #endif
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
     assert_int_equal(fc_attitude_control_step(&c, &bad_ff, &out), FC_STEP_BAD_INPUT);
-    assert_true(out.moment_nm.x == m0.x && out.moment_nm.y == m0.y && out.moment_nm.z == m0.z);
+    assert_true(out.moment.x == m0.x && out.moment.y == m0.y && out.moment.z == m0.z);
 
     /* integrals are frozen while the input is bad */
     fc_attitude_control_params pi = p;
@@ -847,25 +1023,31 @@ static void test_bad_input(void **state)
     double held_w[3], ref[3], raw[3];
     rates_held(w, held_w);
     ref_law(&r, from_fc(good.attitude), qd, held_w, kZero3, kZero3, ref, raw);
-    assert_moment_near(&out.moment_nm, ref, &r);
+    assert_moment_near(&out.moment, ref, &r);
 }
 
 /* ---- against the double reference ------------------------------------- */
 
 /* A deterministic spread of attitudes, rates and feed-forwards at both scales,
- * with the gyroscopic term, a yaw weight of 0.7 and the integral off. */
+ * with the gyroscopic term, a yaw weight of 0.7 and the integral off. The
+ * authorities differ per axis and are large enough that the moments (angular
+ * accelerations up to ~320 rad/s^2) stay inside the widest budget, 1.99: no
+ * clamping here (st == FC_STEP_OK). */
 static void test_matches_reference(void **state)
 {
     (void)state;
+    static const double kHexaAuth[3] = {30.0, 35.0, 60.0};
+    static const double kCfAuth[3] = {6.0e-3, 7.0e-3, 5.0e-3};
     for (int scale = 0; scale < 2; scale++) {
         const double *j = scale == 0 ? kHexaJ : kCfJ;
         fc_attitude_control_params p;
         fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(j, FC_INERTIA_FRAC));
         p.yaw_weight = R(0.7, FC_RATIO_FRAC);
-        p.moment_limit_nm = vec_all(scale == 0 ? 100.0 : 1.0, FC_MOMENT_FRAC); /* no clamping here */
+        p.authority_nm = vec_from(scale == 0 ? kHexaAuth : kCfAuth, FC_MOMENT_FRAC);
+        p.moment_limit = vec_all(LIMIT_MAX, FC_RATIO_FRAC);
         fc_attitude_control c;
         assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-        const ref_params r = ref_from(&p);
+        const ref_params r = ref_from(&c);
         for (int k = 0; k < 200; k++) {
             const double t = (double)k;
             const dq q = dq_axis_angle(sin(1.3 * t), cos(0.7 * t), sin(2.9 * t + 1.0), 3.0 * sin(0.37 * t));
@@ -884,7 +1066,7 @@ static void test_matches_reference(void **state)
             /* errors of any size here: the tolerance at this pair's N */
             const dq e = dq_mul(dq_conj(from_fc(in.attitude_desired)), from_fc(in.attitude));
             const double n = sqrt(e.w * e.w + e.z * e.z);
-            assert_moment_near_at(&out.moment_nm, ref, &r, n > 0.01 ? n : 0.01);
+            assert_moment_near_at(&out.moment, ref, &r, n > 0.01 ? n : 0.01);
         }
     }
 }
@@ -896,7 +1078,7 @@ static void test_gyroscopic_term(void **state)
     const fc_attitude_control_params p = hexa_params();
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
-    const ref_params r = ref_from(&p);
+    const ref_params r = ref_from(&c);
     const dq q = dq_axis_angle(0.3, 0.2, 1.0, 0.9);
     const double w[3] = {2.0, -3.0, 4.0};
     const fc_attitude_control_input in = make_input(q, q, w, w);
@@ -904,10 +1086,26 @@ static void test_gyroscopic_term(void **state)
     assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_OK);
     double hw[3];
     rates_held(w, hw);
+    /* in N m from the inertia */
     const double gyro[3] = {(r.j[2] - r.j[1]) * hw[1] * hw[2], (r.j[0] - r.j[2]) * hw[2] * hw[0],
                             (r.j[1] - r.j[0]) * hw[0] * hw[1]};
-    assert_moment_near(&out.moment_nm, gyro, &r);
     assert_true(fabs(gyro[0] + 0.804) < 1e-7 && fabs(gyro[1] + 0.536) < 1e-7 && gyro[2] == 0.0);
+    /* normalised, from the differences over the authority as init holds them */
+    const double ww[3] = {hw[1] * hw[2], hw[2] * hw[0], hw[0] * hw[1]};
+    const double gyro_n[3] = {r.djn[0] * ww[0], r.djn[1] * ww[1], r.djn[2] * ww[2]};
+    assert_moment_near(&out.moment, gyro_n, &r);
+    /* and back in N m (moment x authority) against the inertia's: on top of
+     * the moment's tolerance the rounding of (Jz - Jy) / authority at init,
+     * fixed one rounding to INERTIA (2^-31; the difference of the held J is
+     * exact), float two (the difference and the division, 2^-24 each) */
+    const double m_nm[3] = {DN(out.moment.x) * r.auth[0], DN(out.moment.y) * r.auth[1],
+                            DN(out.moment.z) * r.auth[2]};
+    const double u = ldexp(1.0, -24);
+    for (int i = 0; i < 3; i++) {
+        const double djn_round = FC_NUMERIC_FIXED ? ldexp(1.0, -31) : ((1.0 + u) * (1.0 + u) - 1.0) * fabs(r.djn[i]);
+        const double tol_nm = r.auth[i] * (moment_tol(r.jn[i], r.kp[i], gyro_n[i]) + fabs(ww[i]) * djn_round);
+        assert_true(fabs(m_nm[i] - gyro[i]) <= tol_nm);
+    }
 }
 
 /* ---- closed loop on a rigid body --------------------------------------- */
@@ -943,7 +1141,8 @@ typedef struct loop_result {
     double settle_s;      /* last time the error was above 2 deg */
     double overshoot_deg; /* largest error past level, about the initial axis */
     double max_dev_deg;   /* largest angle between the library's and the reference's plant */
-    double max_m_ratio;   /* largest |M_i| / limit_i of the library */
+    double max_m_ratio;   /* largest |m_i| / out_bound_i of the library (the budget and
+                           * the output's rounding, normalised) */
     int status_bad;       /* steps with a status other than OK / OUTPUT_LIMITED */
 } loop_result;
 
@@ -957,11 +1156,12 @@ static loop_result closed_loop(const fc_attitude_control_params *p, const double
 {
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, p), FC_INIT_OK);
-    const ref_params r = ref_from(p);
+    const ref_params r = ref_from(&c);
     const double ax = cos(30.0 * kDeg), ay = sin(30.0 * kDeg);
     const dq qd = dq_axis_angle(0.0, 0.0, 1.0, 0.5);
     plant lib = {dq_mul(dq_axis_angle(ax, ay, 0.0, 60.0 * kDeg), qd), {0.0, 0.0, 0.0}};
     plant ref = lib;
+    /* the plant's moments in N m: normalised x authority */
     double m_lib[3] = {0.0, 0.0, 0.0}, m_ref[3] = {0.0, 0.0, 0.0};
     loop_result res = {0.0, 0.0, 0.0, 0.0, 0};
     const int steps = (int)(LOOP_T / PLANT_DT + 0.5);
@@ -973,15 +1173,17 @@ static loop_result closed_loop(const fc_attitude_control_params *p, const double
             if ((st & ~(fc_step_status)FC_STEP_OUTPUT_LIMITED) != 0u) {
                 res.status_bad++;
             }
-            m_lib[0] = DMOM(out.moment_nm.x);
-            m_lib[1] = DMOM(out.moment_nm.y);
-            m_lib[2] = DMOM(out.moment_nm.z);
+            const double m_n[3] = {DN(out.moment.x), DN(out.moment.y), DN(out.moment.z)};
             for (int i = 0; i < 3; i++) {
-                const double ratio = fabs(m_lib[i]) / r.mlim[i];
+                m_lib[i] = m_n[i] * r.auth[i];
+                const double ratio = fabs(m_n[i]) / out_bound(&r, i);
                 res.max_m_ratio = ratio > res.max_m_ratio ? ratio : res.max_m_ratio;
             }
-            double raw[3];
-            ref_law(&r, ref.q, qd, ref.w, kZero3, kZero3, m_ref, raw);
+            double raw[3], m_ref_n[3];
+            ref_law(&r, ref.q, qd, ref.w, kZero3, kZero3, m_ref_n, raw);
+            for (int i = 0; i < 3; i++) {
+                m_ref[i] = m_ref_n[i] * r.auth[i];
+            }
         }
         plant_step(&lib, j, m_lib, PLANT_DT);
         plant_step(&ref, j, m_ref, PLANT_DT);
@@ -1009,9 +1211,10 @@ static const char *backend_name(void)
     return FC_NUMERIC_FIXED ? "fixed" : "float";
 }
 
-/* 4 kg hexa: Ix = Iy = 0.082, Iz = 0.149 kg m^2, +-2 N m, default gains
- * (wn 10 rad/s, zeta 0.8). Bounds: settling (below 2 deg for good) < 0.6 s,
- * overshoot < 2 deg; the library's flight within 0.05 deg of the reference's. */
+/* 4 kg hexa: Ix = Iy = 0.082, Iz = 0.149 kg m^2, +-2 N m (of the default
+ * authority), default gains (wn 10 rad/s, zeta 0.8). Bounds: settling (below
+ * 2 deg for good) < 0.6 s, overshoot < 2 deg; the library's flight within
+ * 0.05 deg of the reference's. */
 static void test_closed_loop_hexa(void **state)
 {
     (void)state;
@@ -1028,17 +1231,20 @@ static void test_closed_loop_hexa(void **state)
     assert_true(res.max_m_ratio > 0.999); /* the budget was used: a saturated recovery */
 }
 
-/* Crazyflie: Ixx = Iyy = 1.66e-5, Izz = 2.93e-5 kg m^2, +-5e-3 N m, default
- * gains and a faster tuning (wn 20 rad/s, zeta 0.8). The same bounds scaled by
- * the bandwidth; the library within 0.05 deg of the double reference shows the
- * formats hold at moments of 1e-4..5e-3 N m. */
+/* Crazyflie: Ixx = Iyy = 1.66e-5, Izz = 2.93e-5 kg m^2, +-5e-3 N m (the
+ * authority, all of it the budget: the default J * 50 rad/s^2 = 8.3e-4 N m
+ * would need a budget of 6), default gains and a faster tuning (wn 20 rad/s,
+ * zeta 0.8). The same bounds scaled by the bandwidth; the library within 0.05
+ * deg of the double reference shows the formats hold at moments of 1e-4..5e-3
+ * N m (2e-2..1 of the authority; NORM16's LSB is 3e-7 N m here). */
 static void test_closed_loop_crazyflie(void **state)
 {
     (void)state;
     for (int tuning = 0; tuning < 2; tuning++) {
         fc_attitude_control_params p;
         fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kCfJ, FC_INERTIA_FRAC));
-        p.moment_limit_nm = vec_all(5.0e-3, FC_MOMENT_FRAC);
+        p.authority_nm = vec_all(5.0e-3, FC_MOMENT_FRAC);
+        p.moment_limit = limit_of(&p, 5.0e-3, 5.0e-3, 5.0e-3);
         const double wn = tuning == 0 ? 10.0 : 20.0;
         if (tuning == 1) {
             p.kp_per_s2.x = p.kp_per_s2.y = FC_C(20.0f * 20.0f, GAIN);
@@ -1062,6 +1268,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_default_params),
         cmocka_unit_test(test_bad_params),
+        cmocka_unit_test(test_normalisation),
         cmocka_unit_test(test_error_sign),
         cmocka_unit_test(test_error_is_2_9_in_body_frame),
         cmocka_unit_test(test_error_accuracy),

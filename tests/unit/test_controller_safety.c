@@ -187,6 +187,14 @@ static void test_inconsistent_params_rejected(void **state)
     fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
     p.altitude.thrust_max_n = F(0.3, FORCE); /* under 1.5 x 0.265 N */
     assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_THRUST_TOO_LOW);
+    /* normalised units that are not the allocation's: a thrust or a moment
+     * would mean something else to the allocation than to the law that set it */
+    fc_controller_default_params(&p, FC_AIRFRAME_F450, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.altitude.thrust_authority_n = F(20.0, FORCE); /* the rotors give 32 N */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_AUTHORITY_MISMATCH);
+    fc_controller_default_params(&p, FC_AIRFRAME_F450, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.attitude.authority_nm.z = F(0.1, MOMENT);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_AUTHORITY_MISMATCH);
 }
 
 /* ---- one glitched sample ---------------------------------------------- */
@@ -271,7 +279,7 @@ static void apply_glitch(fc_controller_inputs *in, const fc_controller_params *p
  * plant: the same inputs for both), one of them fed the glitch at one step:
  * the difference of their outputs at that step is what the glitch did. The
  * bounds are issue 27's: 20 % of the hover thrust, 20 % of the moment
- * authority on each axis (the attitude loop's moment_limit_nm). */
+ * authority on each axis (the attitude loop's authority_nm). */
 static void check_glitches(fc_airframe airframe, fc_altitude_variant variant, double dt_s, bool external_attitude)
 {
     static fc_controller clean, glitched;
@@ -279,7 +287,7 @@ static void check_glitches(fc_airframe airframe, fc_altitude_variant variant, do
     fc_controller_default_params(&p, airframe, variant, F(dt_s, DT));
     p.use_external_attitude = external_attitude;
     const double hover_n = D(p.mass_kg, MASS) * 9.81;
-    const fc_vec3 authority = p.attitude.moment_limit_nm;
+    const fc_vec3 authority = p.attitude.authority_nm;
     bool worst = false;
     for (size_t g = 0; g < sizeof glitches / sizeof glitches[0]; g++) {
         assert_int_equal(fc_controller_init(&clean, &p), FC_INIT_OK);

@@ -29,18 +29,31 @@
  * speeds give (fc_allocation_forward_wrench reports them). A geometry whose A
  * has rank < 4 is rejected at init (FC_INIT_RANK_DEFICIENT).
  *
- * Inverse, r = s. At init: row scales D = diag(2^e_k), powers of two chosen so
- * the largest entry of each row of D A lies in (0.5, 1] (the formats then hold
- * A of a 30 g Crazyflie and of a 4 kg hexacopter alike), and P = pinv(D A)
- * (n x 4, MAT), so pinv(A) = P D; fc_mat_pinv's result is refined by two
- * Newton-Schulz steps P <- P (2 I - D A P), which take its cond^2-sized error
- * (it solves the normal equations) down to the rounding of the products. Step:
- * v = P D w, u_i = v_i^(1/r_i) (fc_sqrt for r = 2, fc_pow_unit otherwise).
+ * Normalised units (SPEC "Units between modules", PX4's control_allocator):
+ * the demand arrives as fractions of what the airframe can give. The
+ * authorities come from A at init: the maximum thrust F_max = sum_i A_0i
+ * (every rotor at full speed), and per moment axis half the row's absolute
+ * sum, sum_i |A_ki| / 2 (for a symmetric layout the moment with the rotors
+ * that push that way at full speed and the others stopped). With
+ * N = diag(1 / authority) the allocation works on the normalised
+ * effectiveness B = N A, whose thrust row sums to 1 and whose moment rows
+ * sum to 2 in absolute value; the demand x = N w is what the attitude and
+ * altitude laws output (NORM16, within [-2, 2)), so the step scales nothing.
+ *
+ * Inverse, r = s. At init: B is formed from D A, D = diag(2^e_k) powers of two
+ * chosen so the largest entry of each row of D A lies in (0.5, 1] (exact, and
+ * the formats then hold A of a 30 g Crazyflie and of a 4 kg hexacopter
+ * alike), each row then scaled by 1 / its absolute sum (one rounding in MAT);
+ * P = pinv(B) (n x 4, MAT). fc_mat_pinv's result is refined by two
+ * Newton-Schulz steps P <- P (2 I - B P), which take its cond^2-sized error
+ * (it solves the normal equations) down to the rounding of the products.
+ * Step: v = P x, u_i = v_i^(1/r_i) (fc_sqrt for r = 2, fc_pow_unit otherwise).
  * For n > 4 this is the least-norm v; the null space of A is not used, not
  * even to desaturate.
  *
  * Inverse, r != s (2.4)/(2.6). The true wrench is W(v) = A v + delta(v) with
- * delta(v) = sum Q_max,i d_i (v_i^(s_i/r_i) - v_i) (moment rows only): the
+ * delta(v) = sum Q_max,i d_i (v_i^(s_i/r_i) - v_i) (moment rows only; N delta
+ * in the normalised units the step works in): the
  * reaction torque that the linear model puts at u^r but that grows as u^s. The
  * allocation iterates on the r = s solution with that correction (a chord /
  * quasi-Newton method with the constant Jacobian A):
@@ -63,8 +76,8 @@
  *       3 passes         6.4e-6       5.3e-6    4.6e-7
  *     r = 2.2, s = 1.8: 1.7e-2, 1.6e-3, 1.6e-4, 1.7e-5 (worst preset)
  *
- * (float; fixed the same down to its floor of 2 LSB of MOMENT, 3.6e-5 of the
- * Crazyflie's 3.4e-3 N m). About 13x per pass. F_z, M_x and M_y carry only the
+ * (float; fixed the same down to the rounding of the 16-bit demand). About
+ * 13x per pass. F_z, M_x and M_y carry only the
  * rounding of r = s for planar rotors (delta is along z). Warm-started on a
  * slowly varying demand (1 Hz at 500 Hz), one pass per step gives 6.4e-6.
  * Cost per pass: n fc_pow_unit and one alloc, plus n fc_pow_unit for the warm
@@ -103,10 +116,11 @@
  * speed and thrust is 0 (motors stopped) and FC_STEP_NOT_READY. Outputs are
  * always finite; speed[i] is in [u_min,i, 1] for i < rotor_count, 0 above.
  *
- * Formats (fixed backend): axes and speeds UNIT; positions LENGTH; l x d LEVER;
- * thrusts FORCE; moments and Q_max MOMENT; exponents RATIO; D A, P and row
- * scales in MAT and GAIN (2^e, e in [-16, 14], exact); the allocation's
- * internal v, t, a R, b Y in RATIO (v in [0, 1], resolution 6e-8). The
+ * Formats (fixed backend): the demand NORM16; axes and speeds UNIT; positions
+ * LENGTH; l x d LEVER; thrusts and F_max FORCE; moments, Q_max and the moment
+ * authorities MOMENT; exponents RATIO; D A, B and P in MAT, the row scales 2^e
+ * in GAIN (e in [-16, 14], exact); the allocation's internal x, v, t, a R,
+ * b Y in RATIO (v in [0, 1], resolution 6e-8). The
  * speeds of rotors with r = 2 are v's roots to 16 bits (fc_sqrt_unit16:
  * within 2^-17 of sqrt(v), the resolution of a 16-bit motor command).
  * Range limits checked at init (both backends): |l| components <= 16 m,
@@ -117,13 +131,7 @@
  * entry's rotor not far below the others'), <= 1000 1/m for a moment row with
  * 2^e >= 1 and <= 100 1/m with 2^e < 1 (a rotor's T_max not above ~1000 times
  * its row's largest entry in N m), |Q_max| 2^e <= 100. A P entry above 16 (a
- * geometry close to rank loss: in the oracle's random geometries, about 2 % of
- * them, all with cond(D A) > 30) is treated as rank deficient.
- *
- * Cost (ATmega2560 at 16 MHz in simavr, the hexa, r = s = 2, atmega.loop):
- * fixed about 148 000 cycles (9.3 ms) per step, 56 000 of them in the six
- * fc_sqrt, the rest some 70 products through 64-bit arithmetic; float (soft)
- * 39 000-78 000 cycles. Saturation adds the pair search.
+ * geometry close to rank loss, for the formats) is treated as rank deficient.
  */
 #ifndef FC_ALLOCATION_H
 #define FC_ALLOCATION_H
@@ -155,9 +163,10 @@ typedef struct fc_allocation_params {
     uint8_t newton_iterations;         /* passes of the r != s correction, <= MAX_ITERATIONS */
 } fc_allocation_params;
 
+/* The normalised wrench (NORM16; header: normalised units). */
 typedef struct fc_allocation_demand {
-    fc_real thrust_n;   /* FORCE: F_z, along body z */
-    fc_vec3 moment_nm;  /* MOMENT: (M_x, M_y, M_z), body frame */
+    fc_real16 thrust;  /* F_z / F_max, along body z: 1 is every rotor at full speed */
+    fc_vec3_16 moment; /* (M_x, M_y, M_z) / authority, body frame */
 } fc_allocation_demand;
 
 typedef struct fc_allocation_output {
@@ -180,7 +189,8 @@ typedef struct fc_allocation_rotor {
     fc_real exponent_ratio;   /* RATIO: s_i / r_i */
     fc_real speed_min;        /* UNIT: u_min,i */
     fc_real v_min;            /* RATIO: u_min,i^r_i */
-    fc_real pinv[4];          /* MAT: row i of P = pinv(D A) */
+    fc_vec3 torque_norm;      /* MAT: N Q_max,i d_i, the reaction torque's column of B */
+    fc_real pinv[4];          /* MAT: row i of P = pinv(B) */
     fc_real shift_gain;       /* RATIO: 1 / P_i0 (collective thrust per unit v_i) */
     fc_real shift_low;        /* RATIO: lower bound of t from this rotor (at a = 0) */
     fc_real shift_high;       /* RATIO: upper bound of t from this rotor (at a = 0) */
@@ -189,9 +199,13 @@ typedef struct fc_allocation_rotor {
 
 typedef struct fc_allocation {
     fc_allocation_rotor rotor[FC_MAX_ROTORS];
+    fc_real thrust_max_n;        /* FORCE: F_max, the thrust a normalised 1 stands for */
+    fc_vec3 moment_authority_nm; /* MOMENT: the moment a normalised 1 stands for, per axis */
+    fc_real inv_thrust_max;      /* PER_FORCE: 1 / F_max (fc_allocation_thrust_fraction) */
     fc_real row_scale[4];        /* GAIN: 2^e_k, the diagonal of D */
-    fc_real demand_limit[4];     /* FORCE, MOMENT x3: sum_i |A_ki|, the most any axis can get */
-    fc_vec3 delta_warm_nm;       /* MOMENT: delta(v) of the last solution (r != s) */
+    fc_real row_norm[4];         /* RATIO: 1 / the absolute sum of row k of D A */
+    fc_real demand_limit[4];     /* RATIO: sum_i |B_ki|, the most any axis can get */
+    fc_vec3 delta_warm;          /* RATIO: N delta(v) of the last solution (r != s) */
     fc_allocation_demand last_good; /* held on bad input */
     uint8_t rotor_count;
     uint8_t newton_iterations;
@@ -207,9 +221,27 @@ typedef struct fc_allocation {
  * coaxial-only layout, ...). On failure the allocation is not ready. */
 fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *p);
 
-/* Rotor speeds for a demanded F_z and M (see the header comment). */
+/* Rotor speeds for a normalised demand (see the header comment). */
 fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
                                   fc_allocation_output *out);
+
+/* The authorities of the rotors of p, as init computes them (header):
+ * F_max (FORCE) and the moment authority per axis (MOMENT). For the modules
+ * that output normalised units (fc_controller_default_params). false when p
+ * is not a valid geometry (the values are then 0). */
+bool fc_allocation_authority_of(const fc_allocation_params *p, fc_real *thrust_max_n, fc_vec3 *moment_nm);
+
+/* A thrust in N as the normalised demand's thrust (one product by 1/F_max):
+ * for the thrusts a module sets in N (the failsafe, the landing's ramp). */
+fc_real16 fc_allocation_thrust_fraction(const fc_allocation *a, fc_real thrust_n);
+
+/* A demand in physical units as the normalised one (divisions: for the
+ * library's edge and the tests, not for the step). */
+fc_allocation_demand fc_allocation_normalise(const fc_allocation *a, fc_real thrust_n, fc_vec3 moment_nm);
+
+/* The physical F_z (FORCE) and M (MOMENT) of a normalised demand. */
+void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *d, fc_real *thrust_n,
+                            fc_vec3 *moment_nm);
 
 /* Whether fc_allocation_step fills out->thrust_n, moment_nm and rotor_thrust_n
  * from the forward model (2.2)-(2.3) of the speeds it chose (on after init),
@@ -236,12 +268,10 @@ void fc_allocation_forward_wrench(fc_allocation *a, const fc_real *speed, fc_vec
  * and a 0 x 0 matrix when not ready. For the oracle. */
 fc_mat_status fc_allocation_effectiveness(const fc_allocation *a, fc_mat *out);
 
-/* D A (4 x n, MAT, the matrix the allocation inverts) and, if row_scale is not
- * NULL, the diagonal of D (GAIN, powers of two). */
-fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out,
-                                                     fc_real *row_scale);
+/* B = N A (4 x n, MAT): the normalised effectiveness the allocation inverts. */
+fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out);
 
-/* P = pinv(D A) (n x 4, MAT), so that pinv(A) = P D. */
+/* P = pinv(B) (n x 4, MAT), so that pinv(A) = P N. */
 fc_mat_status fc_allocation_pinv_normalised(const fc_allocation *a, fc_mat *out);
 
 /* Presets from FC_C constants only; rotors numbered front-right, back-right,

@@ -110,6 +110,8 @@ typedef struct fc_altitude_control_params {
     fc_real tilt_cos_min;        /* RATIO: k_h_min, tilt compensation stops here, (0, 1] */
     fc_real thrust_min_n;        /* FORCE: body thrust limits */
     fc_real thrust_max_n;        /* FORCE */
+    fc_real thrust_authority_n;  /* FORCE: the thrust a normalised 1 stands for (the airframe's
+                                  * maximum: fc_allocation_authority_of), [1/16, 2000] N */
 
     /* SSC */
     fc_real l0_per_s;            /* GAIN: l0 (K1), sigma = e' + l0 e */
@@ -145,7 +147,9 @@ typedef struct fc_altitude_control_input {
 } fc_altitude_control_input;
 
 typedef struct fc_altitude_control_output {
-    fc_real thrust_n;            /* FORCE: body thrust command, inside the limits */
+    fc_real16 thrust;            /* NORM16: body thrust command / thrust_authority_n, for the
+                                  * allocation (SPEC "Units between modules") */
+    fc_real thrust_n;            /* FORCE: the same in N, inside the limits */
     fc_real vertical_force_n;    /* FORCE: u, before tilt compensation and clamp */
     /* telemetry */
     fc_real error_m;             /* LENGTH: e */
@@ -187,6 +191,7 @@ typedef struct fc_altitude_control {
     fc_real gamma_dt;            /* RATIO: gamma dt */
     fc_real l0_sq;               /* GAIN: l0^2 */
     fc_real inv_boundary_layer;  /* GAIN: 1/phi_bl, s/m */
+    fc_real inv_thrust_authority; /* PER_FORCE: 1 / thrust_authority_n */
     /* states */
     fc_real u0_av_n;             /* FORCE */
     fc_real sigma_bar_mps;       /* VEL */

@@ -2,7 +2,9 @@
  * fc/attitude_control.h - quaternion attitude control (dissertation 2.6.1, (2.7)-(2.9)).
  *
  * In: the attitude q and the desired attitude q_d (both body -> world, fc/quat.h),
- * the body rate and an optional body-rate feed-forward. Out: the body moment.
+ * the body rate and an optional body-rate feed-forward. Out: the body moment
+ * in normalised units (SPEC "Units between modules"): per axis a fraction of
+ * the airframe's authority on that axis (the allocation's, fc/allocation.h).
  *
  * Error. (2.9) defines q_e = q (x) q_d*. With this library's convention
  * (v_w = q (x) v_b (x) q*) that product is a rotation in the world frame, and
@@ -39,18 +41,21 @@
  *
  *     e     = e_tilt + yaw_weight e_head                        (ANGLE)
  *     alpha = -(kp e + ki I + kd (w - w_ff))                    (rad/s^2, GAIN)
- *     M     = J alpha + w x J w                                 (MOMENT)
+ *     m     = (J alpha + w x J w) / authority                   (normalised)
  *     I    <- clamp(I + e dt, +-integral_limit)                 (rad s, ANGLE)
  *
  * I is the exact integral of the error held over the step (the error is
  * sampled once per step); the moment of step k uses I[k], the update gives
  * I[k+1].
  * w x J w is ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for the diagonal
- * J, the differences computed at init. yaw_weight in [0, 1] scales the heading
+ * J. Init divides J and the differences by the authority, per axis: J /
+ * authority (s^2/rad, the inverse of the angular acceleration the axis can
+ * reach) is within a factor of ten from a 27 g quad to a 4 kg hexa, so the
+ * step needs no physical moment. yaw_weight in [0, 1] scales the heading
  * error (PX4's yaw weight): 1 corrects heading with kp.z, 0 leaves the heading
  * alone (yaw rate is still damped towards rate_ff.z: a yaw-rate mode).
  *
- * Budget: roll and pitch first. If (Mx, My) leaves the box moment_limit.xy it
+ * Budget: roll and pitch first. If (mx, my) leaves the box moment_limit.xy it
  * is scaled down as one vector (its direction, the tilt axis, is kept); Mz is
  * clamped to its own limit on its own. Yaw never takes room from roll/pitch
  * and roll/pitch are never reduced to make room for yaw. Where rotors share
@@ -66,7 +71,7 @@
  * Bad input (a quaternion of zero length or not finite, a rate not finite or
  * beyond +-100 rad/s): the step holds the last good moment and lets it decay
  * to zero with tau = FC_ATTITUDE_CONTROL_HOLD_TAU_S (exact ZOH pole
- * e^(-dt/tau), at init; below 1e-6 N m it is zero): one bad sample moves the
+ * e^(-dt/tau), at init; below half a NORM16 LSB it is zero): one bad sample moves the
  * moment by 1 - e^(-dt/tau) (4 % at 500 Hz), a lasting fault fades out (95 %
  * in 3 tau). The integrals are frozen, the telemetry error is held. A bad
  * rate_ff alone is replaced by zero and the step runs normally. Both are
@@ -77,7 +82,9 @@
  * N, 2.7e-4 rad / N, of the exact one; test_attitude_control); errors ANGLE;
  * rates RATE; gains GAIN; the angular acceleration GAIN (rad/s^2 in Q16,
  * range +-32768, LSB 1.5e-5: below 3e-10 N m of moment at Crazyflie
- * inertia); w_i w_j GAIN (rad^2/s^2); inertia INERTIA; moments MOMENT;
+ * inertia); w_i w_j GAIN (rad^2/s^2); inertia and J / authority INERTIA
+ * (s^2, so J / authority <= 1.99: an axis that reaches 0.5 rad/s^2 at least);
+ * the authority MOMENT; the normalised moment RATIO inside, NORM16 out;
  * integral ANGLE (rad s).
  */
 #ifndef FC_ATTITUDE_CONTROL_H
@@ -94,8 +101,8 @@
 #define FC_ATTITUDE_CONTROL_DEFAULT_ZETA_TILT 0.8f
 #define FC_ATTITUDE_CONTROL_DEFAULT_WN_YAW 5.0f /* rad/s, heading */
 #define FC_ATTITUDE_CONTROL_DEFAULT_ZETA_YAW 0.9f
-/* Moment budget of the defaults: J times this angular acceleration (rad/s^2);
- * a placeholder, set moment_limit_nm from the vehicle's allocation. */
+/* Authority of the defaults: J times this angular acceleration (rad/s^2);
+ * a placeholder, set authority_nm from the vehicle's allocation. */
 #define FC_ATTITUDE_CONTROL_DEFAULT_ALPHA_MAX 50.0f
 
 /* Ranges checked by init (the upper bounds keep every value inside its fixed
@@ -108,7 +115,9 @@ typedef struct fc_attitude_control_params {
     fc_vec3 ki_per_s3;          /* GAIN: rad/s^2 per rad s of integral, [0, 30000]; 0 disables an axis */
     fc_vec3 integral_limit_rad; /* ANGLE: bound of each integral state (rad s), (0, 4] */
     fc_real yaw_weight;         /* RATIO: weight of the heading error, [0, 1] */
-    fc_vec3 moment_limit_nm;    /* MOMENT: per-axis budget +-limit, (0, 100] */
+    fc_vec3 authority_nm;       /* MOMENT: the moment a normalised 1 stands for, per axis
+                                 * (fc_allocation_authority_of), (0, 100] */
+    fc_vec3 moment_limit;       /* RATIO: per-axis budget +-limit, normalised, (0, 1.99] */
 } fc_attitude_control_params;
 
 typedef struct fc_attitude_control_input {
@@ -121,29 +130,30 @@ typedef struct fc_attitude_control_input {
 } fc_attitude_control_input;
 
 typedef struct fc_attitude_control_output {
-    fc_vec3 moment_nm;          /* MOMENT: body moment, inside +-moment_limit */
+    fc_vec3_16 moment;          /* NORM16: body moment / authority, inside +-moment_limit */
     fc_vec3 attitude_error_rad; /* ANGLE: (e_tilt.x, e_tilt.y, e_head.z), unweighted, for
                                  * telemetry; desired -> current, body frame */
 } fc_attitude_control_output;
 
 typedef struct fc_attitude_control {
     fc_attitude_control_params p;
-    fc_vec3 inertia_diff_kgm2; /* INERTIA: (Jz - Jy, Jx - Jz, Jy - Jx), for w x J w */
+    fc_vec3 inertia_norm;      /* INERTIA: J / authority per axis (s^2) */
+    fc_vec3 inertia_diff_norm; /* INERTIA: (Jz - Jy, Jx - Jz, Jy - Jx) / authority, for w x J w */
     fc_real hold_decay;        /* UNIT: e^(-dt / HOLD_TAU), per step on bad input */
     fc_vec3 integral_rad_s;    /* ANGLE: I, the integral of e (rad s) */
-    fc_vec3 last_moment_nm;    /* MOMENT: the last output (held on bad input) */
+    fc_vec3 last_moment;       /* RATIO: the last output, normalised (held on bad input) */
     fc_vec3 last_error_rad;    /* ANGLE: the last good error (held on bad input) */
     uint8_t integral_hold;     /* 1: the integrals do not integrate (hold_integral) */
     uint8_t ready;             /* 1 after a successful init */
     fc_arith ar;
 } fc_attitude_control;
 
-/* Validates p (finite; dt, inertia, integral and moment limits > 0; gains >= 0;
- * yaw_weight in [0, 1]) and clears the state. On FC_INIT_BAD_PARAM the
+/* Validates p (finite; dt, inertia, authority, integral and moment limits > 0;
+ * gains >= 0; yaw_weight in [0, 1]; J / authority <= 1.99) and clears the state. On FC_INIT_BAD_PARAM the
  * controller is not ready: _step gives zero moment and FC_STEP_NOT_READY. */
 fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitude_control_params *p);
 
-/* One step of dt_s. out->moment_nm is always finite and inside +-moment_limit. */
+/* One step of dt_s. out->moment is always finite and inside +-moment_limit. */
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
                                         fc_attitude_control_output *out);
 
@@ -156,7 +166,8 @@ void fc_attitude_control_hold_integral(fc_attitude_control *c, bool hold);
 
 /* Gains from the stated bandwidth (the DEFAULT_* above): kp = wn^2, kd = 2 zeta wn
  * per axis, no integral (ki = 0, integral_limit 0.2 rad s), yaw_weight 1,
- * moment_limit = J * DEFAULT_ALPHA_MAX (replace it with the real budget). */
+ * authority = J * DEFAULT_ALPHA_MAX (replace it with the allocation's),
+ * moment_limit 1 (the whole authority) per axis. */
 void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real dt_s, fc_vec3 inertia_kgm2);
 
 #endif /* FC_ATTITUDE_CONTROL_H */

@@ -40,12 +40,17 @@
  *   RATIO      24   [-128, 128)       6.0e-8       dimensionless factors (k_g, k_h, weights)
  *   GAIN       16   [-32768, 32768)   1.5e-5       controller gains of mixed units
  *   MAT        24   [-128, 128)       6.0e-8       entries of the allocation matrices
+ *   PER_FORCE  26   [-32, 32) 1/N     1.5e-8 1/N   1 / the airframe's maximum thrust
  *
  * and, for the signals of the inner loop that need 15 bits and not 31
  * (fc_real16: int16_t in fixed, float in float):
  *
  *   UNIT16     14   [-2, 2)           6.1e-5       the attitude error's quaternions
  *                                                  (fc_quat16), its half-heading c, s
+ *   NORM16     14   [-2, 2)           6.1e-5       the normalised wrench between the inner
+ *                                                  loop's modules (fc_wrench16): thrust
+ *                                                  as a fraction of the airframe's
+ *                                                  maximum, moments of their authority
  *
  * A product of two fc_real16 is exact in an fc_real, in the format whose FRAC
  * is the sum of theirs (UNIT16 x UNIT16: UNIT16_SQ, Q28), and so is the sum of
@@ -90,9 +95,11 @@
 #define FC_RATIO_FRAC 24
 #define FC_GAIN_FRAC 16
 #define FC_MAT_FRAC 24
+#define FC_PER_FORCE_FRAC 26
 /* 16-bit formats (fc_real16, below) */
 #define FC_UNIT16_FRAC 14
 #define FC_UNIT16_SQ_FRAC 28 /* a product of two UNIT16 values: 2 x 14 */
+#define FC_NORM16_FRAC 14    /* the normalised wrench: room for 2x the authority */
 
 /* Right shift of a product: operand formats A and B, result format OUT. */
 #define FC_SHIFT(A, B, OUT) (FC_##A##_FRAC + FC_##B##_FRAC - FC_##OUT##_FRAC)

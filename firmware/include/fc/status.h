@@ -20,7 +20,8 @@ typedef enum fc_init_result {
     FC_INIT_GRAVITY_MISMATCH,   /* the modules do not share one g */
     FC_INIT_MASS_MISMATCH,      /* the modules do not share one nominal mass */
     FC_INIT_THRUST_TOO_LOW,     /* maximum thrust under 1.5 x the nominal weight */
-    FC_INIT_THRUST_ABOVE_ROTORS /* maximum thrust above what the rotors give */
+    FC_INIT_THRUST_ABOVE_ROTORS, /* maximum thrust above what the rotors give */
+    FC_INIT_AUTHORITY_MISMATCH   /* a module's normalised units are not the allocation's */
 } fc_init_result;
 
 typedef uint16_t fc_step_status;

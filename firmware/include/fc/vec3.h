@@ -122,4 +122,38 @@ FC_VEC3_INLINE bool fc_vec3_within(fc_vec3 v, fc_real limit)
     return fc_within(v.x, limit) && fc_within(v.y, limit) && fc_within(v.z, limit);
 }
 
+/*
+ * Three 16-bit values (fc_real16: int16_t in fixed, float in float): the
+ * moments the inner loop's modules pass on (NORM16). In float the same
+ * struct as fc_vec3, so no copies between the two.
+ */
+#if FC_NUMERIC_FIXED
+typedef struct fc_vec3_16 {
+    fc_real16 x, y, z;
+} fc_vec3_16;
+#else
+typedef fc_vec3 fc_vec3_16;
+#endif
+
+/* v (format frac_from) rounded into the 16-bit format frac_to, saturated. */
+FC_VEC3_INLINE fc_vec3_16 fc_vec3_narrow16(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to)
+{
+    const fc_vec3_16 n = {fc_narrow16(ar, v.x, frac_from, frac_to), fc_narrow16(ar, v.y, frac_from, frac_to),
+                          fc_narrow16(ar, v.z, frac_from, frac_to)};
+    return n;
+}
+
+/* v (16-bit format frac_from) in the 32-bit format frac_to, exactly. */
+FC_VEC3_INLINE fc_vec3 fc_vec3_widen16(fc_vec3_16 v, int frac_from, int frac_to)
+{
+    return fc_vec3_make(fc_widen16(v.x, frac_from, frac_to), fc_widen16(v.y, frac_from, frac_to),
+                        fc_widen16(v.z, frac_from, frac_to));
+}
+
+static inline fc_vec3_16 fc_vec3_16_zero(void)
+{
+    const fc_vec3_16 z = {FC_INT16(0, NORM16), FC_INT16(0, NORM16), FC_INT16(0, NORM16)};
+    return z;
+}
+
 #endif /* FC_VEC3_H */
