@@ -12,8 +12,10 @@
 # then the flat profile of fc_controller_step on the AVR (exclusive cycles per
 # call of each function, from the same run: bench_host.c --profile),
 # and per image: flash, static RAM, the largest stack frame (-fstack-usage)
-# and, on the AVR, the measured stack peak.
-# Usage: tools/bench.sh [--no-deps]   (everything lands in build/bench/)
+# and, on the AVR, the measured stack peak; and the ATmega's F450 (its
+# image's airframe) against issue 28's targets.
+# Usage: tools/bench.sh [--no-deps]   (everything lands in build/bench/: the
+# printed tables in report.txt, the raw figures in results.txt)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -97,12 +99,19 @@ largest_frame() { # preset run
 
 results=$out/results.txt
 : >"$results"
-# two workloads (bench_run.h): the hexa tracking the pad (results under the
-# preset's name) and the Crazyflie's landing mission (under <preset>-cf)
-for run in "${presets[@]}" "${presets[@]/%/-cf}"; do
+# what this prints, kept beside the raw figures: the results file of the run
+exec > >(tee "$out/report.txt")
+# three workloads (bench_run.h): the hexa tracking the pad (results under the
+# preset's name), the Crazyflie's landing mission (under <preset>-cf) and, on
+# the ATmega only, the F450 tracking the pad (<preset>-f450: the ATmega
+# image's airframe)
+for run in "${presets[@]}" "${presets[@]/%/-cf}" atmega-f450 atmega-fixed-f450; do
   p=${run%-cf}
+  p=${p%-f450}
   cf=0
-  [ "$run" != "$p" ] && cf=1
+  [ "$run" = "$p-cf" ] && cf=1
+  f450=0
+  [ "$run" = "$p-f450" ] && f450=1
   fx=$(fixed_of "$p")
   timed=("${modules[@]}")
   [ "$cf" = 1 ] && timed=("${modules_cf[@]}")
@@ -110,7 +119,7 @@ for run in "${presets[@]}" "${presets[@]/%/-cf}"; do
   cd "$out/$run"
   case $p in
   atmega*)
-    avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args "${common[@]}" -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf \
+    avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args "${common[@]}" -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE=$cf -DBENCH_WORKLOAD_F450=$f450 \
       -o bench.elf "$root/platform/atmega/bench/bench_avr.c" "$root/build/$p/firmware/libfc.a" -lm \
       -Wl,--gc-sections
     if [ "$fx" = 1 ]; then
@@ -209,6 +218,30 @@ awk -v mods="$mods" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
 table "" "Hexa 4 kg, ssc-adaptive, tracking the pad (TRACK_PAD)"
 table -cf "Crazyflie 2.x, ssc, landing mission (LAND), a range sample on 2 of the 8 vectors"
 table "" "Hexa 4 kg (the images' sizes below are the same for both workloads)" 1 | sed -n '/^image/,$p'
+
+# ---- the ATmega's F450 against issue 28's targets ----
+echo
+echo "ATmega2560, F450 quad, ssc-adaptive, tracking the pad, 500 Hz (the ATmega image's airframe): exact cycles per"
+echo "call, min-max (mean). inner modules: the sum of the means of the modules that run on every step (filter,"
+echo "attitude law, reference, altitude law, allocation), without the controller's glue; issue 28's targets beside."
+awk -v mods="${modules[*]}" '
+  $2 == "calls" { mn[$1, $3] = $4; mx[$1, $3] = $5; mean[$1, $3] = $6 }
+  END {
+    k = split(mods, M, " ")
+    printf "  %-30s | %-26s | %-26s | %s\n", "function", "float", "fixed", "float/fixed"
+    for (i = 1; i <= k; i++) {
+      m = M[i]
+      printf "  %-30s | %-26s | %-26s | %.2f\n", m, \
+        sprintf("%d-%d (%d)", mn["atmega-f450", m], mx["atmega-f450", m], mean["atmega-f450", m]), \
+        sprintf("%d-%d (%d)", mn["atmega-fixed-f450", m], mx["atmega-fixed-f450", m], mean["atmega-fixed-f450", m]), \
+        mean["atmega-fixed-f450", m] > 0 ? mean["atmega-f450", m] / mean["atmega-fixed-f450", m] : 0
+      if (m != "fc_controller_step") { inner_fl += mean["atmega-f450", m]; inner_fx += mean["atmega-fixed-f450", m] }
+    }
+    printf "  %-30s | %-26d | %-26d | %.2f   (target: fixed <= 16000, ratio >= 3)\n", "inner modules (sum of means)", inner_fl, inner_fx, inner_fx > 0 ? inner_fl / inner_fx : 0
+    m = "fc_controller_step"
+    printf "  %-30s | %-26d | %-26d |        (target: fixed <= 24000)\n", "worst step", mx["atmega-f450", m], mx["atmega-fixed-f450", m]
+    printf "  %-30s | %-26d | %-26d |        (target: fixed <= 20000)\n", "mean step", mean["atmega-f450", m], mean["atmega-fixed-f450", m]
+  }' "$results"
 
 # ---- the M4F float step call by call: which minor frames cost what ----
 echo

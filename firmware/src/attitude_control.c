@@ -17,11 +17,28 @@
 /* Below this |w^2 + z^2| of the error the heading is undefined (header). */
 #define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT16_SQ)
 
+/* The 16-bit law's own Q-formats (fc/attitude_control.h, Formats): what its
+ * products read, each chosen from the range the law can reach. */
+#define FC_ANGLE16_FRAC 12    /* [-8, 8) rad, 2.4e-4 rad: the error (|e| <= 2) and the integral (<= 4) */
+#define FC_RATE16_FRAC 10     /* [-32, 32) rad/s, 9.8e-4 rad/s: the rate and its error */
+#define FC_NGAIN16_FRAC 12    /* [-8, 8), 2.4e-4: the gains times J / authority */
+#define FC_NINERTIA16_FRAC 15 /* [-1, 1) s^2, 3.1e-5: the inertia differences / authority */
+#define FC_WW16_FRAC 5        /* [-1024, 1024) rad^2/s^2, 0.031: w_i w_j */
+#define FC_NSUM_FRAC 22       /* [-512, 512), 2.4e-7: the normalised moment as it is summed */
+/* gain x error and gain x integral are exact in Q24, gain x rate in Q22 (the sum's) */
+_Static_assert(FC_NGAIN16_FRAC + FC_ANGLE16_FRAC == FC_NSUM_FRAC + 2, "kp e is not Q24");
+_Static_assert(FC_NGAIN16_FRAC + FC_RATE16_FRAC == FC_NSUM_FRAC, "kd r is not the sum's format");
+/* the narrowings of the step that drop 16 bits take the high half */
+_Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a high half");
+
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
 /* A held moment below this (half a NORM16 LSB) is zero (fixed rounding would
  * stall the decay). */
-#define HOLD_ZERO FC_C(3.0e-5f, RATIO)
+#define HOLD_ZERO FC_C(3.0e-5f, NSUM)
+/* The largest normalised gain and inertia difference (their 16-bit formats). */
+#define MAX_NORM_GAIN FC_C(7.99f, RATIO)
+#define MAX_NORM_INERTIA_DIFF FC_C(0.99f, INERTIA)
 
 static bool finite_in(fc_real x, fc_real lo, fc_real hi)
 {
@@ -63,6 +80,34 @@ static fc_vec3 per_authority(fc_arith *ar, fc_vec3 x, fc_vec3 authority)
                         fc_div(ar, x.z, authority.z, shift));
 }
 
+static bool vec_within(fc_vec3 v, fc_real limit)
+{
+    return fc_vec3_within(v, limit);
+}
+
+/* k J / authority per axis (RATIO), false beyond the 16-bit format. */
+static bool normalised_gain(fc_arith *ar, fc_vec3 k, fc_vec3 inertia_norm, fc_vec3_16 *out)
+{
+    const int shift = FC_SHIFT(GAIN, INERTIA, RATIO);
+    const fc_vec3 g = fc_vec3_make(fc_mul(ar, k.x, inertia_norm.x, shift), fc_mul(ar, k.y, inertia_norm.y, shift),
+                                   fc_mul(ar, k.z, inertia_norm.z, shift));
+    *out = fc_vec3_narrow16(ar, g, FC_RATIO_FRAC, FC_NGAIN16_FRAC);
+    return vec_within(g, MAX_NORM_GAIN);
+}
+
+/* The step's 16-bit constants: the gains in normalised moment per unit of
+ * error (k J / authority), the inertia differences, the budget in NSUM. */
+static bool normalised_gains(fc_attitude_control *c, const fc_attitude_control_params *p)
+{
+    fc_arith ar = {0u};
+    const bool in_range = normalised_gain(&ar, p->kp_per_s2, c->inertia_norm, &c->gain_p) &&
+                          normalised_gain(&ar, p->ki_per_s3, c->inertia_norm, &c->gain_i) &&
+                          normalised_gain(&ar, p->kd_per_s, c->inertia_norm, &c->gain_d);
+    c->inertia_diff16 = fc_vec3_narrow16(&ar, c->inertia_diff_norm, FC_INERTIA_FRAC, FC_NINERTIA16_FRAC);
+    c->moment_limit_sum = fc_vec3_convert(&ar, p->moment_limit, FC_RATIO_FRAC, FC_NSUM_FRAC);
+    return in_range && ar.saturated == 0u;
+}
+
 fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitude_control_params *p)
 {
     c->ready = 0u;
@@ -74,6 +119,11 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
     c->integral_hold = 0u;
     c->inertia_norm = fc_vec3_zero();
     c->inertia_diff_norm = fc_vec3_zero();
+    c->gain_p = fc_vec3_16_zero();
+    c->gain_i = fc_vec3_16_zero();
+    c->gain_d = fc_vec3_16_zero();
+    c->inertia_diff16 = fc_vec3_16_zero();
+    c->moment_limit_sum = fc_vec3_zero();
     c->hold_decay = FC_INT(0, UNIT);
     if (!attitude_params_valid(p)) {
         return FC_INIT_BAD_PARAM;
@@ -85,7 +135,9 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
     const fc_vec3 j_diff = fc_vec3_make(fc_sub(&ar, j.z, j.y), fc_sub(&ar, j.x, j.z), fc_sub(&ar, j.y, j.x));
     c->inertia_norm = per_authority(&ar, j, p->authority_nm);
     c->inertia_diff_norm = per_authority(&ar, j_diff, p->authority_nm);
-    if (!vec_positive_upto(c->inertia_norm, MAX_INERTIA_NORM)) {
+    if (!vec_positive_upto(c->inertia_norm, MAX_INERTIA_NORM) ||
+        !vec_within(c->inertia_diff_norm, MAX_NORM_INERTIA_DIFF) ||
+        !normalised_gains(c, p)) {
         return FC_INIT_BAD_PARAM;
     }
     /* ZOH pole of the decay of the held moment: e^(-dt/tau) */
@@ -159,13 +211,17 @@ static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
                         fc_add(ar, half_hz, half_hz));
 }
 
-/* alpha = -(kp e + ki I + kd r): rad/s^2 in GAIN. */
-static fc_real angular_accel(fc_arith *ar, fc_real kp, fc_real e, fc_real ki, fc_real integral, fc_real kd,
-                             fc_real rate_err)
+/* One axis of the law in the normalised units (header): -(Kp e + Ki I +
+ * Kd r) + dJ w_i w_j with K = k J / authority, dJ = (J_k - J_j) / authority;
+ * 16 x 16 -> 32 products summed in NSUM. */
+static fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
+                           fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
 {
-    const fc_real pi = fc_dot2(ar, kp, e, ki, integral, FC_SHIFT(GAIN, ANGLE, GAIN));
-    const fc_real d = fc_mul(ar, kd, rate_err, FC_SHIFT(GAIN, RATE, GAIN));
-    return fc_neg(ar, fc_add(ar, pi, d));
+    /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
+    const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
+    const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
+    const fc_real gyro = fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
+    return fc_sub(ar, gyro, fc_add(ar, pi, d));
 }
 
 /* Conditional integration of one axis (header: anti-windup). The integral acts
@@ -190,7 +246,7 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
     const fc_real abs_x = fc_abs(ar, m.x);
     const fc_real abs_y = fc_abs(ar, m.y);
     if (abs_x > limit.x || abs_y > limit.y) {
-        const int ratio_shift = FC_DIV_SHIFT(RATIO, RATIO, UNIT);
+        const int ratio_shift = FC_DIV_SHIFT(NSUM, NSUM, UNIT);
         fc_real f = FC_INT(1, UNIT);
         if (abs_x > limit.x) {
             f = fc_min(f, fc_div(ar, limit.x, abs_x, ratio_shift));
@@ -198,8 +254,8 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
         if (abs_y > limit.y) {
             f = fc_min(f, fc_div(ar, limit.y, abs_y, ratio_shift));
         }
-        m.x = fc_mul(ar, m.x, f, FC_SHIFT(RATIO, UNIT, RATIO));
-        m.y = fc_mul(ar, m.y, f, FC_SHIFT(RATIO, UNIT, RATIO));
+        m.x = fc_mul(ar, m.x, f, FC_SHIFT(NSUM, UNIT, NSUM));
+        m.y = fc_mul(ar, m.y, f, FC_SHIFT(NSUM, UNIT, NSUM));
     }
     /* the hard clamp catches the last rounding of the scaling */
     return fc_vec3_make(fc_clamp(m.x, fc_neg(ar, limit.x), limit.x),
@@ -207,10 +263,21 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
                         fc_clamp(m.z, fc_neg(ar, limit.z), limit.z));
 }
 
+/* A rate as the products read it: RATE16, clamped to its range first (by
+ * design, header: not an arithmetic saturation). */
+static fc_vec3_16 rate16(fc_arith *ar, fc_vec3 rate)
+{
+    const fc_real max = FC_C(31.999f, RATE);
+    const fc_real min = FC_C(-31.999f, RATE);
+    const fc_vec3 clamped =
+        fc_vec3_make(fc_clamp(rate.x, min, max), fc_clamp(rate.y, min, max), fc_clamp(rate.z, min, max));
+    return fc_vec3_narrow16(ar, clamped, FC_RATE_FRAC, FC_RATE16_FRAC);
+}
+
 static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
 {
-    const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(RATIO, UNIT, RATIO));
-    return fc_abs(ar, d) < HOLD_ZERO ? FC_INT(0, RATIO) : d;
+    const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(NSUM, UNIT, NSUM));
+    return fc_abs(ar, d) < HOLD_ZERO ? FC_INT(0, NSUM) : d;
 }
 
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
@@ -249,24 +316,23 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         c->last_error_rad = err;
         const fc_vec3 e =
             fc_vec3_make(err.x, err.y, fc_mul(ar, err.z, p->yaw_weight, FC_SHIFT(ANGLE, RATIO, ANGLE)));
-        const fc_vec3 rate_err = fc_vec3_sub(ar, rate, rate_ff);
         const fc_vec3 i = c->integral_rad_s;
-        const fc_vec3 kp = p->kp_per_s2, ki = p->ki_per_s3, kd = p->kd_per_s;
-        const fc_vec3 alpha = fc_vec3_make(angular_accel(ar, kp.x, e.x, ki.x, i.x, kd.x, rate_err.x),
-                                           angular_accel(ar, kp.y, e.y, ki.y, i.y, kd.y, rate_err.y),
-                                           angular_accel(ar, kp.z, e.z, ki.z, i.z, kd.z, rate_err.z));
-        /* m = (J alpha + w x J w) / authority, each component one rounding;
-         * w_i w_j in GAIN (rad^2/s^2) */
-        const int ww_shift = FC_SHIFT(RATE, RATE, GAIN);
-        const fc_vec3 ww =
-            fc_vec3_make(fc_mul(ar, rate.y, rate.z, ww_shift), fc_mul(ar, rate.z, rate.x, ww_shift),
-                         fc_mul(ar, rate.x, rate.y, ww_shift));
-        const fc_vec3 j = c->inertia_norm, dj = c->inertia_diff_norm;
-        const int m_shift = FC_SHIFT(INERTIA, GAIN, RATIO);
-        const fc_vec3 raw = fc_vec3_make(fc_dot2(ar, j.x, alpha.x, dj.x, ww.x, m_shift),
-                                         fc_dot2(ar, j.y, alpha.y, dj.y, ww.y, m_shift),
-                                         fc_dot2(ar, j.z, alpha.z, dj.z, ww.z, m_shift));
-        moment = limit_moment(ar, raw, p->moment_limit);
+        /* what the 16-bit products read: the error and the integral by their
+         * high halves, the rates rounded to RATE16 */
+        const fc_vec3_16 e16 = fc_vec3_narrow16(ar, e, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, i, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+        const fc_vec3_16 w16 = rate16(ar, rate);
+        const fc_vec3_16 r16 = rate16(ar, fc_vec3_sub(ar, rate, rate_ff));
+        /* w_i w_j for w x J w (header) */
+        const int ww_from = 2 * FC_RATE16_FRAC;
+        const fc_vec3_16 ww = {fc_narrow16(ar, fc_mul16(w16.y, w16.z), ww_from, FC_WW16_FRAC),
+                               fc_narrow16(ar, fc_mul16(w16.z, w16.x), ww_from, FC_WW16_FRAC),
+                               fc_narrow16(ar, fc_mul16(w16.x, w16.y), ww_from, FC_WW16_FRAC)};
+        const fc_vec3_16 kp = c->gain_p, ki = c->gain_i, kd = c->gain_d, dj = c->inertia_diff16;
+        const fc_vec3 raw = fc_vec3_make(axis_moment(ar, kp.x, e16.x, ki.x, i16.x, kd.x, r16.x, dj.x, ww.x),
+                                         axis_moment(ar, kp.y, e16.y, ki.y, i16.y, kd.y, r16.y, dj.y, ww.y),
+                                         axis_moment(ar, kp.z, e16.z, ki.z, i16.z, kd.z, r16.z, dj.z, ww.z));
+        moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
             moment = fc_vec3_zero();
@@ -281,18 +347,19 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         const uint8_t sat = in->allocation_saturation;
         const fc_vec3 lim = p->integral_limit_rad;
         const fc_real dt = p->dt_s;
+        const fc_vec3 ki_per_s3 = p->ki_per_s3;
         const bool roll_pos = hold || (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x;
         const bool roll_neg = hold || (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x;
         const bool pitch_pos = hold || (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y;
         const bool pitch_neg = hold || (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y;
         const bool yaw_pos = hold || (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z;
         const bool yaw_neg = hold || (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z;
-        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki.x, lim.x, roll_pos, roll_neg),
-                                         integrate_axis(ar, i.y, e.y, dt, ki.y, lim.y, pitch_pos, pitch_neg),
-                                         integrate_axis(ar, i.z, e.z, dt, ki.z, lim.z, yaw_pos, yaw_neg));
+        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki_per_s3.x, lim.x, roll_pos, roll_neg),
+                                         integrate_axis(ar, i.y, e.y, dt, ki_per_s3.y, lim.y, pitch_pos, pitch_neg),
+                                         integrate_axis(ar, i.z, e.z, dt, ki_per_s3.z, lim.z, yaw_pos, yaw_neg));
     }
     c->last_moment = moment;
-    out->moment = fc_vec3_narrow16(ar, moment, FC_RATIO_FRAC, FC_NORM16_FRAC);
+    out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);
     out->attitude_error_rad = c->last_error_rad;
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;

@@ -15,8 +15,8 @@
  * w e or w_h e_h): Kp we joins *rate_radps (RATE), the rate that is
  * integrated; b' = -Ki we, forward Euler, each component clamped to the bias
  * limit. Always inline, so that each source builds it with its own products
- * (the heading's out of line on the ATmega, the tilt's inline: a call there
- * cost 630 cycles a step and 640 B of the ATmega's flash). */
+ * (the heading's out of line on the ATmega, the tilt's inline: it runs on
+ * every step). */
 static inline __attribute__((always_inline)) void fc_attitude_correct_by(fc_attitude_estimator *est,
                                                                         fc_vec3 *rate_radps, fc_vec3 we)
 {

@@ -16,6 +16,13 @@ fc_real fc_controller_outer_step_s(const fc_controller_params *p)
     return sum;
 }
 
+void fc_controller_set_outer_divider(fc_controller_params *p, uint8_t divider)
+{
+    p->outer_divider = divider;
+    p->horizontal.dt_s = fc_controller_outer_step_s(p);
+    p->pad_motion.dt_s = fc_controller_outer_step_s(p);
+}
+
 /* The outer group at 100 Hz, or on every step if the step is slower: the
  * most steps that fit in 10 ms (a hair over, for the rounding of dt). */
 static uint8_t default_outer_divider(fc_real dt_s)

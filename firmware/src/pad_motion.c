@@ -251,9 +251,8 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real 
 }
 
 /* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). (On the
- * ATmega this unit's products stay out of line, FC_SCALAR_COMPACT: inlining
- * them, fc_mul_inline, saves ~9k cycles on a range sample but takes 6.8 KB,
- * more than the flash the bootloader leaves.) */
+ * ATmega this unit's products stay out of line, FC_SCALAR_COMPACT: inlined
+ * they would not fit the flash the bootloader leaves.) */
 static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 {
     const fc_real s_new = fc_dot2(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
@@ -359,8 +358,8 @@ static void rls_update(fc_pad_motion *pm, fc_real residual_m)
  * trace(S)), piece 2 the rest (with the phases): for 3 modes (n = 7) 13 and 15
  * of the 28 entries of the upper triangle. Piece 1 is the lighter because the
  * controller's arming step, which resets its loops, falls in its minor frame
- * (Cortex-M4F, the Crazyflie's step: every minor frame under 3,000 cycles,
- * platform/cortex-m4-bench). */
+ * (so that every minor frame of the Crazyflie's step fits the Cortex-M4F's
+ * budget, tools/bench.sh). */
 #define COVARIANCE_SPLIT_ROW 2u
 
 /* The pending S = (S - g phi' S) / lambda of the newest sample, the upper

@@ -25,7 +25,7 @@
  *
  * Arming: the image starts disarmed (command DISARM, ESCs at 1000 us) and arms
  * on "ARM1" over USART0 ("ARM0" disarms), once the controller's own arming
- * checks pass (the attitude filter aligned: 2 s at 50 Hz; telemetry's armed
+ * checks pass (the attitude filter aligned: 2 s; telemetry's armed
  * bit is the controller's). It refuses to arm while the IMU
  * read fails and disarms after 0.1 s of IMU loss; while the IMU is missing
  * the controller keeps stepping on the at-rest sample (hal_imu_at_rest), so
@@ -60,10 +60,10 @@
 #define FC_ATMEGA_SIMAVR 0
 #endif
 
-/* Loop rate: what the worst iteration measured in simavr allows (README):
- * about 191k cycles fixed and 195k float of the 320k of a 50 Hz period. */
+/* Loop rate and the outer group's major frame: what the worst iteration
+ * measured in simavr allows (platform/atmega/CMakeLists.txt sets both). */
 #ifndef FC_ATMEGA_LOOP_HZ
-#define FC_ATMEGA_LOOP_HZ 50
+#define FC_ATMEGA_LOOP_HZ 100
 #endif
 
 #ifndef FC_ATMEGA_AIRFRAME
@@ -71,6 +71,16 @@
 #endif
 #ifndef FC_ATMEGA_ALTITUDE_VARIANT
 #define FC_ATMEGA_ALTITUDE_VARIANT FC_ALT_VARIANT_SSC_ADAPTIVE
+#endif
+
+/* The outer group's major frame in loops (fc_controller_set_outer_divider):
+ * each of its parts (position loop, pad model, the pad model's work ahead)
+ * in its own minor frame, so that no loop carries two of them. */
+#ifndef FC_ATMEGA_OUTER_DIVIDER
+#define FC_ATMEGA_OUTER_DIVIDER 2
+#endif
+#if FC_ATMEGA_OUTER_DIVIDER < 1 || FC_ATMEGA_OUTER_DIVIDER > 10
+#error "FC_ATMEGA_OUTER_DIVIDER must be in [1, FC_OUTER_DIVIDER_MAX]"
 #endif
 
 #define PERIOD_CYCLES (F_CPU / FC_ATMEGA_LOOP_HZ)
@@ -292,6 +302,7 @@ static __attribute__((noinline)) fc_init_result controller_setup(void)
     fc_controller_params p;
     fc_controller_default_params(&p, FC_ATMEGA_AIRFRAME, FC_ATMEGA_ALTITUDE_VARIANT,
                                  FC_C(1.0f / (float)FC_ATMEGA_LOOP_HZ, DT));
+    fc_controller_set_outer_divider(&p, FC_ATMEGA_OUTER_DIVIDER);
     return fc_controller_init(&g_ctl, &p);
 }
 

@@ -12,13 +12,14 @@
 #include "fuzz_common.h"
 
 /* The bound of a normalised output moment (RATIO): the budget, which the law
- * clamps to exactly in RATIO, plus the output's rounding to NORM16 (half an
+ * holds in its sum's format NSUM (Q22: rounded, up to 2^-23 = 2 LSB of RATIO)
+ * and clamps to exactly there, plus the output's rounding to NORM16 (half an
  * LSB, 2^-15 = 2^9 LSB of RATIO) in fixed; in float fc_real16 is float and the
  * output is not rounded. */
 static fc_real moment_bound(fc_real limit)
 {
 #if FC_NUMERIC_FIXED
-    return limit + ((fc_real)1 << (FC_RATIO_FRAC - FC_NORM16_FRAC - 1));
+    return limit + ((fc_real)1 << (FC_RATIO_FRAC - 22 - 1)) + ((fc_real)1 << (FC_RATIO_FRAC - FC_NORM16_FRAC - 1));
 #else
     return limit;
 #endif

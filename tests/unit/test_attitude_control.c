@@ -2,23 +2,47 @@
  * test_attitude_control.c - quaternion attitude control (fc/attitude_control.h).
  *
  * One source for both backends. The reference is a double-precision copy of
- * the law in the header (ref_law below), fed with the parameters as the
- * backend holds them (J / authority too, as init computed it), so the
- * comparison measures the arithmetic only. test_normalisation checks J /
- * authority itself against the parameters.
+ * the law in the header (ref_law below),
+ *
+ *     m = -(Kp e + Ki I + Kd (w - w_ff)) + dJ w_i w_j,   K = k J / authority,
+ *                                                        dJ = (J_k - J_j) / authority,
+ *
+ * then the budget. Its constants come either from the parameters, in double
+ * (ref_from: the header's law; the comparison includes the step's 16-bit
+ * constants) or from the 16-bit constants init stored, widened exactly
+ * (ref_stored: the comparison measures the step's arithmetic only).
+ * test_normalisation checks the stored constants against k J / authority.
+ * The error e is either computed in double from the attitudes (ref_law: the
+ * whole step) or the step's own (its telemetry, ref_law_at: the law alone).
  *
  * Moments are compared in the law's normalised units (moment / authority,
- * fc_attitude_control_output.moment); jn_i = J_i / authority_i (s^2).
- * Tolerance of a moment component (moment_tol), the former N m bound divided
- * by the authority, plus the output's rounding to NORM16:
- *   float: jn_i * 1e-4 rad/s^2 + 1e-6 |m|     (single precision through ~100 rad/s^2;
- *          fc_real16 is float, the output is not rounded)
- *   fixed: jn_i * 4 LSB of GAIN (6.1e-5 rad/s^2: two roundings of the angular
- *          acceleration, Q16) + jn_i kp_i ERROR_TOL_RAD (the attitude error,
- *          formed in 16 bits: 3.9e-4 rad up to 90 deg of tilt error) + 2 LSB
- *          of RATIO (6.0e-8: the sum rounded to RATIO, the budget's scaling)
- *          + half an LSB of NORM16 (2^-15 = 3.05e-5: the output rounded from
- *          RATIO to NORM16)
+ * fc_attitude_control_output.moment). The tolerance of each component is
+ * derived per case from the values of that case (ref_law, field tol):
+ *   constants (ref_from only): |K_stored - K| |x| per term, x = e, I, r, and
+ *     |dJ_stored - dJ| |w_i w_j|. Fixed: K in NGAIN16 (Q12, half LSB 2^-13)
+ *     after J / authority in INERTIA (2^-31, times k) and k J / authority in
+ *     RATIO (2^-25); dJ in NINERTIA16 (Q15, 2^-16) after INERTIA (2^-31).
+ *     Float: two roundings of 2^-24 relative (J / authority, times k).
+ *   the inputs as the step reads them, times |K| (+ its constant's bound):
+ *     e: the attitude error's own (ref_law: error_tol_at(N), 16-bit
+ *        quaternions in fixed; ref_law_at: none), times yaw_weight on z (+
+ *        the weighting's rounding to ANGLE, 2^-29), then to ANGLE16 (Q12,
+ *        2^-13);
+ *     I: ANGLE -> ANGLE16 (2^-13); r = w - w_ff: RATE -> RATE16 (Q10, 2^-11,
+ *        plus |r| - 32767/1024 beyond the format: saturation);
+ *     w_i w_j: each rate to RATE16 (2^-11: |w_j| 2^-11 + |w_k| 2^-11 +
+ *        2^-22), the product to WW16 (Q5, 2^-6), times |dJ|;
+ *   the sum: Kp e + Ki I from Q24 to NSUM (Q22, 2^-23); Kd r and dJ ww are
+ *     exact in Q22;
+ *   float instead of the format roundings: gamma_5 (5 roundings of 2^-24 on
+ *     the longest path: the yaw weighting, the product, the dot product's
+ *     add, the two adds of the sum) times the sum of |terms|;
+ *   the budget (only where the moment can reach it): the budget in NSUM
+ *     (2^-23), the roll/pitch factor's spread over the raw moments' bounds
+ *     (evaluated, not linearised), its rounding to UNIT (2^-31 |m|) and the
+ *     product's to NSUM (2^-23); float 2 x 2^-24 relative;
+ *   the output: NSUM -> NORM16 (2^-15) in fixed; none in float (fc_real16 is
+ *     float).
  * The closed loops fly a rigid body integrated in double (explicit Euler at
  * 1 kHz) with the controller at 500 Hz, once with the library and once with
  * ref_law in the same plant (moment x authority, N m), and compare the two.
@@ -71,10 +95,59 @@ static double DN(fc_real16 x)
     return D(fc_widen16(x, FC_NORM16_FRAC, FC_RATIO_FRAC), FC_RATIO_FRAC);
 }
 
-/* The output's rounding from the RATIO the law computes in to NORM16: at most
- * half an LSB (2^-15 of the authority) in fixed; none in float, where
- * fc_real16 is float. */
-#define NORM16_HALF_LSB (FC_NUMERIC_FIXED ? ldexp(1.0, -FC_NORM16_FRAC - 1) : 0.0)
+/* A 16-bit constant of the step (fc_real16) as a double, exactly. */
+static double D16(fc_real16 x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    return ldexp((double)x, -frac);
+#else
+    (void)frac;
+    return (double)x;
+#endif
+}
+
+/* The step's own formats (fc/attitude_control.h, "Formats"; the FC_*16_FRAC
+ * at the top of attitude_control.c) */
+#define ANGLE16_FRAC 12    /* the error and the integral as the products read them */
+#define RATE16_FRAC 10     /* the rate and the rate error */
+#define NGAIN16_FRAC 12    /* c->gain_p, gain_i, gain_d */
+#define NINERTIA16_FRAC 15 /* c->inertia_diff16 */
+#define WW16_FRAC 5        /* w_i w_j */
+#define NSUM_FRAC 22       /* the sum, the budget, the held moment */
+
+/* Half an LSB of a Q-format in fixed (a rounding to nearest into it); none in
+ * float, where the step's narrowings are no-ops. */
+static double half_lsb(int frac)
+{
+    return FC_NUMERIC_FIXED ? ldexp(1.0, -frac - 1) : 0.0;
+}
+
+/* |x16 - x| for x rounded into a 16-bit format: half an LSB, and beyond the
+ * format (32767 LSB) the saturation. None in float. */
+static double q16_err(double x, int frac)
+{
+#if FC_NUMERIC_FIXED
+    const double over = fabs(x) - 32767.0 * ldexp(1.0, -frac);
+    return half_lsb(frac) + (over > 0.0 ? over : 0.0);
+#else
+    (void)x;
+    (void)frac;
+    return 0.0;
+#endif
+}
+
+/* float's unit roundoff and gamma_n = n u / (1 - n u): the bound of n roundings */
+#define FLOAT_U ldexp(1.0, -24)
+static double gamma_n(int n)
+{
+    return (double)n * FLOAT_U / (1.0 - (double)n * FLOAT_U);
+}
+
+/* The output's rounding from NSUM to NORM16: at most half an LSB (2^-15 of
+ * the authority) in fixed; none in float, where fc_real16 is float. */
+#define NORM16_HALF_LSB half_lsb(FC_NORM16_FRAC)
+/* The budget as the step holds it: moment_limit (RATIO) rounded to NSUM. */
+#define LIMIT_HALF_LSB half_lsb(NSUM_FRAC)
 
 static const double kPi = 3.14159265358979323846;
 static const double kDeg = 3.14159265358979323846 / 180.0;
@@ -171,9 +244,14 @@ static fc_attitude_control_params hexa_params(void)
 
 /* The parameters as the backend holds them, in double; jn and djn are J /
  * authority and (Jz - Jy, Jx - Jz, Jy - Jx) / authority as init computed
- * them, mlim the normalised budget, auth the authority (N m). */
+ * them (32-bit), mlim the normalised budget, auth the authority (N m).
+ * gp, gi, gd, dj are the law's constants Kp, Ki, Kd, dJ the reference uses,
+ * and *_tol bound how far the step's own constants are from them (zero when
+ * they are the step's own). */
 typedef struct ref_params {
     double dt, j[3], jn[3], djn[3], auth[3], kp[3], kd[3], ki[3], ilim[3], yaw_weight, mlim[3];
+    double gp[3], gi[3], gd[3], dj[3];
+    double gp_tol[3], gi_tol[3], gd_tol[3], dj_tol[3];
 } ref_params;
 
 static void vec_to(fc_vec3 v, int frac, double out[3])
@@ -183,7 +261,44 @@ static void vec_to(fc_vec3 v, int frac, double out[3])
     out[2] = D(v.z, frac);
 }
 
-/* from an initialised controller: its parameters and what init derived */
+static void vec16_to(fc_vec3_16 v, int frac, double out[3])
+{
+    out[0] = D16(v.x, frac);
+    out[1] = D16(v.y, frac);
+    out[2] = D16(v.z, frac);
+}
+
+/* |K_stored - k J / authority| for a normalised gain K (double, from the
+ * parameters). Fixed: J / authority rounded to INERTIA (2^-31, times k), k
+ * times it to RATIO (2^-25), that to NGAIN16 (2^-13). Float: two roundings
+ * (the quotient, the product). */
+static double gain_const_tol(double k, double gain)
+{
+#if FC_NUMERIC_FIXED
+    (void)gain;
+    return half_lsb(NGAIN16_FRAC) + half_lsb(FC_RATIO_FRAC) + k * half_lsb(FC_INERTIA_FRAC);
+#else
+    (void)k;
+    return ((1.0 + FLOAT_U) * (1.0 + FLOAT_U) - 1.0) * fabs(gain);
+#endif
+}
+
+/* |dJ_stored - (J_k - J_j) / authority|. Fixed: the difference is exact in
+ * INERTIA, the quotient rounded to it (2^-31), then to NINERTIA16 (2^-16).
+ * Float: two roundings (the difference, the quotient). */
+static double dj_const_tol(double dj)
+{
+#if FC_NUMERIC_FIXED
+    (void)dj;
+    return half_lsb(NINERTIA16_FRAC) + half_lsb(FC_INERTIA_FRAC);
+#else
+    return ((1.0 + FLOAT_U) * (1.0 + FLOAT_U) - 1.0) * fabs(dj);
+#endif
+}
+
+/* From an initialised controller: its parameters and what init derived; the
+ * law's constants from the parameters in double (the header's law), with the
+ * bounds of the step's stored ones. */
 static ref_params ref_from(const fc_attitude_control *c)
 {
     const fc_attitude_control_params *p = &c->p;
@@ -199,6 +314,32 @@ static ref_params ref_from(const fc_attitude_control *c)
     vec_to(p->integral_limit_rad, FC_ANGLE_FRAC, r.ilim);
     r.yaw_weight = D(p->yaw_weight, FC_RATIO_FRAC);
     vec_to(p->moment_limit, FC_RATIO_FRAC, r.mlim);
+    for (int i = 0; i < 3; i++) {
+        const double jn = r.j[i] / r.auth[i];
+        r.gp[i] = r.kp[i] * jn;
+        r.gi[i] = r.ki[i] * jn;
+        r.gd[i] = r.kd[i] * jn;
+        r.dj[i] = (r.j[(i + 2) % 3] - r.j[(i + 1) % 3]) / r.auth[i];
+        r.gp_tol[i] = gain_const_tol(r.kp[i], r.gp[i]);
+        r.gi_tol[i] = gain_const_tol(r.ki[i], r.gi[i]);
+        r.gd_tol[i] = gain_const_tol(r.kd[i], r.gd[i]);
+        r.dj_tol[i] = dj_const_tol(r.dj[i]);
+    }
+    return r;
+}
+
+/* The same with the constants the step stored (widened exactly): the
+ * comparison then measures the step's arithmetic alone. */
+static ref_params ref_stored(const fc_attitude_control *c)
+{
+    ref_params r = ref_from(c);
+    vec16_to(c->gain_p, NGAIN16_FRAC, r.gp);
+    vec16_to(c->gain_i, NGAIN16_FRAC, r.gi);
+    vec16_to(c->gain_d, NGAIN16_FRAC, r.gd);
+    vec16_to(c->inertia_diff16, NINERTIA16_FRAC, r.dj);
+    for (int i = 0; i < 3; i++) {
+        r.gp_tol[i] = r.gi_tol[i] = r.gd_tol[i] = r.dj_tol[i] = 0.0;
+    }
     return r;
 }
 
@@ -221,31 +362,6 @@ static void ref_error(dq q, dq qd, double err[3])
     err[2] = 2.0 * s;
 }
 
-/* Normalised moment (clamped as the library does) for the integral state I;
- * returns also the unclamped moment. */
-static void ref_law(const ref_params *p, dq q, dq qd, const double w[3], const double wff[3],
-                    const double integral[3], double m[3], double raw[3])
-{
-    double err[3];
-    ref_error(q, qd, err);
-    err[2] *= p->yaw_weight;
-    /* (w x J w) / authority = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) / authority */
-    const double gyro[3] = {p->djn[0] * w[1] * w[2], p->djn[1] * w[2] * w[0], p->djn[2] * w[0] * w[1]};
-    for (int i = 0; i < 3; i++) {
-        const double alpha = -(p->kp[i] * err[i] + p->ki[i] * integral[i] + p->kd[i] * (w[i] - wff[i]));
-        raw[i] = p->jn[i] * alpha + gyro[i];
-        m[i] = raw[i];
-    }
-    const double fx = fabs(m[0]) > p->mlim[0] ? p->mlim[0] / fabs(m[0]) : 1.0;
-    const double fy = fabs(m[1]) > p->mlim[1] ? p->mlim[1] / fabs(m[1]) : 1.0;
-    const double f = fx < fy ? fx : fy;
-    m[0] *= f;
-    m[1] *= f;
-    if (fabs(m[2]) > p->mlim[2]) {
-        m[2] = m[2] > 0.0 ? p->mlim[2] : -p->mlim[2];
-    }
-}
-
 /* Tolerance of the attitude error (rad), for a tilt error N = cos(tilt_e / 2)
  * away from upside down: the heading split divides by N, so its rounding
  * grows as 1/N. Fixed: the error is formed from the quaternions in UNIT16
@@ -259,49 +375,153 @@ static double error_tol_at(double n)
 /* ... and for the tilt errors of the tests below, up to 90 deg (N >= 0.707) */
 #define ERROR_TOL_RAD error_tol_at(0.7071)
 
-/* Tolerance of a normalised moment component (the header's comment), plus in
- * fixed the attitude error's through kp, for the error's N; jn = J / authority. */
-static double moment_tol_at(double jn, double kp, double m_ref, double n)
+/* N = cos(tilt_e / 2) of a pair, at least 0.01 (the heading split's threshold) */
+static double pair_n(dq q, dq qd)
 {
-#if FC_NUMERIC_FIXED
-    (void)m_ref;
-    return jn * (4.0 * ldexp(1.0, -FC_GAIN_FRAC) + kp * error_tol_at(n)) + 2.0 * ldexp(1.0, -FC_RATIO_FRAC) +
-           NORM16_HALF_LSB;
-#else
-    (void)kp;
-    (void)n;
-    return jn * 1e-4 + 1e-6 * fabs(m_ref);
-#endif
+    const dq e = dq_mul(dq_conj(dq_normalize(qd)), dq_normalize(q));
+    const double n = sqrt(e.w * e.w + e.z * e.z);
+    return n > 0.01 ? n : 0.01;
 }
 
-/* ... for tilt errors up to 90 deg */
-static double moment_tol(double jn, double kp, double m_ref)
-{
-    return moment_tol_at(jn, kp, m_ref, 0.7071);
-}
+/* The reference's moment, clamped as the library does (m), before the budget
+ * (raw), and the bound of |library - m| per axis (tol; the header's comment). */
+typedef struct ref_out {
+    double m[3], raw[3], tol[3];
+} ref_out;
 
-/* The bound of an output on axis i: the budget plus the output's rounding (a
- * moment clamped to the limit in RATIO may round up to NORM16 by half an LSB). */
-static double out_bound(const ref_params *r, int i)
+/* The moment for the attitude error err (unweighted, known to within etol
+ * of the step's), the rates w, w_ff and the integral state I, all as the
+ * backend holds them. */
+static ref_out ref_core(const ref_params *p, const double err[3], double etol, const double w[3],
+                        const double wff[3], const double integral[3])
 {
-    return r->mlim[i] + NORM16_HALF_LSB;
-}
-
-static void assert_moment_near_at(const fc_vec3_16 *m, const double ref[3], const ref_params *r, double n)
-{
-    const double got[3] = {DN(m->x), DN(m->y), DN(m->z)};
+    ref_out o;
+    const double e[3] = {err[0], err[1], err[2] * p->yaw_weight};
+    double raw_tol[3];
     for (int i = 0; i < 3; i++) {
-        const double tol = moment_tol_at(r->jn[i], r->kp[i], ref[i], n);
-        if (!(fabs(got[i] - ref[i]) <= tol)) {
-            print_error("axis %d: moment %.9g, reference %.9g, tolerance %.3g\n", i, got[i], ref[i], tol);
-            fail();
+        /* (w x J w) / authority = ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) / authority */
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        const double ww = w[j] * w[k];
+        const double r = w[i] - wff[i];
+        o.raw[i] = -(p->gp[i] * e[i] + p->gi[i] * integral[i] + p->gd[i] * r) + p->dj[i] * ww;
+        /* what the step reads, against e, I, r and w_j w_k */
+        const double de = (i == 2 ? p->yaw_weight * etol + half_lsb(FC_ANGLE_FRAC) : etol) +
+                          q16_err(e[i], ANGLE16_FRAC);
+        const double di = q16_err(integral[i], ANGLE16_FRAC);
+        const double dr = q16_err(r, RATE16_FRAC);
+        const double dwj = q16_err(w[j], RATE16_FRAC), dwk = q16_err(w[k], RATE16_FRAC);
+        const double ww16_mag = (fabs(w[j]) + dwj) * (fabs(w[k]) + dwk);
+        const double dww = fabs(w[j]) * dwk + fabs(w[k]) * dwj + dwj * dwk + q16_err(ww16_mag, WW16_FRAC);
+        /* the step's constants, at most this far from the reference's */
+        const double gp = fabs(p->gp[i]) + p->gp_tol[i], gi = fabs(p->gi[i]) + p->gi_tol[i];
+        const double gd = fabs(p->gd[i]) + p->gd_tol[i], dj = fabs(p->dj[i]) + p->dj_tol[i];
+        const double consts = p->gp_tol[i] * fabs(e[i]) + p->gi_tol[i] * fabs(integral[i]) +
+                              p->gd_tol[i] * fabs(r) + p->dj_tol[i] * fabs(ww);
+        const double inputs = gp * de + gi * di + gd * dr + dj * dww;
+#if FC_NUMERIC_FIXED
+        /* Kp e + Ki I from Q24 to NSUM; the rest of the sum is exact */
+        const double sum_round = half_lsb(NSUM_FRAC);
+#else
+        const double terms = gp * (fabs(e[i]) + de) + gi * fabs(integral[i]) + gd * fabs(r) + dj * fabs(ww);
+        const double sum_round = gamma_n(5) * terms;
+#endif
+        raw_tol[i] = consts + inputs + sum_round;
+        o.m[i] = o.raw[i];
+    }
+    /* the budget: roll and pitch scaled by one factor f, yaw clamped. The
+     * library's factor is within [f_lo, f_hi]: its raw moments within
+     * raw_tol, its budget within LIMIT_HALF_LSB */
+    const double dl = LIMIT_HALF_LSB;
+    double f = 1.0, f_lo = 1.0, f_hi = 1.0;
+    for (int a = 0; a < 2; a++) {
+        const double x = fabs(o.raw[a]), lim = p->mlim[a];
+        if (x > lim) {
+            f = fmin(f, lim / x);
+        }
+        if (x + raw_tol[a] > lim - dl) {
+            f_lo = fmin(f_lo, (lim - dl) / (x + raw_tol[a]));
+        }
+        if (x - raw_tol[a] > lim + dl) {
+            f_hi = fmin(f_hi, (lim + dl) / (x - raw_tol[a]));
         }
     }
+    for (int a = 0; a < 2; a++) {
+        o.m[a] = o.raw[a] * f;
+        o.tol[a] = raw_tol[a];
+        if (f_lo < 1.0) {
+            /* f_lib m_lib - f m = f_lib (m_lib - m) + m (f_lib - f); the
+             * factor rounded to UNIT and the product to NSUM (float: two
+             * roundings); the hard clamp at the budget as held */
+            const double mag = fabs(o.raw[a]) + raw_tol[a];
+#if FC_NUMERIC_FIXED
+            const double scale_round = mag * half_lsb(FC_UNIT_FRAC) + half_lsb(NSUM_FRAC);
+#else
+            const double scale_round = gamma_n(2) * mag * f_hi;
+#endif
+            o.tol[a] = f_hi * raw_tol[a] + fabs(o.raw[a]) * fmax(f_hi - f, f - f_lo) + scale_round + dl;
+        }
+    }
+    o.tol[2] = raw_tol[2];
+    if (fabs(o.m[2]) > p->mlim[2]) {
+        o.m[2] = o.m[2] > 0.0 ? p->mlim[2] : -p->mlim[2];
+    }
+    if (fabs(o.raw[2]) + raw_tol[2] > p->mlim[2] - dl) {
+        o.tol[2] += dl; /* a clamp moves by no more than its bound */
+    }
+    for (int i = 0; i < 3; i++) {
+        o.tol[i] += NORM16_HALF_LSB;
+    }
+    return o;
 }
 
-static void assert_moment_near(const fc_vec3_16 *m, const double ref[3], const ref_params *r)
+/* From the attitudes: the error in double (ref_error), within error_tol_at(N)
+ * of the step's: the whole step against the header. */
+static ref_out ref_law(const ref_params *p, dq q, dq qd, const double w[3], const double wff[3],
+                       const double integral[3])
 {
-    assert_moment_near_at(m, ref, r, 0.7071);
+    double err[3];
+    ref_error(q, qd, err);
+    return ref_core(p, err, error_tol_at(pair_n(q, qd)), w, wff, integral);
+}
+
+/* From the step's own error (its telemetry, exactly what it used): the law
+ * alone, without the error's rounding (tested on its own above). */
+static ref_out ref_law_at(const ref_params *p, fc_vec3 error_rad, const double w[3], const double wff[3],
+                          const double integral[3])
+{
+    double err[3];
+    vec_to(error_rad, FC_ANGLE_FRAC, err);
+    return ref_core(p, err, 0.0, w, wff, integral);
+}
+
+/* The bound of an output on axis i: the budget as the step holds it (NSUM)
+ * plus the output's rounding (a moment clamped there may round up to NORM16
+ * by half an LSB). */
+static double out_bound(const ref_params *r, int i)
+{
+    return r->mlim[i] + LIMIT_HALF_LSB + NORM16_HALF_LSB;
+}
+
+/* the largest |error| / tol of every comparison (printed at the end) */
+static double g_worst_ratio = 0.0;
+
+/* The library's output within ref->tol of ref->m on every axis; returns the
+ * largest |error| / tol. */
+static double assert_moment_within(const fc_vec3_16 *m, const ref_out *ref)
+{
+    const double got[3] = {DN(m->x), DN(m->y), DN(m->z)};
+    double worst = 0.0;
+    for (int i = 0; i < 3; i++) {
+        const double err = fabs(got[i] - ref->m[i]);
+        if (!(err <= ref->tol[i])) {
+            print_error("axis %d: moment %.9g, reference %.9g, error %.3g, tolerance %.3g\n", i, got[i],
+                        ref->m[i], err, ref->tol[i]);
+            fail();
+        }
+        worst = fmax(worst, err / ref->tol[i]);
+    }
+    g_worst_ratio = fmax(g_worst_ratio, worst);
+    return worst;
 }
 
 static fc_attitude_control_input make_input(dq q, dq qd, const double w[3], const double wff[3])
@@ -438,13 +658,44 @@ static void test_bad_params(void **state)
 
 /* ---- normalised units ------------------------------------------------- */
 
-/* m = J alpha / authority per axis, against the parameters (not against what
- * init derived): J and authority differ per axis and J / authority is 0.025,
- * 0.016, 0.12 (not 1, so an unnormalised moment is far outside the tolerance);
- * kp only (kd = ki = 0), zero rate (no w x J w), a 6 deg tilt about (1, -2, 0)
- * and a 4 deg heading error, so alpha = -kp e with e the step's own error
- * (its telemetry; yaw_weight 1). Then init's range of J / authority and of
- * the authority. */
+/* The stored constants of an initialised controller against k J / authority
+ * and (J_k - J_j) / authority computed in double from its raw parameters,
+ * each within gain_const_tol / dj_const_tol (fixed: half an LSB of the 16-bit
+ * format plus the 32-bit roundings before it). Returns the largest
+ * |error| / bound. */
+static double assert_constants(const fc_attitude_control *c)
+{
+    const ref_params r = ref_from(c); /* constants from the parameters, in double */
+    const ref_params s = ref_stored(c);
+    double worst = 0.0;
+    for (int i = 0; i < 3; i++) {
+        const double got[4] = {s.gp[i], s.gi[i], s.gd[i], s.dj[i]};
+        const double want[4] = {r.gp[i], r.gi[i], r.gd[i], r.dj[i]};
+        const double tol[4] = {r.gp_tol[i], r.gi_tol[i], r.gd_tol[i], r.dj_tol[i]};
+        for (int k = 0; k < 4; k++) {
+            const double err = fabs(got[k] - want[k]);
+            if (!(err <= tol[k])) {
+                print_error("axis %d constant %d (Kp, Ki, Kd, dJ): stored %.12g, k J / A %.12g, error %.3g, "
+                            "bound %.3g\n",
+                            i, k, got[k], want[k], err, tol[k]);
+                fail();
+            }
+            if (tol[k] > 0.0) {
+                worst = fmax(worst, err / tol[k]);
+            }
+        }
+    }
+    return worst;
+}
+
+/* m = -Kp e per axis with Kp = kp J / authority from the parameters (not from
+ * what init derived): J and authority differ per axis and J / authority is
+ * 0.025, 0.016, 0.12 (not 1, so an unnormalised moment is far outside the
+ * tolerance); kd and ki set (their constants are checked) but zero rate and
+ * integral, no w x J w, a 6 deg tilt about (1, -2, 0) and a 4 deg heading
+ * error, e the step's own error (its telemetry; yaw_weight 1). The stored
+ * constants Kp, Ki, Kd, dJ against k J / authority. Then init's range of J /
+ * authority and of the authority. */
 static void test_normalisation(void **state)
 {
     (void)state;
@@ -454,13 +705,25 @@ static void test_normalisation(void **state)
     fc_attitude_control_params p;
     fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kJ, FC_INERTIA_FRAC));
     p.kp_per_s2 = vec_all(kp, FC_GAIN_FRAC);
-    p.kd_per_s = vec_all(0.0, FC_GAIN_FRAC);
-    p.ki_per_s3 = vec_all(0.0, FC_GAIN_FRAC);
+    p.kd_per_s = vec_all(9.7, FC_GAIN_FRAC);
+    p.ki_per_s3 = vec_all(23.3, FC_GAIN_FRAC);
     p.yaw_weight = FC_INT(1, RATIO);
     p.authority_nm = vec_from(kA, FC_MOMENT_FRAC);
     p.moment_limit = vec_all(1.0, FC_RATIO_FRAC);
     fc_attitude_control c;
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+
+    /* the stored 16-bit constants, within their bounds of k J / A */
+    const double worst_const = assert_constants(&c);
+    print_message("normalisation (%s): stored constants within %.2f of their bound of k J / A\n",
+                  FC_NUMERIC_FIXED ? "fixed" : "float", worst_const);
+    const ref_params r = ref_from(&c);
+    for (int i = 0; i < 3; i++) {
+        /* not vacuous: each bound far below its constant (0.05 % of the
+         * smallest, Kd = 9.7 x 0.016; dJ 0.02..0.033) */
+        assert_true(r.gp_tol[i] < 5e-4 * r.gp[i] && r.gi_tol[i] < 5e-4 * r.gi[i] &&
+                    r.gd_tol[i] < 1e-3 * r.gd[i] && r.dj_tol[i] < 1e-3 * fabs(r.dj[i]));
+    }
 
     const dq qd = dq_make(1.0, 0.0, 0.0, 0.0);
     const dq q = dq_mul(dq_axis_angle(0.0, 0.0, 1.0, 4.0 * kDeg), dq_axis_angle(1.0, -2.0, 0.0, 6.0 * kDeg));
@@ -478,24 +741,26 @@ static void test_normalisation(void **state)
     for (int i = 0; i < 3; i++) {
         assert_true(fabs(e[i] - e_ref[i]) < ERROR_TOL_RAD && fabs(e[i]) > 0.04);
         const double jn = kJ[i] / kA[i];
-        const double alpha = -kp * e[i];
-        const double expect = jn * alpha;
+        /* Kp = kp J / A from the raw parameters (J and A as given to init) */
+        const double gain = r.gp[i];
+        const double expect = -gain * e[i];
 #if FC_NUMERIC_FIXED
-        /* J / authority as init holds it: J rounded to INERTIA (2^-31), the
-         * authority to MOMENT (2^-25), the quotient to INERTIA (2^-31) */
+        /* J / authority as init holds it (32-bit): J rounded to INERTIA
+         * (2^-31), the authority to MOMENT (2^-25), the quotient to INERTIA
+         * (2^-31) */
         const double jn_tol = jn * (ldexp(1.0, -31) / kJ[i] + ldexp(1.0, -25) / kA[i]) + ldexp(1.0, -31);
-        /* kp e rounded to GAIN (2^-17) through the held jn, the error of jn
-         * through alpha, jn alpha rounded to RATIO (2^-25), the output to
-         * NORM16 (2^-15) */
-        const double tol =
-            (jn + jn_tol) * ldexp(1.0, -17) + fabs(alpha) * jn_tol + ldexp(1.0, -25) + NORM16_HALF_LSB;
+        /* Kp stored (its bound, times |e|), e to ANGLE16 (2^-13, times Kp),
+         * Kp e to NSUM (2^-23), the output to NORM16 (2^-15) */
+        const double tol = r.gp_tol[i] * fabs(e[i]) + (gain + r.gp_tol[i]) * half_lsb(ANGLE16_FRAC) +
+                           half_lsb(NSUM_FRAC) + NORM16_HALF_LSB;
 #else
         /* relative roundings of u = 2^-24: J, the authority (a divisor) and
-         * J / authority; then kp e and jn alpha (the zero terms of the sums add
-         * exactly; fc_real16 is float: no NORM16 rounding) */
-        const double u = ldexp(1.0, -24);
+         * J / authority; then Kp stored (two roundings) and Kp e (one; the
+         * zero terms of the sums add exactly; fc_real16 is float: no NORM16
+         * rounding) */
+        const double u = FLOAT_U;
         const double jn_tol = ((1.0 + u) * (1.0 + u) / (1.0 - u) - 1.0) * jn;
-        const double tol = (pow(1.0 + u, 4.0) / (1.0 - u) - 1.0) * fabs(expect);
+        const double tol = (pow(1.0 + u, 3.0) - 1.0) * fabs(expect);
 #endif
         if (!(fabs(jn_held[i] - jn) <= jn_tol && fabs(m[i] - expect) <= tol)) {
             print_error("axis %d: J/A %.12g (expected %.12g, tolerance %.3g), moment %.9g (expected %.9g, "
@@ -503,31 +768,116 @@ static void test_normalisation(void **state)
                         i, jn_held[i], jn, jn_tol, m[i], expect, tol);
             fail();
         }
-        /* not vacuous: the tolerance is far below the moment */
-        assert_true(tol < 1e-3 * fabs(expect));
+        /* not vacuous: the tolerance is far below the moment (fixed: mostly
+         * e to ANGLE16, 2^-13 of an error of 0.047..0.094 rad; J / A is 8 to 60
+         * times from 1: an unnormalised moment is far outside) */
+        assert_true(tol < 5e-3 * fabs(expect));
     }
 
     /* init: J / authority above 1.99 (2.0, 1.995, 9e4) and an authority <= 0
-     * are rejected; 1.98 is accepted */
-    fc_attitude_control_params bad = p;
+     * are rejected; 1.98 is accepted. The gains here are small (k J / A < 8
+     * at J / A = 2: the normalised gains are not what is rejected) */
+    fc_attitude_control_params small = p;
+    small.kp_per_s2 = vec_all(3.0, FC_GAIN_FRAC);
+    small.kd_per_s = vec_all(1.0, FC_GAIN_FRAC);
+    small.ki_per_s3 = vec_all(0.5, FC_GAIN_FRAC);
+    fc_attitude_control_params bad = small;
     bad.authority_nm.z = R(kJ[2] / 2.0, FC_MOMENT_FRAC);
     expect_bad(&bad);
-    bad = p;
+    bad = small;
     bad.authority_nm.x = R(kJ[0] / 1.995, FC_MOMENT_FRAC);
     expect_bad(&bad);
-    bad = p;
+    bad = small;
     bad.authority_nm.z = R(1.0e-6, FC_MOMENT_FRAC);
     expect_bad(&bad);
-    bad = p;
+    bad = small;
     bad.authority_nm.y = FC_INT(0, MOMENT);
     expect_bad(&bad);
-    bad = p;
+    bad = small;
     bad.authority_nm.z = R(-0.75, FC_MOMENT_FRAC);
     expect_bad(&bad);
-    fc_attitude_control_params edge = p;
+    fc_attitude_control_params edge = small;
     edge.authority_nm.z = R(kJ[2] / 1.98, FC_MOMENT_FRAC);
     assert_int_equal(fc_attitude_control_init(&c, &edge), FC_INIT_OK);
     assert_true(fabs(D(c.inertia_norm.z, FC_INERTIA_FRAC) - 1.98) < 1e-5);
+    (void)assert_constants(&c);
+}
+
+/* Init's range of the step's 16-bit constants (header): a normalised gain k J
+ * / authority of 8 or more and |J_k - J_j| / authority of 1 s^2 or more are
+ * FC_INIT_BAD_PARAM, each on its own axis and gain; 7.98 and 0.98 are
+ * accepted and stored within their bounds. */
+static void test_normalised_ranges(void **state)
+{
+    (void)state;
+    /* the hexa at the default authority: J / A = 1/50 on every axis, the
+     * default gains (Kp 2, 2, 0.5) */
+    const fc_attitude_control_params good = hexa_params();
+    fc_attitude_control c;
+    assert_int_equal(fc_attitude_control_init(&c, &good), FC_INIT_OK);
+    const ref_params r0 = ref_from(&c);
+    /* k for a normalised gain g on axis i (J / A from the parameters) */
+#define K_FOR(g, i) R((g) / (r0.j[i] / r0.auth[i]), FC_GAIN_FRAC)
+    fc_attitude_control_params p = good;
+    p.kp_per_s2.x = K_FOR(8.0, 0);
+    expect_bad(&p);
+    p = good;
+    p.kp_per_s2.z = K_FOR(8.5, 2);
+    expect_bad(&p);
+    p = good;
+    p.kd_per_s.y = K_FOR(8.0, 1);
+    expect_bad(&p);
+    p = good;
+    p.ki_per_s3.z = K_FOR(9.0, 2);
+    expect_bad(&p);
+    /* just under 7.99: accepted, stored near 7.98 (NGAIN16 reaches 7.9998) */
+    p = good;
+    p.kp_per_s2.y = K_FOR(7.98, 1);
+    p.kd_per_s.z = K_FOR(7.98, 2);
+    p.ki_per_s3.x = K_FOR(7.98, 0);
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    (void)assert_constants(&c);
+    const ref_params s = ref_stored(&c);
+    assert_true(fabs(s.gp[1] - 7.98) < 1e-3 && fabs(s.gd[2] - 7.98) < 1e-3 && fabs(s.gi[0] - 7.98) < 1e-3);
+#undef K_FOR
+
+    /* |dJ| / authority: J and authority of 1 kg m^2 and 1 N m scale, gains
+     * small (J / A up to 1.5, k J / A < 8) */
+    fc_attitude_control_params d = good;
+    d.kp_per_s2 = vec_all(4.0, FC_GAIN_FRAC);
+    d.kd_per_s = vec_all(2.0, FC_GAIN_FRAC);
+    d.ki_per_s3 = vec_all(1.0, FC_GAIN_FRAC);
+    d.authority_nm = vec_all(1.0, FC_MOMENT_FRAC);
+    d.moment_limit = vec_all(1.0, FC_RATIO_FRAC);
+    static const double kBadJ[3][3] = {
+        {1.2, 0.2, 0.2},  /* dJ = (0, 1.0, -1.0): both signs at 1 */
+        {1.5, 0.2, 0.2},  /* (0, 1.3, -1.3) */
+        {0.2, 0.2, 1.21}, /* (1.01, -1.01, 0): roll */
+    };
+    for (int k = 0; k < 3; k++) {
+        p = d;
+        p.inertia_kgm2 = vec_from(kBadJ[k], FC_INERTIA_FRAC);
+        expect_bad(&p);
+    }
+    /* over the authority: Jx - Jz = 0.5 kg m^2 with 0.5 N m on y is 1.0 s^2 */
+    p = d;
+    p.inertia_kgm2 = vec_all(0.1, FC_INERTIA_FRAC);
+    p.inertia_kgm2.x = R(0.6, FC_INERTIA_FRAC);
+    p.authority_nm.y = R(0.5, FC_MOMENT_FRAC);
+    p.authority_nm.z = R(0.5, FC_MOMENT_FRAC);
+    expect_bad(&p);
+    p.authority_nm.y = R(0.52, FC_MOMENT_FRAC); /* 0.96 s^2 on y, -1.0 on z */
+    expect_bad(&p);
+    p.authority_nm.z = R(0.52, FC_MOMENT_FRAC); /* 0.96 and -0.96 */
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    /* just under: 0.98 and -0.98 */
+    static const double kEdgeJ[3] = {1.18, 0.2, 0.2};
+    p = d;
+    p.inertia_kgm2 = vec_from(kEdgeJ, FC_INERTIA_FRAC);
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    (void)assert_constants(&c);
+    const ref_params sd = ref_stored(&c);
+    assert_true(fabs(sd.dj[1] - 0.98) < 1e-4 && fabs(sd.dj[2] + 0.98) < 1e-4 && sd.dj[0] == 0.0);
 }
 
 /* ---- the error quaternion ---------------------------------------------- */
@@ -559,15 +909,13 @@ static void test_error_sign(void **state)
             assert_int_equal(st & (FC_STEP_BAD_INPUT | FC_STEP_NOT_READY | FC_STEP_ARITH_SATURATED), 0);
             m[k] = out.moment;
         }
-        double ref[3], raw[3];
-        ref_law(&r, from_fc(to_fc(q)), from_fc(to_fc(qd)), held_w, kZero3, kZero3, ref, raw);
+        const ref_out ref = ref_law(&r, from_fc(to_fc(q)), from_fc(to_fc(qd)), held_w, kZero3, kZero3);
         for (int k = 0; k < 4; k++) {
-            assert_moment_near(&m[k], ref, &r);
+            (void)assert_moment_within(&m[k], &ref);
         }
         /* the direction: the P part opposes the error axis for 150 deg, follows it for 210 */
-        double no_rate[3];
-        ref_law(&r, q, qd, kZero3, kZero3, kZero3, no_rate, raw);
-        const double along = no_rate[0] * 1.0 + no_rate[1] * 2.0 + no_rate[2] * 0.5;
+        const ref_out no_rate = ref_law(&r, q, qd, kZero3, kZero3, kZero3);
+        const double along = no_rate.m[0] * 1.0 + no_rate.m[1] * 2.0 + no_rate.m[2] * 0.5;
         if (angles[a] < kPi) {
             assert_true(along < 0.0);
         } else {
@@ -670,12 +1018,15 @@ static void test_pure_yaw(void **state)
             fc_attitude_control_output out;
             const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
             assert_int_equal(st, FC_STEP_OK);
-            const double zero_tol = moment_tol(r.jn[0], r.kp[0], 0.0);
-            assert_true(fabs(DN(out.moment.x)) <= zero_tol);
-            assert_true(fabs(DN(out.moment.y)) <= zero_tol);
-            /* Mz / authority_z = -(Jz / authority_z) kp_z 2 sin(psi/2) */
-            const double mz = -r.jn[2] * r.kp[2] * 2.0 * sin(psi[k] / 2.0);
-            assert_true(fabs(DN(out.moment.z) - mz) <= moment_tol(r.jn[2], r.kp[2], mz) + 1e-6 * r.jn[2] * r.kp[2]);
+            const ref_out ref =
+                ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), kZero3, kZero3, kZero3);
+            (void)assert_moment_within(&out.moment, &ref);
+            /* the reference is the header's: no roll or pitch, Mz / authority_z
+             * = -(kp_z Jz / authority_z) 2 sin(psi/2) (up to the quaternions'
+             * rounding to the held format: 1e-6 of Kp) */
+            const double mz = -r.gp[2] * 2.0 * sin(psi[k] / 2.0);
+            assert_true(fabs(ref.m[0]) <= 1e-6 * r.gp[2] && fabs(ref.m[1]) <= 1e-6 * r.gp[2] &&
+                        fabs(ref.m[2] - mz) <= 1e-6 * r.gp[2]);
             assert_true(fabs(D(out.attitude_error_rad.z, FC_ANGLE_FRAC) - 2.0 * sin(psi[k] / 2.0)) < ERROR_TOL_RAD);
         }
     }
@@ -698,34 +1049,48 @@ static void test_tilt_heading_split(void **state)
         assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
         const ref_params r = ref_from(&c);
         fc_vec3_16 m_tilt_only = fc_vec3_16_zero();
+        ref_out ref_tilt_only;
+        memset(&ref_tilt_only, 0, sizeof ref_tilt_only);
         for (int k = 0; k < 2; k++) {
             /* current heading 0.8 (= desired) or 0.8 - 1.0 rad, both tilted by 40 deg */
             const dq q = dq_mul(tilt, dq_axis_angle(0.0, 0.0, 1.0, 0.8 - 1.0 * k));
             const fc_attitude_control_input in = make_input(q, qd, w, kZero3);
             fc_attitude_control_output out;
             assert_int_equal(fc_attitude_control_step(&c, &in, &out), FC_STEP_OK);
-            double held_w[3], ref[3], raw[3];
+            double held_w[3];
             rates_held(w, held_w);
-            ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, kZero3, kZero3, ref, raw);
-            assert_moment_near(&out.moment, ref, &r);
+            const ref_out ref =
+                ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, kZero3, kZero3);
+            (void)assert_moment_within(&out.moment, &ref);
             /* the tilt error is 2 sin(20 deg) whatever the heading error */
             const double ex = D(out.attitude_error_rad.x, FC_ANGLE_FRAC);
             const double ey = D(out.attitude_error_rad.y, FC_ANGLE_FRAC);
             assert_true(fabs(sqrt(ex * ex + ey * ey) - 2.0 * sin(20.0 * kDeg)) < ERROR_TOL_RAD);
             if (k == 0) {
                 m_tilt_only = out.moment;
+                ref_tilt_only = ref;
             } else {
-                /* the tilt axis in the body turns with the heading, its size does not */
+                /* the tilt axis in the body turns with the heading, its size
+                 * does not: the references' sizes agree (up to the
+                 * quaternions' rounding to the held format: 1e-6 of Kp), the
+                 * library's each within the hypot of its tolerances */
                 const double a0 = hypot(DN(m_tilt_only.x), DN(m_tilt_only.y));
                 const double a1 = hypot(DN(out.moment.x), DN(out.moment.y));
-                assert_true(fabs(a0 - a1) <= 2.0 * moment_tol(r.jn[0], r.kp[0], a0));
+                const double ref_diff =
+                    fabs(hypot(ref_tilt_only.m[0], ref_tilt_only.m[1]) - hypot(ref.m[0], ref.m[1]));
+                assert_true(ref_diff <= 1e-6 * r.gp[0]);
+                assert_true(fabs(a0 - a1) <= hypot(ref_tilt_only.tol[0], ref_tilt_only.tol[1]) +
+                                                 hypot(ref.tol[0], ref.tol[1]) + ref_diff);
                 /* heading error -1 rad -> error.z = -2 sin(0.5);
                  * Mz / authority_z = -(Jz / authority_z) (kp w e_z + kd wz) */
                 const double ez = D(out.attitude_error_rad.z, FC_ANGLE_FRAC);
                 assert_true(fabs(ez + 2.0 * sin(0.5)) < ERROR_TOL_RAD);
-                const double mz = -r.jn[2] * (r.kp[2] * r.yaw_weight * ez + r.kd[2] * held_w[2]);
-                /* (the 1e-6 N m allowed on top before, in the normalised units) */
-                assert_true(fabs(DN(out.moment.z) - mz) <= moment_tol(r.jn[2], r.kp[2], mz) + 1e-6 / r.auth[2]);
+                const double mz = -(r.gp[2] * r.yaw_weight * ez + r.gd[2] * held_w[2]);
+                /* that is the law at the step's own error (its telemetry),
+                 * the library within that law's tolerance */
+                const ref_out at = ref_law_at(&r, out.attitude_error_rad, held_w, kZero3, kZero3);
+                assert_true(fabs(at.m[2] - mz) < 1e-12);
+                assert_true(fabs(DN(out.moment.z) - mz) <= at.tol[2]);
             }
         }
     }
@@ -755,37 +1120,50 @@ static void test_short_budget_tilt_first(void **state)
         const fc_attitude_control_input in_both = make_input(q_both, qd, kZero3, kZero3);
         const fc_step_status st_tilt = fc_attitude_control_step(&c, &in_tilt, &out_tilt);
         const fc_step_status st_both = fc_attitude_control_step(&c, &in_both, &out_both);
-        /* roll and pitch keep their full moment (the same as without the heading error) */
-        assert_true(fabs(DN(out_both.moment.x) - DN(out_tilt.moment.x)) <=
-                    2.0 * moment_tol(r.jn[0], r.kp[0], r.mlim[0]));
-        assert_true(fabs(DN(out_both.moment.y) - DN(out_tilt.moment.y)) <=
-                    2.0 * moment_tol(r.jn[1], r.kp[1], r.mlim[1]));
-        /* yaw gets its own budget and no more: -limit exactly in RATIO, so the
-         * output is -limit rounded to NORM16 (within half an LSB; the only
-         * NORM16 value there, bar a tie) */
-        assert_true(fabs(DN(out_both.moment.z) + r.mlim[2]) <= NORM16_HALF_LSB);
+        const ref_out ref_tilt = ref_law(&r, from_fc(in_tilt.attitude), qd, kZero3, kZero3, kZero3);
+        const ref_out ref = ref_law(&r, from_fc(in_both.attitude), qd, kZero3, kZero3, kZero3);
+        (void)assert_moment_within(&out_tilt.moment, &ref_tilt);
+        (void)assert_moment_within(&out_both.moment, &ref);
+        /* roll and pitch keep their full moment (the same as without the
+         * heading error): so in the reference (up to the quaternions'
+         * rounding to the held format: 1e-6 of Kp), and the library's two
+         * within their two tolerances */
+        for (int i = 0; i < 2; i++) {
+            const double ref_diff = fabs(ref.m[i] - ref_tilt.m[i]);
+            assert_true(ref_diff <= 1e-6 * r.gp[i]);
+            assert_true(fabs(DN(i == 0 ? out_both.moment.x : out_both.moment.y) -
+                             DN(i == 0 ? out_tilt.moment.x : out_tilt.moment.y)) <=
+                        ref.tol[i] + ref_tilt.tol[i] + ref_diff);
+        }
+        /* yaw gets its own budget and no more: -limit exactly in NSUM (the
+         * budget rounded to it), so the output is that rounded to NORM16 */
+        assert_true(fabs(DN(out_both.moment.z) + r.mlim[2]) <= LIMIT_HALF_LSB + NORM16_HALF_LSB);
         assert_true((st_both & FC_STEP_OUTPUT_LIMITED) != 0u);
-        double ref[3], raw[3];
-        ref_law(&r, from_fc(in_both.attitude), qd, kZero3, kZero3, kZero3, ref, raw);
-        assert_moment_near(&out_both.moment, ref, &r);
         if (t == 0) {
             /* inside the budget: roll/pitch untouched, only yaw clamped */
             assert_int_equal(st_tilt & FC_STEP_OUTPUT_LIMITED, 0);
-            assert_true(fabs(raw[0] - ref[0]) < 1e-12 && fabs(raw[1] - ref[1]) < 1e-12);
+            assert_true(fabs(ref.raw[0] - ref.m[0]) < 1e-12 && fabs(ref.raw[1] - ref.m[1]) < 1e-12);
         } else {
             /* outside: roll at its limit, pitch scaled with it so the tilt axis is kept
              * (My/Mx = tan 30 deg), never reduced further to give yaw room */
             assert_true((st_tilt & FC_STEP_OUTPUT_LIMITED) != 0u);
             const double mx = DN(out_both.moment.x), my = DN(out_both.moment.y);
-            /* 2 LSB of the scaling in RATIO (was MOMENT), 1e-6 of the limit (was
-             * 1e-6 N m of 1 N m), and the output's rounding to NORM16 */
-            assert_true(fabs(fabs(mx) - r.mlim[0]) <=
-                        2.0 * ldexp(1.0, -FC_RATIO_FRAC) + 1e-6 * r.mlim[0] + NORM16_HALF_LSB);
-            /* the tilt axis' direction to the error's rounding over its size
+            /* at the budget as held (NSUM), the factor's rounding to UNIT
+             * (2^-31 of the raw moment) and the product's to NSUM (float: two
+             * roundings of the limit), the output's rounding to NORM16 */
+            const double at_limit_tol =
+                LIMIT_HALF_LSB +
+                (FC_NUMERIC_FIXED ? (fabs(ref.raw[0]) + ref.tol[0]) * half_lsb(FC_UNIT_FRAC) + half_lsb(NSUM_FRAC)
+                                  : gamma_n(2) * r.mlim[0]) +
+                NORM16_HALF_LSB;
+            assert_true(fabs(fabs(mx) - r.mlim[0]) <= at_limit_tol);
+            /* the tilt axis' direction to the error's rounding (with, in
+             * fixed, its rounding to ANGLE16; Kp x = Kp y) over its size
              * 2 sin(tilt/2); d tan / d angle = 1.34 at 30 deg. The output's
              * rounding (h each) moves my/mx by up to h (1 + |my/mx|) / |mx|. */
-            const double ratio_tol = 1e-5 + 1.34 * ERROR_TOL_RAD / (2.0 * sin(tilts[t] / 2.0)) +
-                                     NORM16_HALF_LSB * (1.0 + tan(30.0 * kDeg)) / fabs(mx);
+            const double ratio_tol =
+                1e-5 + 1.34 * (ERROR_TOL_RAD + half_lsb(ANGLE16_FRAC)) / (2.0 * sin(tilts[t] / 2.0)) +
+                NORM16_HALF_LSB * (1.0 + tan(30.0 * kDeg)) / fabs(mx);
             assert_true(fabs(my / mx - tan(30.0 * kDeg)) < ratio_tol);
             assert_true(fabs(my) < r.mlim[1]);
         }
@@ -818,7 +1196,8 @@ static void test_integral_hold(void **state)
     const ref_params r = ref_from(&c);
     const dq q = dq_axis_angle(1.0, 1.0, 1.0, 5.0 * kDeg);
     fc_attitude_control_output out;
-    for (int k = 0; k < 10; k++) {
+    /* 200 steps of 0.05 rad (per axis) x 2 ms: I = 0.02 rad s, Ki I = 0.008 */
+    for (int k = 0; k < 200; k++) {
         step_with(&c, q, 0u, &out);
     }
     const fc_vec3 held = c.integral_rad_s;
@@ -829,11 +1208,16 @@ static void test_integral_hold(void **state)
         step_with(&c, dq_axis_angle(1.0, 1.0, 1.0, -5.0 * kDeg), 0u, &out);
     }
     assert_true(c.integral_rad_s.x == held.x && c.integral_rad_s.y == held.y && c.integral_rad_s.z == held.z);
-    /* the held integral still acts: at zero error the moment is -J ki I
-     * (normalised: -(J / authority) ki I; the 1e-7 N m on top as before) */
+    /* the held integral still acts: at zero error the moment is -Ki I
+     * (normalised: Ki = ki J / authority) */
     step_with(&c, dq_make(1.0, 0.0, 0.0, 0.0), 0u, &out);
-    const double m_expect = -r.jn[0] * r.ki[0] * D(held.x, FC_ANGLE_FRAC);
-    assert_true(fabs(DN(out.moment.x) - m_expect) <= moment_tol(r.jn[0], r.kp[0], m_expect) + 1e-7 / r.auth[0]);
+    double i_held[3];
+    vec_to(held, FC_ANGLE_FRAC, i_held);
+    const dq level = dq_make(1.0, 0.0, 0.0, 0.0);
+    const ref_out ref = ref_law(&r, level, level, kZero3, kZero3, i_held);
+    (void)assert_moment_within(&out.moment, &ref);
+    const double m_expect = -r.gi[0] * i_held[0];
+    assert_true(fabs(ref.m[0] - m_expect) < 1e-12 && fabs(m_expect) > 5.0 * ref.tol[0]);
     /* released, it integrates again */
     fc_attitude_control_hold_integral(&c, false);
     step_with(&c, q, 0u, &out);
@@ -874,12 +1258,16 @@ static void test_integral_anti_windup(void **state)
     }
     assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 10.0 * r.dt * ERROR_TOL_RAD + 1e-6);
     const double m_before = DN(out.moment.x);
-    /* the moment includes -Jx ki I (normalised: over the authority; the 1e-7
-     * N m on top as before) */
+    /* the moment includes -Ki I (Ki = ki Jx / authority), with I the integral
+     * the step starts from */
+    double i_used[3];
+    vec_to(c.integral_rad_s, FC_ANGLE_FRAC, i_used);
     step_with(&c, q, 0u, &out);
-    const double i_used = 10.0 * ex * r.dt;
-    const double m_expect = -r.jn[0] * (r.kp[0] * ex + r.ki[0] * i_used);
-    assert_true(fabs(DN(out.moment.x) - m_expect) <= moment_tol(r.jn[0], r.kp[0], m_expect) + 1e-7 / r.auth[0]);
+    const dq level = dq_make(1.0, 0.0, 0.0, 0.0);
+    const ref_out ref = ref_law(&r, from_fc(to_fc(q)), level, kZero3, kZero3, i_used);
+    (void)assert_moment_within(&out.moment, &ref);
+    /* the reference is -(Kp ex + Ki I) on x (ex = 2 sin 2.5 deg) */
+    assert_true(fabs(ref.m[0] + r.gp[0] * ex + r.gi[0] * i_used[0]) < 1e-6 * r.gp[0]);
     assert_true(DN(out.moment.x) < m_before);
 
     /* unwinding is allowed in the saturated direction's opposite: a negative
@@ -912,8 +1300,9 @@ static void test_integral_anti_windup(void **state)
         assert_true((st & FC_STEP_OUTPUT_LIMITED) != 0u);
     }
     assert_true(c.integral_rad_s.x == FC_INT(0, ANGLE));
-    /* -limit exactly in RATIO, rounded to NORM16 on the way out */
-    assert_true(fabs(DN(out.moment.x) + D(p.moment_limit.x, FC_RATIO_FRAC)) <= NORM16_HALF_LSB);
+    /* -limit exactly in NSUM (the budget rounded to it), rounded to NORM16 on
+     * the way out */
+    assert_true(fabs(DN(out.moment.x) + D(p.moment_limit.x, FC_RATIO_FRAC)) <= LIMIT_HALF_LSB + NORM16_HALF_LSB);
 
     /* ki = 0 disables an axis */
     p = hexa_params();
@@ -1020,34 +1409,43 @@ static void test_bad_input(void **state)
                      fc_mul(&ar, good.attitude.z, FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
     assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
     assert_int_equal(fc_attitude_control_step(&c, &scaled, &out), FC_STEP_OK);
-    double held_w[3], ref[3], raw[3];
+    double held_w[3];
     rates_held(w, held_w);
-    ref_law(&r, from_fc(good.attitude), qd, held_w, kZero3, kZero3, ref, raw);
-    assert_moment_near(&out.moment, ref, &r);
+    const ref_out ref = ref_law(&r, from_fc(good.attitude), qd, held_w, kZero3, kZero3);
+    (void)assert_moment_within(&out.moment, &ref);
 }
 
 /* ---- against the double reference ------------------------------------- */
 
 /* A deterministic spread of attitudes, rates and feed-forwards at both scales,
- * with the gyroscopic term, a yaw weight of 0.7 and the integral off. The
- * authorities differ per axis and are large enough that the moments (angular
- * accelerations up to ~320 rad/s^2) stay inside the widest budget, 1.99: no
- * clamping here (st == FC_STEP_OK). */
+ * with the gyroscopic term, a yaw weight of 0.7 and the integral on (it
+ * integrates the errors as they come; the reference takes the integral each
+ * step starts from). The authorities differ per axis and are large enough
+ * that the moments (angular accelerations up to ~320 rad/s^2) stay inside the
+ * widest budget, 1.99: no clamping here (st == FC_STEP_OK). Each step against
+ * the whole law from the attitudes (ref_law), the law at the step's own error
+ * (ref_law_at: no error rounding in the tolerance) and that with the step's
+ * stored constants (its arithmetic alone). */
 static void test_matches_reference(void **state)
 {
     (void)state;
     static const double kHexaAuth[3] = {30.0, 35.0, 60.0};
     static const double kCfAuth[3] = {6.0e-3, 7.0e-3, 5.0e-3};
+    double worst_whole = 0.0, worst_law = 0.0, worst_arith = 0.0;
+    double max_tol_whole = 0.0, max_tol_law = 0.0, max_tol_arith = 0.0, max_i = 0.0;
     for (int scale = 0; scale < 2; scale++) {
         const double *j = scale == 0 ? kHexaJ : kCfJ;
         fc_attitude_control_params p;
         fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(j, FC_INERTIA_FRAC));
         p.yaw_weight = R(0.7, FC_RATIO_FRAC);
+        p.ki_per_s3 = fc_vec3_make(R(40.0, FC_GAIN_FRAC), R(40.0, FC_GAIN_FRAC), R(15.0, FC_GAIN_FRAC));
+        p.integral_limit_rad = vec_all(0.5, FC_ANGLE_FRAC);
         p.authority_nm = vec_from(scale == 0 ? kHexaAuth : kCfAuth, FC_MOMENT_FRAC);
         p.moment_limit = vec_all(LIMIT_MAX, FC_RATIO_FRAC);
         fc_attitude_control c;
         assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
         const ref_params r = ref_from(&c);
+        const ref_params rs = ref_stored(&c);
         for (int k = 0; k < 200; k++) {
             const double t = (double)k;
             const dq q = dq_axis_angle(sin(1.3 * t), cos(0.7 * t), sin(2.9 * t + 1.0), 3.0 * sin(0.37 * t));
@@ -1055,19 +1453,92 @@ static void test_matches_reference(void **state)
             const double w[3] = {6.0 * sin(0.9 * t), -4.0 * cos(1.7 * t), 3.0 * sin(2.3 * t + 0.2)};
             const double wff[3] = {(k % 3 == 0) ? 1.5 * cos(t) : 0.0, 0.0, (k % 2 == 0) ? -2.0 : 0.0};
             const fc_attitude_control_input in = make_input(q, qd, w, wff);
+            double integral[3];
+            vec_to(c.integral_rad_s, FC_ANGLE_FRAC, integral);
             fc_attitude_control_output out;
             const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
             assert_int_equal(st, FC_STEP_OK);
-            double held_w[3], held_ff[3], ref[3], raw[3];
+            double held_w[3], held_ff[3];
             rates_held(w, held_w);
             rates_held(wff, held_ff);
-            ref_law(&r, from_fc(in.attitude), from_fc(in.attitude_desired), held_w, held_ff, kZero3, ref,
-                    raw);
             /* errors of any size here: the tolerance at this pair's N */
-            const dq e = dq_mul(dq_conj(from_fc(in.attitude_desired)), from_fc(in.attitude));
-            const double n = sqrt(e.w * e.w + e.z * e.z);
-            assert_moment_near_at(&out.moment, ref, &r, n > 0.01 ? n : 0.01);
+            const dq qh = from_fc(in.attitude), qdh = from_fc(in.attitude_desired);
+            const ref_out whole = ref_law(&r, qh, qdh, held_w, held_ff, integral);
+            const ref_out law = ref_law_at(&r, out.attitude_error_rad, held_w, held_ff, integral);
+            const ref_out arith = ref_law_at(&rs, out.attitude_error_rad, held_w, held_ff, integral);
+            worst_whole = fmax(worst_whole, assert_moment_within(&out.moment, &whole));
+            worst_law = fmax(worst_law, assert_moment_within(&out.moment, &law));
+            worst_arith = fmax(worst_arith, assert_moment_within(&out.moment, &arith));
+            for (int i = 0; i < 3; i++) {
+                max_tol_whole = fmax(max_tol_whole, whole.tol[i]);
+                max_tol_law = fmax(max_tol_law, law.tol[i]);
+                max_tol_arith = fmax(max_tol_arith, arith.tol[i]);
+                max_i = fmax(max_i, fabs(integral[i]));
+            }
         }
+    }
+    print_message("matches reference (%s): worst |error| / tolerance (largest tolerance): whole step %.3f "
+                  "(%.3g), law at the step's error %.3f (%.3g), its arithmetic (stored constants) %.3f (%.3g); "
+                  "largest |I| %.3f rad s\n",
+                  FC_NUMERIC_FIXED ? "fixed" : "float", worst_whole, max_tol_whole, worst_law, max_tol_law,
+                  worst_arith, max_tol_arith, max_i);
+    /* not vacuous: the integral acted, and the tolerances are small (fixed:
+     * the whole step within 4e-3 of the authority at N = 0.08, mostly the
+     * error's 1/N, the law within 2e-3; float 1e-5 and 1e-6) */
+    assert_true(max_i > 0.02);
+    assert_true(max_tol_whole < (FC_NUMERIC_FIXED ? 4e-3 : 1e-5));
+    assert_true(max_tol_law < (FC_NUMERIC_FIXED ? 2e-3 : 1e-6) && max_tol_arith <= max_tol_law);
+}
+
+/* RATE16 holds +-32 rad/s (header): a rate error beyond saturates there, and
+ * so does a rate in w_i w_j. The step reads r = 31.999 (32767 LSB) for 40
+ * rad/s: the same moment as the reference for that r (fixed); float takes 40.
+ * Case 0: w.x = 40 rad/s (the rate and its product saturate); case 1: w.x = 20
+ * rad/s with w_ff.x = -20 (only the rate error does). */
+static void test_rate16_saturation(void **state)
+{
+    (void)state;
+    static const double kHexaAuth[3] = {30.0, 35.0, 60.0};
+    fc_attitude_control_params p;
+    fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kHexaJ, FC_INERTIA_FRAC));
+    p.authority_nm = vec_from(kHexaAuth, FC_MOMENT_FRAC);
+    p.moment_limit = vec_all(LIMIT_MAX, FC_RATIO_FRAC);
+    fc_attitude_control c;
+    assert_int_equal(fc_attitude_control_init(&c, &p), FC_INIT_OK);
+    const ref_params r = ref_from(&c);
+#if FC_NUMERIC_FIXED
+    const double rate16_max = 32767.0 * ldexp(1.0, -RATE16_FRAC);
+#else
+    const double rate16_max = (double)31.999f;
+#endif
+    const dq qd = dq_make(1.0, 0.0, 0.0, 0.0);
+    const dq q = dq_axis_angle(1.0, 0.5, 0.2, 3.0 * kDeg);
+    static const double kW[2][3] = {{40.0, 0.5, -0.3}, {20.0, 0.5, -0.3}};
+    static const double kWff[2][3] = {{0.0, 0.0, 0.0}, {-20.0, 0.0, 0.0}};
+    for (int k = 0; k < 2; k++) {
+        const fc_attitude_control_input in = make_input(q, qd, kW[k], kWff[k]);
+        fc_attitude_control_output out;
+        const fc_step_status st = fc_attitude_control_step(&c, &in, &out);
+        assert_int_equal(st & (FC_STEP_BAD_INPUT | FC_STEP_NOT_READY | FC_STEP_OUTPUT_LIMITED), 0);
+        double w[3], wff[3];
+        rates_held(kW[k], w);
+        rates_held(kWff[k], wff);
+        const ref_out full = ref_law(&r, from_fc(in.attitude), qd, w, wff, kZero3);
+        /* what the step reads, in both backends: w.x and w.x - w_ff.x clamped
+         * to 31.999 rad/s (in fixed that is 32767 LSB of RATE16); by design,
+         * so no saturation is reported */
+        assert_int_equal(st, FC_STEP_OK);
+        double w_sat[3] = {w[0], w[1], w[2]}, wff_sat[3] = {wff[0], wff[1], wff[2]};
+        w_sat[0] = fmin(w[0], rate16_max);
+        wff_sat[0] = w_sat[0] - fmin(w[0] - wff[0], rate16_max);
+        const ref_out sat = ref_law(&r, from_fc(in.attitude), qd, w_sat, wff_sat, kZero3);
+        (void)assert_moment_within(&out.moment, &sat);
+        /* and it is the clamp that moved it: Kd (40 - 32) = 0.35 off the
+         * unclamped law, far beyond the tolerance without it */
+        assert_true(sat.tol[0] < 0.01);
+        assert_true(fabs(DN(out.moment.x) - full.m[0]) > 0.9 * r.gd[0] * (40.0 - rate16_max));
+        print_message("rate16 clamp (case %d): Mx %.6f, reference at the clamp %.6f, at 40 rad/s %.6f\n", k,
+                      DN(out.moment.x), sat.m[0], full.m[0]);
     }
 }
 
@@ -1090,22 +1561,30 @@ static void test_gyroscopic_term(void **state)
     const double gyro[3] = {(r.j[2] - r.j[1]) * hw[1] * hw[2], (r.j[0] - r.j[2]) * hw[2] * hw[0],
                             (r.j[1] - r.j[0]) * hw[0] * hw[1]};
     assert_true(fabs(gyro[0] + 0.804) < 1e-7 && fabs(gyro[1] + 0.536) < 1e-7 && gyro[2] == 0.0);
-    /* normalised, from the differences over the authority as init holds them */
-    const double ww[3] = {hw[1] * hw[2], hw[2] * hw[0], hw[0] * hw[1]};
-    const double gyro_n[3] = {r.djn[0] * ww[0], r.djn[1] * ww[1], r.djn[2] * ww[2]};
-    assert_moment_near(&out.moment, gyro_n, &r);
-    /* and back in N m (moment x authority) against the inertia's: on top of
-     * the moment's tolerance the rounding of (Jz - Jy) / authority at init,
-     * fixed one rounding to INERTIA (2^-31; the difference of the held J is
-     * exact), float two (the difference and the division, 2^-24 each) */
+    /* normalised: dJ w_i w_j with dJ = (J_k - J_j) / authority, against the
+     * law (constants from the parameters) and the step's arithmetic */
+    const ref_out whole = ref_law(&r, from_fc(in.attitude), from_fc(in.attitude), hw, hw, kZero3);
+    (void)assert_moment_within(&out.moment, &whole);
+    /* the law at the step's own error (q = q_d: zero, or float's few eps),
+     * and its arithmetic */
+    const ref_out ref = ref_law_at(&r, out.attitude_error_rad, hw, hw, kZero3);
+    const ref_params rs = ref_stored(&c);
+    const ref_out arith = ref_law_at(&rs, out.attitude_error_rad, hw, hw, kZero3);
+    (void)assert_moment_within(&out.moment, &ref);
+    (void)assert_moment_within(&out.moment, &arith);
+    /* and back in N m (moment x authority) against the inertia's: the law's
+     * constants are the inertia's over the authority, so the whole step's
+     * tolerance times the authority */
     const double m_nm[3] = {DN(out.moment.x) * r.auth[0], DN(out.moment.y) * r.auth[1],
                             DN(out.moment.z) * r.auth[2]};
-    const double u = ldexp(1.0, -24);
     for (int i = 0; i < 3; i++) {
-        const double djn_round = FC_NUMERIC_FIXED ? ldexp(1.0, -31) : ((1.0 + u) * (1.0 + u) - 1.0) * fabs(r.djn[i]);
-        const double tol_nm = r.auth[i] * (moment_tol(r.jn[i], r.kp[i], gyro_n[i]) + fabs(ww[i]) * djn_round);
-        assert_true(fabs(m_nm[i] - gyro[i]) <= tol_nm);
+        assert_true(fabs(whole.m[i] * r.auth[i] - gyro[i]) < 1e-12);
+        assert_true(fabs(m_nm[i] - gyro[i]) <= r.auth[i] * whole.tol[i]);
     }
+    /* not vacuous: the tolerance (fixed: mostly w_i w_j to WW16, 2^-6,
+     * through dJ, and the inputs' half LSBs through the gains) far below the
+     * moment on x and y */
+    assert_true(ref.tol[0] < 0.01 * fabs(ref.m[0]) && ref.tol[1] < 0.01 * fabs(ref.m[1]));
 }
 
 /* ---- closed loop on a rigid body --------------------------------------- */
@@ -1179,10 +1658,9 @@ static loop_result closed_loop(const fc_attitude_control_params *p, const double
                 const double ratio = fabs(m_n[i]) / out_bound(&r, i);
                 res.max_m_ratio = ratio > res.max_m_ratio ? ratio : res.max_m_ratio;
             }
-            double raw[3], m_ref_n[3];
-            ref_law(&r, ref.q, qd, ref.w, kZero3, kZero3, m_ref_n, raw);
+            const ref_out m_ref_n = ref_law(&r, ref.q, qd, ref.w, kZero3, kZero3);
             for (int i = 0; i < 3; i++) {
-                m_ref[i] = m_ref_n[i] * r.auth[i];
+                m_ref[i] = m_ref_n.m[i] * r.auth[i];
             }
         }
         plant_step(&lib, j, m_lib, PLANT_DT);
@@ -1269,6 +1747,7 @@ int main(void)
         cmocka_unit_test(test_default_params),
         cmocka_unit_test(test_bad_params),
         cmocka_unit_test(test_normalisation),
+        cmocka_unit_test(test_normalised_ranges),
         cmocka_unit_test(test_error_sign),
         cmocka_unit_test(test_error_is_2_9_in_body_frame),
         cmocka_unit_test(test_error_accuracy),
@@ -1279,9 +1758,13 @@ int main(void)
         cmocka_unit_test(test_integral_hold),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_matches_reference),
+        cmocka_unit_test(test_rate16_saturation),
         cmocka_unit_test(test_gyroscopic_term),
         cmocka_unit_test(test_closed_loop_hexa),
         cmocka_unit_test(test_closed_loop_crazyflie),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    const int failed = cmocka_run_group_tests(tests, NULL, NULL);
+    print_message("moments against ref_law (%s): worst |error| / tolerance %.3f over all tests\n",
+                  FC_NUMERIC_FIXED ? "fixed" : "float", g_worst_ratio);
+    return failed;
 }

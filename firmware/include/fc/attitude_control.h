@@ -77,15 +77,28 @@
  * rate_ff alone is replaced by zero and the step runs normally. Both are
  * reported with FC_STEP_BAD_INPUT.
  *
+ * The step in 16 bits (SPEC "Units between modules"). Init folds the inertia
+ * into the gains: per axis Kp = kp J / authority, Ki = ki J / authority,
+ * Kd = kd J / authority (normalised moment per rad, per rad s, per rad/s)
+ * and dJ = (J_k - J_j) / authority, so that
+ *
+ *     m = -(Kp e + Ki I + Kd (w - w_ff)) + dJ w_i w_j,
+ *
+ * every product 16 x 16 -> 32. Init rejects (FC_INIT_BAD_PARAM) a normalised
+ * gain above 7.99 (an axis that asks for 8 times its authority per unit of
+ * error) and |dJ| above 0.99 s^2.
+ *
  * Formats (fixed backend): quaternions UNIT in and UNIT16 for the error
  * (fc/quat.h: fc_quat16, 16-bit products: the error within 4.5 UNIT16 LSB /
- * N, 2.7e-4 rad / N, of the exact one; test_attitude_control); errors ANGLE;
- * rates RATE; gains GAIN; the angular acceleration GAIN (rad/s^2 in Q16,
- * range +-32768, LSB 1.5e-5: below 3e-10 N m of moment at Crazyflie
- * inertia); w_i w_j GAIN (rad^2/s^2); inertia and J / authority INERTIA
- * (s^2, so J / authority <= 1.99: an axis that reaches 0.5 rad/s^2 at least);
- * the authority MOMENT; the normalised moment RATIO inside, NORM16 out;
- * integral ANGLE (rad s).
+ * N, 2.7e-4 rad / N, of the exact one; test_attitude_control); the error
+ * ANGLE (telemetry) and, as the products read it, ANGLE16 (Q3.12, +-8 rad,
+ * 2.4e-4 rad); the integral ANGLE (rad s), read as ANGLE16; rates RATE, read
+ * as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999 rad/s: beyond that
+ * every gain of a flyable airframe has saturated the moment already);
+ * w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
+ * 0.03 within 0.4 %); dJ NINERTIA16 (Q0.15); the moment summed in NSUM (Q9.22)
+ * and out in NORM16; gains as parameters GAIN, inertia and J / authority
+ * INERTIA, the authority MOMENT.
  */
 #ifndef FC_ATTITUDE_CONTROL_H
 #define FC_ATTITUDE_CONTROL_H
@@ -139,9 +152,14 @@ typedef struct fc_attitude_control {
     fc_attitude_control_params p;
     fc_vec3 inertia_norm;      /* INERTIA: J / authority per axis (s^2) */
     fc_vec3 inertia_diff_norm; /* INERTIA: (Jz - Jy, Jx - Jz, Jy - Jx) / authority, for w x J w */
+    fc_vec3_16 gain_p;         /* NGAIN16: kp J / authority, normalised moment per rad */
+    fc_vec3_16 gain_i;         /* NGAIN16: ki J / authority, per rad s */
+    fc_vec3_16 gain_d;         /* NGAIN16: kd J / authority, per rad/s */
+    fc_vec3_16 inertia_diff16; /* NINERTIA16: inertia_diff_norm as the step reads it */
+    fc_vec3 moment_limit_sum;  /* NSUM: moment_limit in the step's sum format */
     fc_real hold_decay;        /* UNIT: e^(-dt / HOLD_TAU), per step on bad input */
     fc_vec3 integral_rad_s;    /* ANGLE: I, the integral of e (rad s) */
-    fc_vec3 last_moment;       /* RATIO: the last output, normalised (held on bad input) */
+    fc_vec3 last_moment;       /* NSUM: the last output, normalised (held on bad input) */
     fc_vec3 last_error_rad;    /* ANGLE: the last good error (held on bad input) */
     uint8_t integral_hold;     /* 1: the integrals do not integrate (hold_integral) */
     uint8_t ready;             /* 1 after a successful init */

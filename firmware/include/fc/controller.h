@@ -264,6 +264,12 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
  * hover thrust before it is learnt and its bounds. The gains stay. */
 void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg);
 
+/* The outer group's major frame in steps, [1, FC_OUTER_DIVIDER_MAX], and
+ * the steps of the modules that run once a major frame (the position loop,
+ * the pad model) with it: a platform whose core cannot run the outer group
+ * at the default's 100 Hz gives it a longer frame. */
+void fc_controller_set_outer_divider(fc_controller_params *p, uint8_t divider);
+
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p);
 
 /* One fixed step. The outputs are always finite and inside the actuator range;

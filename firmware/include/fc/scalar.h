@@ -473,9 +473,8 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
 
 /* The bodies of fc_mul and fc_dot2, callable inline even in a compact unit:
  * where a site runs so often that the call, its register saves and the
- * run-time shift (~200 cycles a call on the ATmega) matter more than the
- * flash of the inlined product: pad motion's covariance update (two sites,
- * 28 times a range sample; ATmega: -1.5k cycles a step on average for 1 KB).
+ * run-time shift matter more than the flash of the inlined product: pad
+ * motion's covariance update (two sites, 28 times a range sample).
  * The same values as fc_mul / fc_dot2 (atmega.scalar_equivalence: the
  * outlined products against these). */
 FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)

@@ -31,9 +31,8 @@ static inline fc_vec3 fc_vec3_zero(void)
 }
 
 /* a + b and a - b, inlined too: a call passes the vectors by value (on the
- * ATmega the second on the stack, the result through memory), some 200
- * cycles more than the three adds (ATmega step: Crazyflie -1.1k, hexa
- * -1.9k cycles, for 4 KB of flash) */
+ * ATmega the second on the stack, the result through memory), which costs
+ * more than the three adds */
 FC_VEC3_INLINE fc_vec3 fc_vec3_add(fc_arith *ar, fc_vec3 a, fc_vec3 b)
 {
     return fc_vec3_make(fc_add(ar, a.x, b.x), fc_add(ar, a.y, b.y), fc_add(ar, a.z, b.z));

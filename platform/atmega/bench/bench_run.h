@@ -2,9 +2,11 @@
  * bench_run.h - the benchmark's workload, shared by the ATmega2560 bench
  * image (platform/atmega/bench) and the Cortex-M4F one (platform/cortex-m4-bench).
  *
- * Two workloads, chosen at build time by BENCH_WORKLOAD_CRAZYFLIE:
+ * Three workloads, chosen at build time by BENCH_WORKLOAD_CRAZYFLIE and
+ * BENCH_WORKLOAD_F450:
  *   0  the hexa 4 kg with ssc-adaptive tracking the pad (FC_COMMAND_TRACK_PAD),
- *      the dissertation's 4.4 vehicle;
+ *      the dissertation's 4.4 vehicle (with BENCH_WORKLOAD_F450: the F450
+ *      quad, the ATmega image's airframe, the same law and command);
  *   1  the Crazyflie 2.x with ssc flying the landing mission (FC_COMMAND_LAND,
  *      as in sim_host/scenarios/cf2-pad.ini): the quad the Cortex-M4F flies,
  *      on the platform's attitude as the app does (use_external_attitude: the
@@ -33,6 +35,9 @@
 
 #ifndef BENCH_WORKLOAD_CRAZYFLIE
 #define BENCH_WORKLOAD_CRAZYFLIE 0
+#endif
+#ifndef BENCH_WORKLOAD_F450
+#define BENCH_WORKLOAD_F450 0
 #endif
 
 #define BENCH_VECTORS 8
@@ -150,7 +155,8 @@ static __attribute__((noinline)) int bench_run(uint16_t *status)
     const fc_controller_command armed_command = FC_COMMAND_LAND;
     p.use_external_attitude = true; /* as the app flies (platform/crazyflie/cf_convert.c) */
 #else
-    fc_controller_default_params(&p, FC_AIRFRAME_HEXA_4KG, FC_ALT_VARIANT_SSC_ADAPTIVE, FC_C(0.002f, DT));
+    const fc_airframe airframe = BENCH_WORKLOAD_F450 ? FC_AIRFRAME_F450 : FC_AIRFRAME_HEXA_4KG;
+    fc_controller_default_params(&p, airframe, FC_ALT_VARIANT_SSC_ADAPTIVE, FC_C(0.002f, DT));
     const fc_controller_command armed_command = FC_COMMAND_TRACK_PAD;
 #endif
     if (fc_controller_init(&bench_ctl, &p) != FC_INIT_OK) {
