@@ -234,10 +234,10 @@ awk -v mods="${modules[*]}" '
       printf "  %-30s | %-26s | %-26s | %.2f\n", m, \
         sprintf("%d-%d (%d)", mn["atmega-f450", m], mx["atmega-f450", m], mean["atmega-f450", m]), \
         sprintf("%d-%d (%d)", mn["atmega-fixed-f450", m], mx["atmega-fixed-f450", m], mean["atmega-fixed-f450", m]), \
-        mean["atmega-fixed-f450", m] > 0 ? mean["atmega-f450", m] / mean["atmega-fixed-f450", m] : 0
+        (mean["atmega-fixed-f450", m] > 0 ? mean["atmega-f450", m] / mean["atmega-fixed-f450", m] : 0)
       if (m != "fc_controller_step") { inner_fl += mean["atmega-f450", m]; inner_fx += mean["atmega-fixed-f450", m] }
     }
-    printf "  %-30s | %-26d | %-26d | %.2f   (target: fixed <= 16000, ratio >= 3)\n", "inner modules (sum of means)", inner_fl, inner_fx, inner_fx > 0 ? inner_fl / inner_fx : 0
+    printf "  %-30s | %-26d | %-26d | %.2f   (target: fixed <= 16000, ratio >= 3)\n", "inner modules (sum of means)", inner_fl, inner_fx, (inner_fx > 0 ? inner_fl / inner_fx : 0)
     m = "fc_controller_step"
     printf "  %-30s | %-26d | %-26d |        (target: fixed <= 24000)\n", "worst step", mx["atmega-f450", m], mx["atmega-fixed-f450", m]
     printf "  %-30s | %-26d | %-26d |        (target: fixed <= 20000)\n", "mean step", mean["atmega-f450", m], mean["atmega-fixed-f450", m]

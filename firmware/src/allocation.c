@@ -40,8 +40,9 @@
 /* Row scales 2^e, e in [-16, 14] (exact in GAIN). */
 #define ROW_SCALE_MIN FC_C(1.0f / 65536.0f, GAIN)
 #define ROW_SCALE_MAX FC_INT(16384, GAIN)
-/* A pinv entry above this is a geometry too close to rank loss for the formats. */
-#define PINV_ENTRY_LIMIT FC_C(16.0f, MAT)
+/* A pinv entry above this is a geometry too close to rank loss for the
+ * formats: the largest PINV16 value, 8 - 2^-12 (exact in MAT and float). */
+#define PINV_ENTRY_LIMIT FC_C(32767.0f / 4096.0f, MAT)
 /* Share of the collective below which a rotor does not take part in the shift. */
 #define SHIFT_SHARE_MIN FC_C(1.0f / 32.0f, MAT)
 
@@ -222,7 +223,7 @@ static void derive_rotor(fc_arith *ar, const fc_rotor_params *p, fc_allocation_r
     r->exponent_ratio =
         fc_div(ar, p->torque_exponent, p->thrust_exponent, FC_DIV_SHIFT(RATIO, RATIO, RATIO));
     const fc_real v_min = power(ar, p->speed_min, p->thrust_exponent, (r->flags & ROTOR_SQRT) != 0u);
-    r->v_min = fc_convert(ar, v_min, FC_UNIT_FRAC, FC_RATIO_FRAC);
+    r->v_min = fc_convert(ar, v_min, FC_UNIT_FRAC, FC_PX_FRAC);
 }
 
 /* The authorities (fc/allocation.h): F_max = sum_i |A_0i| (FORCE) and per
@@ -305,10 +306,12 @@ static void refine_pinv(fc_arith *ar, const fc_mat *a, fc_mat *p)
 }
 
 /* B = N A from D A: each row of D A times row_norm (1 / its absolute sum,
- * 2 / it for the moment rows), the most each axis can get (demand_limit) and
- * each rotor's reaction-torque column of B (torque_norm, for r != s). */
+ * 2 / it for the moment rows), the most each axis can get (demand_limit, in
+ * NORM16: a moment row's 2 saturates to 2 - 2^-14, unreported) and each
+ * rotor's reaction-torque column of B (torque_norm, for r != s). */
 static void normalise_rows(fc_arith *ar, fc_allocation *a, fc_mat *m)
 {
+    fc_arith limit_ar = {0u};
     for (int k = 0; k < ROWS; k++) {
         fc_real sum = FC_INT(0, MAT);
         for (int i = 0; i < a->rotor_count; i++) {
@@ -316,12 +319,12 @@ static void normalise_rows(fc_arith *ar, fc_allocation *a, fc_mat *m)
         }
         const fc_real numerator = k == 0 ? FC_INT(1, RATIO) : FC_INT(2, RATIO);
         a->row_norm[k] = fc_div(ar, numerator, sum, FC_DIV_SHIFT(RATIO, MAT, RATIO));
-        fc_real limit = FC_INT(0, RATIO);
+        fc_real limit = FC_INT(0, MAT);
         for (int i = 0; i < a->rotor_count; i++) {
             m->a[k][i] = fc_mul(ar, m->a[k][i], a->row_norm[k], FC_SHIFT(MAT, RATIO, MAT));
             limit = fc_add(ar, limit, fc_abs(ar, m->a[k][i]));
         }
-        a->demand_limit[k] = limit;
+        a->demand_limit[k] = fc_narrow16(&limit_ar, limit, FC_MAT_FRAC, FC_NORM16_FRAC);
     }
     for (int i = 0; i < a->rotor_count; i++) {
         fc_allocation_rotor *r = &a->rotor[i];
@@ -333,6 +336,29 @@ static void normalise_rows(fc_arith *ar, fc_allocation *a, fc_mat *m)
         }
         r->torque_norm = fc_vec3_make(column[0], column[1], column[2]);
     }
+}
+
+/* q_i (RATIO; 1/8 < |q_i| <= 32 for 1/32 <= |P_i0| < 8) in 16 bits, in the
+ * finest of Q16, Q14, Q12 and Q10 that holds it: |q_i| is at least a quarter
+ * of the format's bound, so the rounding is within 2^-14 of q_i (a q_i just
+ * below the bound saturates to the largest value, within one LSB, 2^-15 of
+ * q_i; unreported). */
+static void set_shift_gain(fc_arith *ar, fc_allocation_rotor *r, fc_real gain)
+{
+    fc_arith gain_ar = {0u};
+    const fc_real size = fc_abs(ar, gain);
+    int frac = 10; /* Q(frac) holds |q| < 2^(15 - frac) */
+    if (size < FC_C(0.5f, RATIO)) {
+        frac = 16;
+    } else if (size < FC_INT(2, RATIO)) {
+        frac = 14;
+    } else if (size < FC_INT(8, RATIO)) {
+        frac = 12;
+    } else {
+        /* up to 32: Q10 */
+    }
+    r->shift_gain_frac = (uint8_t)frac;
+    r->shift_gain = fc_narrow16(&gain_ar, gain, FC_RATIO_FRAC, frac);
 }
 
 /* P = pinv(B) and what the thrust shift needs per rotor. */
@@ -358,23 +384,26 @@ static fc_init_result derive_inverse(fc_arith *ar, fc_allocation *a)
     for (int i = 0; i < a->rotor_count; i++) {
         fc_allocation_rotor *r = &a->rotor[i];
         for (int k = 0; k < ROWS; k++) {
-            r->pinv[k] = inverse.a[i][k];
-            if (!within(ar, r->pinv[k], PINV_ENTRY_LIMIT)) {
+            if (!within(ar, inverse.a[i][k], PINV_ENTRY_LIMIT)) {
                 return FC_INIT_RANK_DEFICIENT;
             }
+            /* rounded to nearest; inside the limit it does not saturate */
+            r->pinv[k] = fc_narrow16(ar, inverse.a[i][k], FC_MAT_FRAC, FC_PINV16_FRAC);
         }
         /* rotor i bounds the collective t: v_min <= t P_i0 + a R_i <= 1, i.e. with
          * q = 1/P_i0,  t in [low - a q R_i, high - a q R_i] where (low, high) is
-         * (q v_min, q) for P_i0 > 0 and (q, q v_min) for P_i0 < 0 */
-        const fc_real share = r->pinv[0];
+         * (q v_min, q) for P_i0 > 0 and (q, q v_min) for P_i0 < 0; P_i0 the
+         * PINV16 value the step multiplies */
+        const fc_real share = fc_widen16(r->pinv[0], FC_PINV16_FRAC, FC_MAT_FRAC);
         if (fc_abs(ar, share) < SHIFT_SHARE_MIN) {
             continue;
         }
         r->flags |= ROTOR_SHIFTS;
-        r->shift_gain = fc_div(ar, FC_INT(1, RATIO), share, FC_DIV_SHIFT(RATIO, MAT, RATIO));
-        const fc_real at_min = fc_mul(ar, r->shift_gain, r->v_min, FC_SHIFT(RATIO, RATIO, RATIO));
-        r->shift_low = share > FC_INT(0, MAT) ? at_min : r->shift_gain;
-        r->shift_high = share > FC_INT(0, MAT) ? r->shift_gain : at_min;
+        const fc_real gain = fc_div(ar, FC_INT(1, RATIO), share, FC_DIV_SHIFT(RATIO, MAT, RATIO));
+        const fc_real at_min = fc_mul(ar, gain, r->v_min, FC_SHIFT(RATIO, PX, RATIO));
+        r->shift_low = share > FC_INT(0, MAT) ? at_min : gain;
+        r->shift_high = share > FC_INT(0, MAT) ? gain : at_min;
+        set_shift_gain(ar, r, gain);
     }
     return FC_INIT_OK;
 }
@@ -497,8 +526,9 @@ void fc_allocation_forward(fc_allocation *a, const fc_real *speed, fc_real *thru
     *thrust_n = force.z;
 }
 
-/* N delta(v) = sum N Q_max,i d_i (v_i^(s/r) - v_i) (RATIO): the reaction
- * torque the linear model misses when r != s (rotors with r = s add nothing). */
+/* N delta(v) = sum N Q_max,i d_i (v_i^(s/r) - v_i) (RATIO) for v (UNIT): the
+ * reaction torque the linear model misses when r != s (rotors with r = s add
+ * nothing). */
 static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
 {
     fc_arith *ar = &a->ar;
@@ -508,9 +538,8 @@ static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
         if ((r->flags & ROTOR_NONLINEAR) == 0u) {
             continue;
         }
-        const fc_real v_unit = fc_convert(ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
         const fc_real excess =
-            fc_sub(ar, fc_pow_unit(ar, v_unit, r->exponent_ratio), v_unit); /* u^s - u^r */
+            fc_sub(ar, fc_pow_unit(ar, v[i], r->exponent_ratio), v[i]); /* u^s - u^r */
         for (int k = 0; k < 3; k++) {
             sum[k] = fc_acc_mac(sum[k], component(r->torque_norm, k), excess);
         }
@@ -522,26 +551,64 @@ static fc_vec3 torque_correction(fc_allocation *a, const fc_real *v)
 
 /* ---- the desaturating linear allocation --------------------------------- */
 
-/* A fraction num/den with den > 0 (both RATIO), kept as the pair: ratios are
- * compared by cross products and divided once, at the end. */
+/* The step in 16 x 16 -> 32-bit products (fc/allocation.h, Formats): the
+ * demand x and the collective t in NORM16, P in PINV16, their products and
+ * the sums of them (t P_i0, R_i, Y_i, v_i) exact in PX. What the
+ * desaturation compares is narrowed to 16 bits only where a bound may bind:
+ * R_i and Y_i (ROTOR16), a rotor's slack (ROTOR16), its collective shift
+ * rate s_i (NORM16), the roll/pitch pair constraints (PAIR16); the scales
+ * a and b are UNIT16. */
+_Static_assert(FC_PINV16_FRAC + FC_NORM16_FRAC == FC_PX_FRAC, "P x is not PX");
+#define SCALED_FRAC (FC_UNIT16_FRAC + FC_ROTOR16_FRAC) /* a R_i, b Y_i (Q28, exact) */
+#define MOVED_FRAC (FC_UNIT16_FRAC + FC_NORM16_FRAC)   /* a s_i (Q28, exact) */
+#define LIMITED_FRAC (FC_NORM16_FRAC + FC_UNIT16_FRAC) /* x_k keep (Q28, exact) */
+#define REST_FRAC (FC_RATIO_FRAC + FC_PINV16_FRAC)     /* t's rest times P_i0 (Q36, exact) */
+
+/* A fraction num/den with den > 0 (16-bit, num and den in one format), kept
+ * as the pair: ratios are compared by cross products and divided once, at
+ * the end. */
 typedef struct fraction {
-    fc_real num, den;
+    fc_real16 num, den;
 } fraction;
 
-/* The sign of p - q. The products of two RATIO values (below 2^14) fit GAIN. */
-static int ratio_compare(fc_arith *ar, fraction p, fraction q)
+/* The sign of p - q: the difference of two 16 x 16 products, exact. */
+static int ratio_compare(fraction p, fraction q)
 {
-    const fc_real diff = fc_dot2(ar, p.num, q.den, fc_neg(ar, q.num), p.den, FC_SHIFT(RATIO, RATIO, GAIN));
-    return diff < FC_INT(0, GAIN) ? -1 : (diff > FC_INT(0, GAIN) ? 1 : 0);
+    const fc_real diff = fc_dot2_16(p.num, q.den, fc_neg16(q.num), p.den);
+    return diff < 0 ? -1 : (diff > 0 ? 1 : 0);
 }
 
-static fc_real ratio_unit(fc_arith *ar, fraction r)
+/* num / den for 0 <= num < den, both 16-bit values of one format (in fixed
+ * den <= 2^15: |x| of a NORM16 -2 included), as a UNIT16 value rounded down:
+ * what it scales stays inside its bound. Fixed: a restoring division of
+ * FC_UNIT16_FRAC steps on 16 bits (the doubled remainder stays below 2^16),
+ * no 32-bit divide. */
+static fc_real16 fraction_down(fc_real num, fc_real den)
+{
+#if FC_NUMERIC_FIXED
+    uint16_t remainder = (uint16_t)num;
+    const uint16_t divisor = (uint16_t)den;
+    uint16_t quotient = 0u;
+    for (int bit = 0; bit < FC_UNIT16_FRAC; bit++) {
+        remainder = (uint16_t)(remainder << 1);
+        quotient = (uint16_t)(quotient << 1);
+        if (remainder >= divisor) {
+            remainder = (uint16_t)(remainder - divisor);
+            quotient = (uint16_t)(quotient | 1u);
+        }
+    }
+    return (fc_real16)quotient;
+#else
+    return num / den;
+#endif
+}
+
+static fc_real16 ratio_unit(fraction r)
 {
     if (r.num >= r.den) {
-        return FC_INT(1, UNIT); /* untouched: no division */
+        return FC_INT16(1, UNIT16); /* untouched: no division */
     }
-    return fc_clamp(fc_div(ar, r.num, r.den, FC_DIV_SHIFT(RATIO, RATIO, UNIT)), FC_INT(0, UNIT),
-                    FC_INT(1, UNIT));
+    return fraction_down(r.num, r.den);
 }
 
 /* The scales s in [0, 1] that satisfy a set of constraints s c <= e. */
@@ -552,103 +619,163 @@ typedef struct scale_interval {
 
 static scale_interval interval_full(void)
 {
-    const scale_interval s = {{FC_INT(0, RATIO), FC_INT(1, RATIO)},
-                              {FC_INT(1, RATIO), FC_INT(1, RATIO)},
+    /* 0/1 and 1/1: a ratio's format cancels, any positive den stands for 1 */
+    const scale_interval s = {{FC_INT16(0, UNIT16), FC_INT16(1, UNIT16)},
+                              {FC_INT16(1, UNIT16), FC_INT16(1, UNIT16)},
                               false};
     return s;
 }
 
-static void interval_constrain(fc_arith *ar, scale_interval *s, fc_real c, fc_real e)
+/* One constraint s c <= e (c and e 16-bit, one format; e >= -FC_REAL16_MAX,
+ * so that -e fits). The callers pass only constraints that may bind (their
+ * exact 32-bit values fail e >= max(c, 0)). */
+static void interval_constrain(scale_interval *s, fc_real16 c, fc_real16 e)
 {
-    if (c > FC_INT(0, RATIO)) {
+    if (c > 0) {
         /* s <= e / c; below zero it leaves no room at all (s = 0 the least bad) */
         if (e >= c) {
             return; /* a bound at or above 1: never binding (no products) */
         }
-        fraction bound = {fc_max(e, FC_INT(0, RATIO)), c};
-        if (e < FC_INT(0, RATIO)) {
+        fraction bound = {e, c};
+        if (e < 0) {
+            bound.num = FC_INT16(0, UNIT16);
             s->zero_violates = true;
         }
-        if (s->high.num >= s->high.den || ratio_compare(ar, bound, s->high) < 0) {
+        if (s->high.num >= s->high.den || ratio_compare(bound, s->high) < 0) {
             s->high = bound;
         }
-    } else if (c < FC_INT(0, RATIO)) {
+    } else if (c < 0) {
         /* s >= e / c = (-e) / (-c), a bound only when above zero */
-        if (e < FC_INT(0, RATIO)) {
-            const fraction bound = {fc_neg(ar, e), fc_neg(ar, c)};
-            if (s->low.num == FC_INT(0, RATIO) || ratio_compare(ar, bound, s->low) > 0) {
+        if (e < 0) {
+            const fraction bound = {fc_neg16(e), fc_neg16(c)};
+            if (s->low.num == 0 || ratio_compare(bound, s->low) > 0) {
                 s->low = bound;
             }
         }
-    } else if (e < FC_INT(0, RATIO)) {
+    } else if (e < 0) {
         s->zero_violates = true;
-        s->high.num = FC_INT(0, RATIO);
+        s->high.num = FC_INT16(0, UNIT16);
     } else {
         /* c == 0 and e >= 0: every s fits */
     }
 }
 
-/* A constraint s c <= e with e >= max(c, 0) leaves every s in [0, 1]: the
- * cases of interval_constrain that change nothing (c > 0 and e >= c; c <= 0
- * and e >= 0). The callers test this first and skip the call. */
-static bool never_binds(fc_real c, fc_real e)
-{
-    return e >= c && e >= FC_INT(0, RATIO); /* e >= max(c, 0), without the select */
-}
-
-static bool interval_feasible(fc_arith *ar, const scale_interval *s)
+static bool interval_feasible(const scale_interval *s)
 {
     if (s->zero_violates) {
         return false;
     }
     /* low = 0 (its numerator is 0 only as set by interval_full: a bound has
      * -e > 0): 0 <= high always, high.num >= 0; the product is not needed */
-    if (s->low.num == FC_INT(0, RATIO)) {
+    if (s->low.num == 0) {
         return true;
     }
-    return ratio_compare(ar, s->low, s->high) <= 0;
+    return ratio_compare(s->low, s->high) <= 0;
 }
 
-/* The room for the yaw scale b: every rotor v_min <= base_i + b Y_i <= 1. */
-static scale_interval yaw_room(fc_allocation *a, const fc_real *base, const fc_real *yaw)
+/* The parts of v = t P_0 + a R + b Y, per rotor: R_i = P_i1 x_1 + P_i2 x_2
+ * (roll/pitch) and Y_i = P_i3 x_3 (yaw), and v_i, the rotor's v without
+ * yaw, all exact in PX. Only the entries 0..n-1 are read. */
+typedef struct alloc_parts {
+    fc_real roll_pitch[FC_MAX_ROTORS];
+    fc_real yaw[FC_MAX_ROTORS];
+    fc_real v[FC_MAX_ROTORS];
+} alloc_parts;
+
+/* The room for the yaw scale b: every rotor v_min <= v_i + b Y_i <= 1.
+ * Whether a bound may bind is decided on the exact 32-bit values (the upper
+ * one iff v_i + max(Y_i, 0) > 1, the lower iff v_i + min(Y_i, 0) < v_min);
+ * only then are Y_i and the slack narrowed to ROTOR16. A slack beyond +-2
+ * is beyond every |Y_i| (at most 2 - 2^-14 in ROTOR16) and saturates
+ * without changing the room: not reported. */
+static scale_interval yaw_room(fc_allocation *a, const alloc_parts *p)
 {
     fc_arith *ar = &a->ar;
+    fc_arith slack_ar = {0u};
     scale_interval room = interval_full();
     for (int i = 0; i < a->rotor_count; i++) {
-        const fc_real up_c = yaw[i], up_e = fc_sub(ar, FC_INT(1, RATIO), base[i]);
-        const fc_real down_c = fc_neg(ar, yaw[i]), down_e = fc_sub(ar, base[i], a->rotor[i].v_min);
-        if (!never_binds(up_c, up_e)) {
-            interval_constrain(ar, &room, up_c, up_e);
-        }
-        if (!never_binds(down_c, down_e)) {
-            interval_constrain(ar, &room, down_c, down_e);
+        const fc_allocation_rotor *r = &a->rotor[i];
+        const fc_real v = p->v[i];
+        const fc_real yaw = p->yaw[i];
+        const bool up = fc_add(ar, v, yaw > 0 ? yaw : 0) > FC_INT(1, PX);
+        const bool down = fc_add(ar, v, yaw < 0 ? yaw : 0) < r->v_min;
+        if (up || down) {
+            const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
+            if (up) {
+                const fc_real slack = fc_sub(ar, FC_INT(1, PX), v);
+                interval_constrain(&room, yaw16, fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+            }
+            if (down) {
+                const fc_real slack = fc_sub(ar, v, r->v_min);
+                interval_constrain(&room, fc_neg16(yaw16),
+                                   fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+            }
         }
     }
     return room;
 }
 
+/* The collective shift rate s_i = q_i R_i of a rotor (NORM16) for its R_i
+ * (ROTOR16): q_i in Q(shift_gain_frac), so the product's FRAC is that plus
+ * ROTOR16's, one of four constants (a narrowing by a constant shift). */
+static fc_real16 shift_rate(fc_arith *ar, const fc_allocation_rotor *r, fc_real16 roll_pitch)
+{
+    const fc_real product = fc_mul16(r->shift_gain, roll_pitch);
+    switch (r->shift_gain_frac) {
+    case 16:
+        return fc_narrow16(ar, product, 16 + FC_ROTOR16_FRAC, FC_NORM16_FRAC);
+    case 14:
+        return fc_narrow16(ar, product, 14 + FC_ROTOR16_FRAC, FC_NORM16_FRAC);
+    case 12:
+        return fc_narrow16(ar, product, 12 + FC_ROTOR16_FRAC, FC_NORM16_FRAC);
+    default:
+        return fc_narrow16(ar, product, 10 + FC_ROTOR16_FRAC, FC_NORM16_FRAC);
+    }
+}
+
+/* What the collective shift works with, per rotor: R_i and s_i in 16 bits,
+ * s_i widened to RATIO, and the bounds of t at a = 1, low_i - s_i and
+ * high_i - s_i (RATIO). */
+typedef struct shift_parts {
+    fc_real16 roll_pitch16[FC_MAX_ROTORS]; /* ROTOR16 */
+    fc_real16 rate16[FC_MAX_ROTORS];       /* NORM16 */
+    fc_real rate[FC_MAX_ROTORS];           /* RATIO */
+    fc_real low[FC_MAX_ROTORS];            /* RATIO */
+    fc_real high[FC_MAX_ROTORS];           /* RATIO */
+} shift_parts;
+
 /* The largest roll/pitch scale a in [0, 1] for which some collective fits
- * every rotor with no yaw: a (s_j - s_i) <= high_j - low_i for every pair of
- * shifting rotors of the n, s_i = shift_rate[i] (allocate_linear, step 3). */
-static fc_real roll_pitch_room(fc_allocation *a, int n, const fc_real *shift_rate)
+ * every shifting rotor with no yaw: a (s_j - s_i) <= high_j - low_i for
+ * every pair. The pair may bind iff high_j - s_j < low_i - s_i or high_j <
+ * low_i (the bounds of t at a = 1 and a = 0 cross), decided on the 32-bit
+ * values; only then are both sides narrowed to PAIR16: s_j - s_i of two
+ * NORM16 values fits it, and a high_j - low_i beyond +-4 is beyond every
+ * |s_j - s_i| and saturates without changing the room (not reported). */
+static fc_real16 roll_pitch_room(fc_allocation *a, const shift_parts *s)
 {
     fc_arith *ar = &a->ar;
+    fc_arith pair_ar = {0u};
     scale_interval fit = interval_full();
+    const int n = a->rotor_count;
     for (int j = 0; j < n; j++) {
-        if ((a->rotor[j].flags & ROTOR_SHIFTS) == 0u) {
+        const fc_allocation_rotor *rj = &a->rotor[j];
+        if ((rj->flags & ROTOR_SHIFTS) == 0u) {
             continue;
         }
         for (int i = 0; i < n; i++) {
-            if (i != j && (a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
-                const fc_real c = fc_sub(ar, shift_rate[j], shift_rate[i]);
-                const fc_real e = fc_sub(ar, a->rotor[j].shift_high, a->rotor[i].shift_low);
-                if (!never_binds(c, e)) {
-                    interval_constrain(ar, &fit, c, e);
-                }
+            const fc_allocation_rotor *ri = &a->rotor[i];
+            if (i == j || (ri->flags & ROTOR_SHIFTS) == 0u) {
+                continue;
+            }
+            if (s->high[j] < s->low[i] || rj->shift_high < ri->shift_low) {
+                const fc_real c = fc_sub(ar, s->rate[j], s->rate[i]);
+                const fc_real e = fc_sub(ar, rj->shift_high, ri->shift_low);
+                interval_constrain(&fit, fc_narrow16(&pair_ar, c, FC_RATIO_FRAC, FC_PAIR16_FRAC),
+                                   fc_narrow16(&pair_ar, e, FC_RATIO_FRAC, FC_PAIR16_FRAC));
             }
         }
     }
-    return ratio_unit(ar, fit.high);
+    return ratio_unit(fit.high);
 }
 
 /* The FC_SAT_* bit of a row (0 F_z, 1 M_x, 2 M_y, 3 M_z) short in the positive
@@ -669,152 +796,218 @@ static uint8_t sat_bit(int row, bool positive)
 
 static uint8_t direction_bit(fc_real demand, int row)
 {
-    if (demand > FC_INT(0, RATIO)) {
+    if (demand > 0) {
         return sat_bit(row, true);
     }
-    if (demand < FC_INT(0, RATIO)) {
+    if (demand < 0) {
         return sat_bit(row, false);
     }
     return 0u;
 }
 
-/* The normalised demand w (RATIO) clamped to what all rotors together can
- * give per axis (roll and pitch scaled together) into x. Returns the bits of
- * the clamped axes. */
-static uint8_t limit_demand(fc_allocation *a, const fc_real *w_in, fc_real *x)
+/* The normalised demand w (NORM16) clamped to what all rotors together can
+ * give per axis (roll and pitch scaled together, by a factor rounded down)
+ * into x, every |x_k| then at most FC_REAL16_MAX. Returns the bits of the
+ * clamped axes. */
+static uint8_t limit_demand(fc_allocation *a, const fc_real16 *w, fc_real16 *x)
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
     for (int k = 0; k < ROWS; k++) {
-        x[k] = w_in[k];
+        x[k] = w[k];
     }
     for (int k = 0; k < ROWS; k += 3) { /* F_z and M_z on their own */
-        const fc_real limit = a->demand_limit[k];
+        const fc_real16 limit = a->demand_limit[k];
         if (x[k] > limit) {
             x[k] = limit;
             saturation |= sat_bit(k, true);
-        } else if (x[k] < fc_neg(ar, limit)) {
-            x[k] = fc_neg(ar, limit);
+        } else if (x[k] < fc_neg16(limit)) {
+            x[k] = fc_neg16(limit);
             saturation |= sat_bit(k, false);
         } else {
             /* within the limit */
         }
     }
-    fc_real keep = FC_INT(1, UNIT); /* roll/pitch: one factor, the direction kept */
+    fc_real16 keep = FC_INT16(1, UNIT16); /* roll/pitch: one factor, the direction kept */
     for (int k = 1; k <= 2; k++) {
-        const fc_real size = fc_abs(ar, x[k]);
+        const fc_real size = fc_abs(ar, x[k]); /* 32 bits: 2^15 for a NORM16 -2 */
         if (size > a->demand_limit[k]) {
-            keep = fc_min(keep, fc_div(ar, a->demand_limit[k], size, FC_DIV_SHIFT(RATIO, RATIO, UNIT)));
+            const fc_real16 factor = fraction_down(a->demand_limit[k], size);
+            if (factor < keep) {
+                keep = factor;
+            }
         }
     }
-    if (keep < FC_INT(1, UNIT)) {
+    if (keep < FC_INT16(1, UNIT16)) {
         saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
-        x[1] = fc_mul(ar, x[1], keep, FC_SHIFT(RATIO, UNIT, RATIO));
-        x[2] = fc_mul(ar, x[2], keep, FC_SHIFT(RATIO, UNIT, RATIO));
+        x[1] = fc_narrow16(ar, fc_mul16(x[1], keep), LIMITED_FRAC, FC_NORM16_FRAC);
+        x[2] = fc_narrow16(ar, fc_mul16(x[2], keep), LIMITED_FRAC, FC_NORM16_FRAC);
     }
     return saturation;
 }
 
-/* v (RATIO, in [v_min, 1]) for the normalised wrench w (RATIO: F_z, M_x,
- * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
-static uint8_t allocate_linear(fc_allocation *a, const fc_real *w, fc_real *v)
+/* Step 1's parts: t = x_0, a = b = 1 (v_i = x_0 P_i0 + R_i). */
+static void split_demand(fc_allocation *a, const fc_real16 *x, alloc_parts *p)
+{
+    fc_arith *ar = &a->ar;
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        const fc_real roll_pitch = fc_dot2_16(r->pinv[1], x[1], r->pinv[2], x[2]);
+        p->roll_pitch[i] = roll_pitch;
+        p->yaw[i] = fc_mul16(r->pinv[3], x[3]);
+        p->v[i] = fc_add(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
+    }
+    for (int i = a->rotor_count; i < FC_MAX_ROTORS; i++) {
+        /* never read; stores (not a memset) for gcc's uninitialised-use analysis */
+        p->roll_pitch[i] = FC_INT(0, PX);
+        p->yaw[i] = FC_INT(0, PX);
+        p->v[i] = FC_INT(0, PX);
+    }
+}
+
+/* Steps 2 and 3 (fc/allocation.h), when yaw alone cannot make room: the
+ * largest roll/pitch scale a in [0, 1] for which some collective t fits
+ * every rotor with no yaw, then t, the demand x_0 clamped to the interval
+ * that fits a R; p->v becomes t P_0 + a R. Rotor i bounds t to [low_i -
+ * a s_i, high_i - a s_i], s_i = q_i R_i (derive_inverse). Returns the
+ * FC_SAT_* bits of a and t. */
+static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, alloc_parts *p)
 {
     fc_arith *ar = &a->ar;
     const int n = a->rotor_count;
-    fc_real x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
-    uint8_t saturation = limit_demand(a, w, x);
-
-    /* v = t P_0 + a R + b Y: R = P_1 x_1 + P_2 x_2 roll/pitch, Y = P_3 x_3 yaw */
-    /* entries 0..n-1 written below, only those read; roll_pitch and
-     * thrust_part not zero-initialised (a memset each, every step), yaw is
-     * for -fanalyzer (loop widening in yaw_room) */
-    fc_real roll_pitch[FC_MAX_ROTORS];
-    fc_real yaw[FC_MAX_ROTORS];
-    for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        yaw[i] = FC_INT(0, RATIO); /* stores, not a memset call */
+    uint8_t saturation = 0u;
+    shift_parts s; /* entries 0..n-1 written here, only those read */
+    for (int i = n; i < FC_MAX_ROTORS; i++) {
+        /* never read; stores (not a memset) for the analysers */
+        s.roll_pitch16[i] = FC_INT16(0, ROTOR16);
+        s.rate16[i] = FC_INT16(0, NORM16);
+        s.rate[i] = FC_INT(0, RATIO);
+        s.low[i] = FC_INT(0, RATIO);
+        s.high[i] = FC_INT(0, RATIO);
     }
-    fc_real thrust_part[FC_MAX_ROTORS]; /* x_0 P_i0, kept for step 2 */
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
-        roll_pitch[i] =
-            fc_dot2(ar, r->pinv[1], x[1], r->pinv[2], x[2], FC_SHIFT(MAT, RATIO, RATIO));
-        yaw[i] = fc_mul(ar, r->pinv[3], x[3], FC_SHIFT(MAT, RATIO, RATIO));
-        thrust_part[i] = fc_mul(ar, x[0], r->pinv[0], FC_SHIFT(RATIO, MAT, RATIO));
-        v[i] = fc_add(ar, thrust_part[i], roll_pitch[i]);
+        s.roll_pitch16[i] = fc_narrow16(ar, p->roll_pitch[i], FC_PX_FRAC, FC_ROTOR16_FRAC);
+        s.rate16[i] = shift_rate(ar, r, s.roll_pitch16[i]); /* 0 for a rotor that does not shift */
+        s.rate[i] = fc_widen16(s.rate16[i], FC_NORM16_FRAC, FC_RATIO_FRAC);
+        s.low[i] = fc_sub(ar, r->shift_low, s.rate[i]);
+        s.high[i] = fc_sub(ar, r->shift_high, s.rate[i]);
     }
-
-    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
-    scale_interval room = yaw_room(a, v, yaw);
-    if (!interval_feasible(ar, &room)) {
-        /* 3. roll/pitch last: the largest a in [0, 1] for which some t fits
-         * every rotor with no yaw. Rotor i bounds t to [low_i - a s_i,
-         * high_i - a s_i] with s_i = q_i R_i (derive_inverse); every lower bound
-         * must stay below every upper one: a (s_j - s_i) <= high_j - low_i */
-        fc_real shift_rate[FC_MAX_ROTORS];
-        for (int i = 0; i < n; i++) {
-            shift_rate[i] =
-                fc_mul(ar, a->rotor[i].shift_gain, roll_pitch[i], FC_SHIFT(RATIO, RATIO, RATIO));
+    /* the interval of t at a = 1; when it is empty some pair binds and a < 1
+     * (a pair that is violated only at a = 0 leaves a = 1: roll_pitch_room
+     * would say the same) */
+    fc_real t_low = FC_REAL_MIN;
+    fc_real t_high = FC_REAL_MAX;
+    for (int i = 0; i < n; i++) {
+        if ((a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
+            t_low = fc_max(t_low, s.low[i]);
+            t_high = fc_min(t_high, s.high[i]);
         }
-        const fc_real roll_pitch_scale = roll_pitch_room(a, n, shift_rate);
-
-        /* 2. then the collective: the demand clamped to the interval that fits a R */
-        fc_real t_low = FC_REAL_MIN;
-        fc_real t_high = FC_REAL_MAX;
+    }
+    fc_real16 roll_pitch_scale = FC_INT16(1, UNIT16);
+    if (t_low > t_high) {
+        roll_pitch_scale = roll_pitch_room(a, &s);
+    }
+    const bool scaled = roll_pitch_scale < FC_INT16(1, UNIT16);
+    if (scaled) {
+        /* the collective: the demand clamped to the interval that fits a R */
+        t_low = FC_REAL_MIN;
+        t_high = FC_REAL_MAX;
         for (int i = 0; i < n; i++) {
             const fc_allocation_rotor *r = &a->rotor[i];
             if ((r->flags & ROTOR_SHIFTS) != 0u) {
                 const fc_real moved =
-                    fc_mul(ar, roll_pitch_scale, shift_rate[i], FC_SHIFT(UNIT, RATIO, RATIO));
+                    fc_convert(ar, fc_mul16(roll_pitch_scale, s.rate16[i]), MOVED_FRAC, FC_RATIO_FRAC);
                 t_low = fc_max(t_low, fc_sub(ar, r->shift_low, moved));
                 t_high = fc_min(t_high, fc_sub(ar, r->shift_high, moved));
             }
         }
-        fc_real t;
-        if (t_low > t_high) {
-            /* empty by a rounding (or a geometry that cannot hover): the middle */
-            t = fc_mul(ar, fc_add(ar, t_low, t_high), FC_C(0.5f, UNIT), FC_SHIFT(RATIO, UNIT, RATIO));
-        } else {
-            t = fc_clamp(x[0], t_low, t_high);
-        }
-        if (t < x[0]) {
-            saturation |= FC_SAT_THRUST_HIGH;
-        } else if (t > x[0]) {
-            saturation |= FC_SAT_THRUST_LOW;
-        } else {
-            /* the collective as demanded */
-        }
-        if (roll_pitch_scale < FC_INT(1, UNIT)) {
-            saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
-        }
-        /* the products of a factor left as demanded are the ones already formed
-         * (t = x_0: x_0 P_i0; a = 1: 1 R_i = R_i exactly) */
-        for (int i = 0; i < n; i++) {
-            const fc_real thrust_i = t == x[0] ? thrust_part[i]
-                                               : fc_mul(ar, t, a->rotor[i].pinv[0], FC_SHIFT(RATIO, MAT, RATIO));
-            const fc_real roll_pitch_i =
-                roll_pitch_scale < FC_INT(1, UNIT)
-                    ? fc_mul(ar, roll_pitch_scale, roll_pitch[i], FC_SHIFT(UNIT, RATIO, RATIO))
-                    : roll_pitch[i];
-            v[i] = fc_add(ar, thrust_i, roll_pitch_i);
-        }
-        /* b = 0 fits by construction: only the upper bounds of b matter */
-        room = yaw_room(a, v, yaw);
     }
-    /* 1. yaw: the largest b that fits */
-    const fc_real yaw_scale = ratio_unit(ar, room.high);
-    if (yaw_scale < FC_INT(1, UNIT)) {
+    const fc_real demanded = fc_widen16(x[0], FC_NORM16_FRAC, FC_RATIO_FRAC);
+    fc_real t;
+    if (t_low > t_high) {
+        /* empty by a rounding (or a geometry that cannot hover): the middle */
+        t = fc_mul(ar, fc_add(ar, t_low, t_high), FC_C(0.5f, UNIT), FC_SHIFT(RATIO, UNIT, RATIO));
+    } else {
+        t = fc_clamp(demanded, t_low, t_high);
+    }
+    if (t < demanded) {
+        saturation |= FC_SAT_THRUST_HIGH;
+    } else if (t > demanded) {
+        saturation |= FC_SAT_THRUST_LOW;
+    } else {
+        /* the collective as demanded */
+    }
+    if (scaled) {
+        saturation = (uint8_t)(saturation | direction_bit(x[1], 1) | direction_bit(x[2], 2));
+    }
+    /* v = t P_0 + a R: a = 1 keeps R exact (no product). t P_i0 to t's 32
+     * bits, the rotor that bounds t on its bound: t = t16 + rest, t16 in
+     * NORM16 and the rest (|rest| <= 2^-15) in RATIO's Q24, two 16-bit
+     * values, two products */
+    const fc_real16 t16 = fc_narrow16(ar, t, FC_RATIO_FRAC, FC_NORM16_FRAC);
+    const fc_real16 rest =
+        fc_narrow16(ar, fc_sub(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
+    for (int i = 0; i < n; i++) {
+        const fc_real16 share = a->rotor[i].pinv[0];
+        const fc_real collective =
+            fc_add(ar, fc_mul16(t16, share), fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
+        const fc_real roll_pitch =
+            scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, s.roll_pitch16[i]), SCALED_FRAC, FC_PX_FRAC)
+                   : p->roll_pitch[i];
+        p->v[i] = fc_add(ar, collective, roll_pitch);
+    }
+    return saturation;
+}
+
+/* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
+ * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
+static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_out)
+{
+    fc_arith *ar = &a->ar;
+    fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
+    uint8_t saturation = limit_demand(a, w, x);
+    alloc_parts p;
+    split_demand(a, x, &p);
+
+    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
+    scale_interval room = yaw_room(a, &p);
+    if (!interval_feasible(&room)) {
+        /* 3. roll/pitch last, 2. then the collective */
+        saturation |= shift_collective(a, x, &p);
+        /* b = 0 fits by construction: only the upper bounds of b matter */
+        room = yaw_room(a, &p);
+    }
+    /* 1. yaw: the largest b that fits; b = 1 keeps Y exact (no product) */
+    const fc_real16 yaw_scale = ratio_unit(room.high);
+    const bool yaw_scaled = yaw_scale < FC_INT16(1, UNIT16);
+    if (yaw_scaled) {
         saturation |= direction_bit(x[3], 3);
     }
-    for (int i = 0; i < n; i++) {
-        const fc_real yaw_part = yaw_scale < FC_INT(1, UNIT)
-                                     ? fc_mul(ar, yaw_scale, yaw[i], FC_SHIFT(UNIT, RATIO, RATIO))
-                                     : yaw[i];
-        v[i] = fc_clamp(fc_add(ar, v[i], yaw_part), a->rotor[i].v_min, FC_INT(1, RATIO));
+    for (int i = 0; i < a->rotor_count; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        fc_real yaw = p.yaw[i];
+        if (yaw_scaled) {
+            const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
+            yaw = fc_convert(ar, fc_mul16(yaw_scale, yaw16), SCALED_FRAC, FC_PX_FRAC);
+        }
+        const fc_real v = fc_clamp(fc_add(ar, p.v[i], yaw), r->v_min, FC_INT(1, PX));
+        v_out[i] = fc_convert(ar, v, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
     }
     return saturation;
 }
 
 /* ---- step -------------------------------------------------------------- */
+
+/* A moment demand (NORM16) less the torque correction (RATIO), in NORM16:
+ * beyond +-2 it saturates unreported, as limit_demand clamps it to at most
+ * that anyway. */
+static fc_real16 corrected_moment(fc_real16 demand, fc_real delta)
+{
+    fc_arith ar = {0u};
+    const fc_real corrected = fc_sub(&ar, fc_widen16(demand, FC_NORM16_FRAC, FC_RATIO_FRAC), delta);
+    return fc_narrow16(&ar, corrected, FC_RATIO_FRAC, FC_NORM16_FRAC);
+}
 
 static bool demand_is_finite(const fc_allocation_demand *d)
 {
@@ -846,15 +1039,15 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         demand = *d;
         a->last_good = *d;
     }
-    /* the 16-bit demand in the allocation's RATIO, exactly */
-    const fc_vec3 moment = fc_vec3_widen16(demand.moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
-    fc_real w[ROWS] = {fc_widen16(demand.thrust, FC_NORM16_FRAC, FC_RATIO_FRAC), moment.x, moment.y, moment.z};
+    /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
+    const fc_real16 w[ROWS] = {demand.thrust, demand.moment.x, demand.moment.y, demand.moment.z};
 
-    /* rotor_count entries written by allocate_linear; zeroed for -fanalyzer
-     * by stores (an initialiser is a memset call, ~70 cycles on the M4F) */
+    /* v (UNIT): rotor_count entries written by allocate_linear; zeroed for
+     * -fanalyzer by stores (an initialiser is a memset call, ~70 cycles on
+     * the M4F) */
     fc_real v[FC_MAX_ROTORS];
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        v[i] = FC_INT(0, RATIO);
+        v[i] = FC_INT(0, UNIT);
     }
     uint8_t saturation = 0u;
     if (a->nonlinear != 0u) {
@@ -865,8 +1058,8 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
             if (pass > 0) {
                 delta = torque_correction(a, v);
             }
-            const fc_real corrected[ROWS] = {w[0], fc_sub(&a->ar, moment.x, delta.x),
-                                             fc_sub(&a->ar, moment.y, delta.y), fc_sub(&a->ar, moment.z, delta.z)};
+            const fc_real16 corrected[ROWS] = {w[0], corrected_moment(w[1], delta.x),
+                                               corrected_moment(w[2], delta.y), corrected_moment(w[3], delta.z)};
             saturation = allocate_linear(a, corrected, v);
         }
         a->delta_warm = torque_correction(a, v);
@@ -877,10 +1070,8 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
     for (int i = 0; i < a->rotor_count; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real v_unit = fc_convert(&a->ar, v[i], FC_RATIO_FRAC, FC_UNIT_FRAC);
-        const fc_real u = (r->flags & ROTOR_SQRT) != 0u
-                              ? fc_sqrt_unit16(&a->ar, v_unit)
-                              : fc_pow_unit(&a->ar, v_unit, r->inv_thrust_exponent);
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, v[i])
+                                                        : fc_pow_unit(&a->ar, v[i], r->inv_thrust_exponent);
         out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
     }
 
@@ -948,7 +1139,7 @@ fc_mat_status fc_allocation_pinv_normalised(const fc_allocation *a, fc_mat *out)
     (void)fc_mat_zero(out, a->rotor_count, ROWS);
     for (int i = 0; i < a->rotor_count; i++) {
         for (int k = 0; k < ROWS; k++) {
-            out->a[i][k] = a->rotor[i].pinv[k];
+            out->a[i][k] = fc_widen16(a->rotor[i].pinv[k], FC_PINV16_FRAC, FC_MAT_FRAC);
         }
     }
     return FC_MAT_OK;

@@ -8,13 +8,16 @@
  * (torque exponent 2.3: the iterated correction). Then up to FUZZ_MAX_STEPS
  * demands, then FUZZ_CLEAN_STEPS zero demands.
  * Checks: speed[i] in [u_min,i, 1] for i < n and 0 above, rotor thrusts in
- * [0, T_max,i], achieved thrust and moments (physical: N, N m) finite.
+ * [0, T_max,i], achieved thrust and moments (physical: N, N m) finite, and
+ * no arithmetic saturation: the step's 16-bit formats hold every NORM16
+ * demand of these quad-X and hexa-X geometries (fc/allocation.h, Formats).
  */
 #include "fc/allocation.h"
 #include "fuzz_common.h"
 
-static void check(const fc_allocation_params *p, const fc_allocation_output *out)
+static void check(const fc_allocation_params *p, const fc_allocation_output *out, fc_step_status status)
 {
+    FUZZ_CHECK((status & FC_STEP_ARITH_SATURATED) == 0u);
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         if (i < p->rotor_count) {
             FUZZ_WITHIN(out->speed[i], p->rotor[i].speed_min, FC_C(1.0f, UNIT), UNIT);
@@ -61,12 +64,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fc_allocation_output out;
     fc_allocation_demand d;
     for (int k = 0; k < FUZZ_MAX_STEPS && fuzz_take(&b, &d, sizeof d); k++) {
-        (void)fc_allocation_step(&a, &d, &out);
-        check(&p, &out);
+        const fc_step_status status = fc_allocation_step(&a, &d, &out);
+        check(&p, &out, status);
     }
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
-        (void)fc_allocation_step(&a, &zero, &out);
-        check(&p, &out);
+        const fc_step_status status = fc_allocation_step(&a, &zero, &out);
+        check(&p, &out, status);
     }
     return 0;
 }

@@ -46,9 +46,11 @@
 //                   B_ki = (D A)_ki rn_k rounded once more (1/2 LSB; eps / 2
 //                   relative): bound rn_k e_ki + |B_ki| rel(rn_k) + that rounding.
 //   pinv            P = pinv(B) vs COD of the library's own B (read back
-//                   exactly): the error of fc_mat_pinv alone, which grows with
+//                   exactly): the error of fc_mat_pinv, which grows with
 //                   cond^2 (normal equations): bound 2 cond^2 LSB (fixed),
-//                   4 eps cond^2 max|P| (float), as in oracle_pinv.
+//                   4 eps cond^2 max|P| (float), as in oracle_pinv; in fixed
+//                   plus P's rounding to the step's 16 bits (PINV16, Q12:
+//                   half an LSB, 2^-13 = 2048 LSB of Q24).
 //   pinv_chain      P N (the physical pseudo-inverse pinv(A) the step applies:
 //                   x = N w with the library's authorities, v = P x) against
 //                   COD of A in double from the definition: everything
@@ -60,13 +62,17 @@
 //                   vehicles' yaw authority being a few thousand LSB of
 //                   MOMENT) on top of B's and P's, which grow with cond(B)^2:
 //                   bound 2e-6 cond(B)^2 + max_k rel(authority_k) (fixed),
-//                   8 eps cond(B)^2 + the same (float).
+//                   8 eps cond(B)^2 + the same (float); in fixed plus P's
+//                   rounding to PINV16 (2^-13), which column k of P N
+//                   carries as 2^-13 / authority_k: 2^-13 max_k (1 /
+//                   authority_k) over max|pinv(A)|.
 //   accept          every geometry inside the documented range limits (row sums
 //                   of |A| <= 1500 N, 100 N m, F_max >= 1/16 N) whose
-//                   max|pinv(B)| (double) is <= 15.9 inits OK, and none with
-//                   max|pinv(B)| >= 16.1 does (the library's rule: a P entry
-//                   above 16 is rank deficient; the margin: kPinvLimit); one
-//                   beyond the range limits gives FC_INIT_BAD_PARAM.
+//                   max|pinv(B)| (double) is <= 7.9 inits OK, and none with
+//                   max|pinv(B)| >= 8.1 does (the library's rule: a P entry
+//                   above 8 - 2^-12, the largest PINV16 value, is rank
+//                   deficient; the margin: kPinvLimit); one beyond the range
+//                   limits gives FC_INIT_BAD_PARAM.
 //   rank            geometries built rank deficient (all rotors on one line
 //                   through the centre of mass, a coaxial stack, one spin
 //                   direction on a planar layout, n < 4) must give
@@ -86,18 +92,21 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kCondSkip = 50.0;
-// The library rejects a geometry with an entry of P = pinv(B) above 16 as
-// rank deficient (fc/allocation.h), B = N A the matrix it inverts: a geometry
-// inside the range limits with max|pinv(B)| <= kPinvMustAccept (pinv of B in
-// double) must be accepted, and one with max|pinv(B)| >= kPinvMustReject
-// rejected. The margin of 0.1 is far above how much the library's P can
-// differ from pinv(B) in double: the pinv bound (2 cond^2 LSB, 1e-3 at cond
-// 100) plus ||P||_2^2 ||B_lib - B||_2 (16^2 x a few hundred LSB of Q24, 2e-3).
-// (Until B replaced D A this check was "every geometry with cond(D A) <= 30
-// is accepted"; with B's row sums of 1 and 2 the entries of P grew and one
-// random geometry of cond(D A) 27.3 now has max|pinv(B)| 20.5: the note of
-// the accept line counts them.)
-constexpr double kPinvLimit = 16.0;
+// The library rejects a geometry with an entry of P = pinv(B) above
+// 8 - 2^-12 (the largest value of PINV16, the 16-bit format the step
+// multiplies P in) as rank deficient (fc/allocation.h), B = N A the matrix it
+// inverts: a geometry inside the range limits with max|pinv(B)| <=
+// kPinvMustAccept (pinv of B in double) must be accepted, and one with
+// max|pinv(B)| >= kPinvMustReject rejected. The margin of 0.1 is far above
+// how much the library's 32-bit P (checked against the limit before its
+// rounding to 16 bits) can differ from pinv(B) in double: the pinv bound
+// (2 cond^2 LSB, 1e-3 at cond 100) plus ||P||_2^2 ||B_lib - B||_2 (8^2 x a
+// few hundred LSB of Q24, 1e-3). (Until B replaced D A this check was
+// "every geometry with cond(D A) <= 30 is accepted"; with B's row sums of 1
+// and 2 the entries of P grew, and with P in 16 bits the limit is 8, not 16:
+// the note of the accept line counts the geometries of cond(D A) <= 30
+// rejected.)
+constexpr double kPinvLimit = 32767.0 / 4096.0;
 constexpr double kPinvMustAccept = kPinvLimit - 0.1;
 constexpr double kPinvMustReject = kPinvLimit + 0.1;
 constexpr double kPi = 3.14159265358979323846;
@@ -227,10 +236,11 @@ struct Checks {
     Check authority{"alloc.authority", kFixed ? "LSB(Q20/Q24)" : "abs",
                     kFixed ? "n/2; sum(1.5 + T/2)/2 + 1/2 LSB" : "sum of the entries' + n eps"};
     Check normalised{"alloc.normalised", unit_name(FC_MAT_FRAC), "rn e + |B| rel(rn) + rounding"};
-    Check pinv{"alloc.pinv", unit_name(FC_MAT_FRAC), kFixed ? "2 cond^2 LSB" : "4 eps cond^2 max|P|"};
+    Check pinv{"alloc.pinv", unit_name(FC_MAT_FRAC),
+                kFixed ? "2 cond^2 LSB + 2048 (PINV16)" : "4 eps cond^2 max|P|"};
     Check chain{"alloc.pinv_chain", "rel",
-                kFixed ? "2e-6 cond^2 + rel(authority)" : "8 eps cond^2 + rel(authority)"};
-    Check accept{"alloc.accept", "-", "OK iff max|pinv(B)| <= 16 (+-0.1)"};
+                kFixed ? "2e-6 cond^2 + rel(authority) + PINV16" : "8 eps cond^2 + rel(authority)"};
+    Check accept{"alloc.accept", "-", "OK iff max|pinv(B)| <= 8 (+-0.1)"};
     double worst_pinv_per_cond2 = 0.0;
     double worst_chain_per_cond2 = 0.0;
     double worst_authority_rel = 0.0; // the largest relative authority error met (pinv_chain)
@@ -424,16 +434,26 @@ void check_vehicle(Checks &c, const Vehicle &v, const std::string &label)
     const MatrixXd p_want = Eigen::CompleteOrthogonalDecomposition<MatrixXd>(b_eig).pseudoInverse();
     const double p_scale = kFixed ? 1.0 : p_want.cwiseAbs().maxCoeff();
     const double p_err = error_units((p_eig - p_want).cwiseAbs().maxCoeff(), FC_MAT_FRAC);
-    c.worst_pinv_per_cond2 = std::max(c.worst_pinv_per_cond2, p_err / (cond_lib * cond_lib * p_scale));
-    c.pinv.record(p_err, pick(2.0, 4.0 * FLT_EPSILON) * cond_lib * cond_lib * p_scale, describe);
+    // fixed: P is held in PINV16 (Q12), rounded to nearest: half an LSB, in LSB of Q24
+    const double p_rounding = kFixed ? std::ldexp(0.5, FC_MAT_FRAC - FC_PINV16_FRAC) : 0.0;
+    c.worst_pinv_per_cond2 =
+        std::max(c.worst_pinv_per_cond2, std::max(0.0, p_err - p_rounding) / (cond_lib * cond_lib * p_scale));
+    c.pinv.record(p_err, pick(2.0, 4.0 * FLT_EPSILON) * cond_lib * cond_lib * p_scale + p_rounding, describe);
 
     // the whole chain: P N (the library's authorities) against pinv(A) from the definition
     const MatrixXd chain = p_eig * authority_lib.cwiseInverse().asDiagonal();
     const MatrixXd chain_want = Eigen::CompleteOrthogonalDecomposition<MatrixXd>(a_double).pseudoInverse();
     const double chain_err =
         (chain - chain_want).cwiseAbs().maxCoeff() / chain_want.cwiseAbs().maxCoeff();
-    c.worst_chain_per_cond2 = std::max(c.worst_chain_per_cond2, (chain_err - authority_rel) / (cond_b * cond_b));
-    c.chain.record(chain_err, pick(2e-6, 8.0 * FLT_EPSILON) * cond_b * cond_b + authority_rel, describe);
+    // fixed: P's rounding to PINV16 (2^-13) in column k of P N is 2^-13 / authority_k
+    const double chain_rounding =
+        kFixed ? std::ldexp(1.0, -FC_PINV16_FRAC - 1) * authority_lib.cwiseInverse().maxCoeff() /
+                     chain_want.cwiseAbs().maxCoeff()
+               : 0.0;
+    c.worst_chain_per_cond2 =
+        std::max(c.worst_chain_per_cond2, (chain_err - authority_rel - chain_rounding) / (cond_b * cond_b));
+    c.chain.record(chain_err, pick(2e-6, 8.0 * FLT_EPSILON) * cond_b * cond_b + authority_rel + chain_rounding,
+                   describe);
 }
 
 bool run_accuracy()

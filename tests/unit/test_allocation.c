@@ -16,7 +16,10 @@
  * Round trips: a feasible demand is made by the library's own forward model
  * from random speeds (xorshift32, fixed seed), normalised, allocated, and the
  * achieved wrench compared with the physical value of that demand. Tolerances:
- *   fixed  in LSB of the output format (FORCE 2^-20 N, MOMENT 2^-24 N m);
+ *   fixed  in LSB of the output format (FORCE 2^-20 N, MOMENT 2^-24 N m),
+ *          derived from the step's formats (v_error: P's rounding to PINV16
+ *          times the demand, the 16-bit copies ROTOR16 where a scale gave
+ *          way; the roots' 2^-16) and the output's rounding;
  *   float  relative to the axis' sum_i |A_ki| (the most all rotors together
  *          give on that axis: F_max for F_z, twice the authority for a moment).
  */
@@ -182,15 +185,116 @@ static float speed_rounding(const fc_allocation *a, int row)
     return FIXED ? row_abs_sum(a, row) * (1.0f / 65536.0f) : 0.0f;
 }
 
+/* ---- the 16-bit step's roundings (fixed; fc/allocation.h, Formats) ------ */
+
+/* Half an LSB of ROTOR16 (Q14), 2^-15: one 16-bit copy of a part R_i or Y_i
+ * that the desaturation scales, or of a slack it compares. */
+#define PART16_ROUNDING ldexp(1.0, -FC_ROTOR16_FRAC - 1)
+/* Half an LSB of PINV16 (Q12), 2^-13: P's rounding to 16 bits at most. */
+#define PINV16_ROUNDING ldexp(1.0, -FC_PINV16_FRAC - 1)
+
+/* dp[k] = max_i |P_ik - pinv(B)_ik|: P as the step multiplies it (PINV16,
+ * fc_allocation_pinv_normalised) against the pseudo-inverse of the
+ * library's own B (fc_allocation_effectiveness_normalised) in double, by the
+ * normal equations B^T (B B^T)^-1 (the tested geometries are well
+ * conditioned). At most half a PINV16 LSB plus the 32-bit P's own error
+ * (2 cond^2 LSB of MAT, oracle.allocation): 0 to 1e-7 for the quads' 1 and
+ * 1/2, 1/3 of an LSB (8.1e-5) for the hexa's 1/3 and 2/3. Float: P's
+ * rounding to float. */
+static void pinv_rounding(const fc_allocation *a, double dp[4])
+{
+    fc_mat b, p;
+    assert_int_equal(fc_allocation_effectiveness_normalised(a, &b), FC_MAT_OK);
+    assert_int_equal(fc_allocation_pinv_normalised(a, &p), FC_MAT_OK);
+    const int n = b.cols;
+    double g[4][8]; /* [B B^T | I], reduced to [I | (B B^T)^-1] */
+    for (int r = 0; r < 4; r++) {
+        for (int c = 0; c < 4; c++) {
+            double sum = 0.0;
+            for (int i = 0; i < n; i++) {
+                sum += exact(b.a[r][i], FC_MAT_FRAC) * exact(b.a[c][i], FC_MAT_FRAC);
+            }
+            g[r][c] = sum;
+            g[r][4 + c] = r == c ? 1.0 : 0.0;
+        }
+    }
+    for (int c = 0; c < 4; c++) {
+        int pivot = c;
+        for (int r = c + 1; r < 4; r++) {
+            if (fabs(g[r][c]) > fabs(g[pivot][c])) {
+                pivot = r;
+            }
+        }
+        for (int j = 0; j < 8; j++) {
+            const double t = g[c][j];
+            g[c][j] = g[pivot][j];
+            g[pivot][j] = t;
+        }
+        const double inv = 1.0 / g[c][c];
+        for (int j = 0; j < 8; j++) {
+            g[c][j] *= inv;
+        }
+        for (int r = 0; r < 4; r++) {
+            if (r != c) {
+                const double f = g[r][c];
+                for (int j = 0; j < 8; j++) {
+                    g[r][j] -= f * g[c][j];
+                }
+            }
+        }
+    }
+    for (int k = 0; k < 4; k++) {
+        dp[k] = 0.0;
+        for (int i = 0; i < n; i++) {
+            double want = 0.0;
+            for (int r = 0; r < 4; r++) {
+                want += exact(b.a[r][i], FC_MAT_FRAC) * g[r][4 + k];
+            }
+            dp[k] = fmax(dp[k], fabs(exact(p.a[i][k], FC_MAT_FRAC) - want));
+        }
+        if (FIXED) {
+            assert_true(dp[k] <= PINV16_ROUNDING + 1e-6);
+        }
+    }
+}
+
+/* Fixed: how far a rotor's v can be from pinv(B) x for a demand with
+ * |x_k| <= x_max[k] (normalised): the step forms v as the exact sum of the
+ * products of P (PINV16) and x (NORM16), so P's rounding, sum_k dp_k
+ * x_max_k; 4 LSB of RATIO (2^-24) for the 32-bit chain that made P (B and
+ * its refined pseudo-inverse, as before the step was 16-bit); and `parts`
+ * times a ROTOR16 rounding (2^-15) where the desaturation scaled or
+ * compared a 16-bit copy. In units of v. */
+static double v_error(const fc_allocation *a, const double x_max[4], int parts)
+{
+    double dp[4];
+    pinv_rounding(a, dp);
+    double e = 4.0 / 16777216.0 + parts * PART16_ROUNDING;
+    for (int k = 0; k < 4; k++) {
+        e += dp[k] * x_max[k];
+    }
+    return e;
+}
+
+/* The largest |x_k| of a demand, per axis (for v_error). */
+static void demand_size(const fc_allocation_demand *d, double x_max[4])
+{
+    x_max[0] = fabs((double)norm_value(d->thrust));
+    x_max[1] = fabs((double)norm_value(d->moment.x));
+    x_max[2] = fabs((double)norm_value(d->moment.y));
+    x_max[3] = fabs((double)norm_value(d->moment.z));
+}
+
 /* The bound of a round trip in the unit of error_units: fixed 8 LSB of the
- * output plus 4 LSB of v (RATIO, 2^-24) on every rotor, i.e. 4 2^-24 times the
- * sum_i |A_ki| (the allocation resolves v, not the wrench: a 4 kg hexa's
- * 23 N m of sum_i |A_1i| makes that 6 LSB of MOMENT per LSB of v), plus the
- * speeds' 16-bit roots (speed_rounding); float relative. */
-static float round_trip_bound(const fc_allocation *a, int row, float float_rel)
+ * output plus the error of v (v_error, in units of v) on every rotor, i.e.
+ * v_error times the sum_i |A_ki| (the allocation resolves v, not the
+ * wrench: a 4 kg hexa's 23 N m of sum_i |A_1i| makes that 6 LSB of MOMENT
+ * per 2^-24 of v), plus the speeds' 16-bit roots (speed_rounding); float
+ * relative. */
+static float round_trip_bound(const fc_allocation *a, int row, float float_rel, double v_err)
 {
     if (FIXED) {
-        return 8.0f + (4.0f * row_abs_sum(a, row) * (1.0f / 16777216.0f) + speed_rounding(a, row)) / row_lsb(row);
+        return 8.0f + ((float)v_err * row_abs_sum(a, row) + speed_rounding(a, row)) / row_lsb(row);
     }
     return float_rel;
 }
@@ -479,12 +583,13 @@ static void test_bad_params(void **state)
 /* ---- round trips -------------------------------------------------------- */
 
 /* Worst error per row over `cases` feasible random demands; cold = reset the
- * warm start before every step. */
-static void round_trip(const fc_allocation_params *p, int cases, float spread, bool cold,
-                       float worst[4], int *saturated_steps, float bound[4])
+ * warm start before every step. Returns the bound's v_error (fixed). */
+static double round_trip(const fc_allocation_params *p, int cases, float spread, bool cold,
+                         float worst[4], int *saturated_steps, float bound[4])
 {
     fc_allocation a;
     assert_int_equal(fc_allocation_init(&a, p), FC_INIT_OK);
+    double x_max[4] = {0.0, 0.0, 0.0, 0.0}; /* the largest |x_k| passed */
     for (int k = 0; k < 4; k++) {
         worst[k] = 0.0f;
     }
@@ -493,6 +598,11 @@ static void round_trip(const fc_allocation_params *p, int cases, float spread, b
         fc_real speed[FC_MAX_ROTORS];
         random_speeds(p, spread, speed);
         const fc_allocation_demand d = demand_of_speeds(&a, speed);
+        double size[4];
+        demand_size(&d, size);
+        for (int k = 0; k < 4; k++) {
+            x_max[k] = fmax(x_max[k], size[k]);
+        }
         if (cold) {
             fc_allocation_reset(&a);
         }
@@ -507,19 +617,35 @@ static void round_trip(const fc_allocation_params *p, int cases, float spread, b
             worst[k] = fmaxf(worst[k], error_units(&a, k, achieved(&out, k) - demanded(&a, &d, k)));
         }
     }
-    for (int k = 0; k < 4; k++) {
-        bound[k] = round_trip_bound(&a, k, 1e-6f);
+    /* r != s: the step allocates x - N delta(v) (planar rotors: along z),
+     * |N delta| <= sum_i |N Q_max,i| max_v |v^(s/r) - v| = 2 max_v |...| */
+    double excess = 0.0;
+    for (int i = 0; i < p->rotor_count; i++) {
+        const double ratio = exact(p->rotor[i].torque_exponent, FC_RATIO_FRAC) /
+                             exact(p->rotor[i].thrust_exponent, FC_RATIO_FRAC);
+        for (int j = 1; j <= 1000; j++) {
+            const double v = j / 1000.0;
+            excess = fmax(excess, fabs(pow(v, ratio) - v));
+        }
     }
+    x_max[3] += 2.0 * (excess + 0.001); /* on a 1e-3 grid: the slope is 0 at the maximum, 1e-3 is ample */
+    const double v_err = v_error(&a, x_max, 0);
+    for (int k = 0; k < 4; k++) {
+        bound[k] = round_trip_bound(&a, k, 1e-6f, v_err);
+    }
+    return v_err;
 }
 
 static void test_round_trip_r_equals_s(void **state)
 {
     (void)state;
     /* measured (fixed, LSB of F_z/M_x/M_y/M_z; the speeds' 16-bit roots
-     * dominate): crazyflie 6/3/3/2, f450 342/825/891/93, hexa
-     * 664/3800/3210/177 (bounds 16/12/12/8.9, 528/1330/1330/141,
-     * 1280/6130/5310/334, i.e. 2^-16 of sum_i |A_ki| and a few LSB);
-     * float, relative to sum_i |A_ki|: below 2e-7 (bound 1e-6) */
+     * dominate, and the hexa's P rounded to PINV16): crazyflie 6/3/3/2, f450
+     * 342/825/891/93, hexa 732/3650/3180/464 (bounds 16/12/12/8.9,
+     * 528/1330/1330/141, 3050/14600/12700/787, i.e. 2^-16 of sum_i |A_ki|,
+     * a few LSB, and for the hexa P's rounding, 1/3 of a PINV16 LSB on its
+     * 1/3 and 2/3, times the largest demand); float, relative to
+     * sum_i |A_ki|: below 2e-7 (bound 1e-6) */
     rng_seed(0x0A110C01u);
     for (int k = 0; k < PRESET_COUNT; k++) {
         fc_allocation_params p;
@@ -578,7 +704,8 @@ static void test_round_trip_quad_speeds_unique(void **state)
      * the bound): the speeds that make the demand passed are the generating
      * ones moved by P times that rounding, v = u_gen^2 + P (x - w / authority).
      * P is the library's (fc_allocation_pinv_normalised), used only to carry
-     * the rounding: its own error, 1e-7 relative, is 1e-11 of v there. */
+     * the rounding: its own error, 1e-7 relative (the F450's 1 and 1/2 are
+     * exact in PINV16), is 1e-11 of v there. */
     rng_seed(0x0A110C02u);
     fc_allocation_params p;
     fc_allocation a;
@@ -715,7 +842,7 @@ static void r_not_s_case(float r_exp, float s_exp, const float *bound_yaw)
             float worst[4], bound[4];
             int saturated;
             const float spread = p.rotor_count == 4 ? 0.6f : 0.25f;
-            round_trip(&p, 1000, spread, true, worst, &saturated, bound);
+            const double v_err = round_trip(&p, 1000, spread, true, worst, &saturated, bound);
             fc_allocation a;
             assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
             float yaw_authority = 0.0f;
@@ -726,9 +853,15 @@ static void r_not_s_case(float r_exp, float s_exp, const float *bound_yaw)
             const float yaw_nm = FIXED ? worst[3] * row_lsb(3) : worst[3] * row_abs_sum(&a, 3);
             const float yaw_rel = yaw_nm / yaw_authority;
             /* fixed: nothing below 4 LSB of MOMENT, nor below the speeds'
-             * 16-bit roots (r = 2: u within 2^-17, Q_max u^s within s 2^-17 Q_max) */
+             * roots (r = 2: u within 2^-17, Q_max u^s within s 2^-17 Q_max;
+             * otherwise fc_pow_unit, a few 1e-7 on u and on the correction's
+             * v^(s/r): 1e-6), the error of v (v_error, relative to sum_i
+             * |A_3i| = sum |Q_max|) and the corrected demand's rounding to
+             * NORM16 (half an LSB, 2^-15, of the yaw authority: 2^-16 of
+             * sum |Q_max|) */
             const float floor_rel =
-                FIXED ? 4.0f * row_lsb(3) / yaw_authority + (r_exp == 2.0f ? s_exp * (1.0f / 131072.0f) : 0.0f)
+                FIXED ? 4.0f * row_lsb(3) / yaw_authority + (r_exp == 2.0f ? s_exp * (1.0f / 131072.0f) : 1e-6f) +
+                            (float)v_err + 0.5f * (float)ldexp(1.0, -FC_NORM16_FRAC - 1)
                       : 0.0f;
             print_message("r=%.1f s=%.1f %-11s passes %d: worst yaw residual %.3g of sum|Q_max| "
                           "(bound %.3g; F_z %.3g M_x %.3g M_y %.3g %s)\n",
@@ -823,21 +956,52 @@ static void assert_not_clamped(const fc_allocation_demand *d)
                 fabsf(norm_value(d->moment.y)) < 1.98f && fabsf(norm_value(d->moment.z)) < 1.98f);
 }
 
-/* some rotor at a bound: the axis that gave way gave no more than it had to */
-static bool some_rotor_at_bound(const fc_allocation_output *out)
+/* some rotor at a bound: the axis that gave way gave no more than it had to.
+ * v_tol (fixed): how far inside its bound the step may leave that rotor's v
+ * (the scale that gave way is rounded down, so that what it scales fits);
+ * in u that is at most v_tol / (2 u) (u = v^(1/2), u >= u_min) plus the
+ * root's 2^-17. Float: 1e-5. */
+static bool some_rotor_at_bound(const fc_allocation_output *out, double v_tol)
 {
-    const fc_real u_min = FC_C(0.32659863f, UNIT);
+    const float u_min = 0.32659863f;
+    const float tol = FIXED ? (float)(v_tol / (2.0 * (double)u_min)) + 1.0f / 131072.0f : 1e-5f;
     for (int i = 0; i < 4; i++) {
-        if (out->speed[i] >= FC_C(0.99999f, UNIT) || out->speed[i] <= u_min + FC_C(1e-5f, UNIT)) {
+        const float u = to_f(out->speed[i], FC_UNIT_FRAC);
+        if (u >= 1.0f - tol || u <= u_min + tol) {
             return true;
         }
     }
     return false;
 }
 
-static float kept_tolerance(int row)
+/* The largest (or smallest) |P_ik| of a column (P16 as the step multiplies it). */
+static double pinv_column_size(const fc_allocation *a, int k, bool largest)
 {
-    return FIXED ? 8.0f * row_lsb(row) : (row == 0 ? 1e-6f : 1e-8f);
+    fc_mat p;
+    assert_int_equal(fc_allocation_pinv_normalised(a, &p), FC_MAT_OK);
+    double m = fabs(exact(p.a[0][k], FC_MAT_FRAC));
+    for (int i = 1; i < p.rows; i++) {
+        const double size = fabs(exact(p.a[i][k], FC_MAT_FRAC));
+        m = largest ? fmax(m, size) : fmin(m, size);
+    }
+    return m;
+}
+
+/* How far an axis that is kept may be from the demand when a lower one gave
+ * way (N or N m): fixed 8 LSB of the output, plus the error of v (v_error
+ * for this demand) with one ROTOR16 rounding (the 16-bit Y_i that b scales,
+ * or the R_i in the rate that bounds the shifted collective: its rotor ends
+ * within that of its bound, and the final clamp moves it no further), and
+ * the roots' 2^-16, all times sum_i |A_ki|; float as before the step was
+ * 16-bit. */
+static float kept_tolerance(const fc_allocation *a, const fc_allocation_demand *d, int row)
+{
+    if (!FIXED) {
+        return row == 0 ? 1e-6f : 1e-8f;
+    }
+    double x_max[4];
+    demand_size(d, x_max);
+    return 8.0f * row_lsb(row) + (float)v_error(a, x_max, 1) * row_abs_sum(a, row) + speed_rounding(a, row);
 }
 
 static void test_saturation_yaw(void **state)
@@ -855,16 +1019,20 @@ static void test_saturation_yaw(void **state)
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
     assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
     for (int r = 0; r < 3; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&a, &d, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &d, r)) <= kept_tolerance(&a, &d, r));
     }
     assert_true(achieved(&out, 3) > 0.0005f && achieved(&out, 3) < 0.003f);
-    assert_true(some_rotor_at_bound(&out));
+    /* b is rounded down (less than 2^-14 short of the largest that fits),
+     * the slack and Y_i rounded to ROTOR16 (2^-15 each): the rotor that
+     * limits b ends within 2^-14 (|Y_i| + 1) of its bound */
+    const double yaw_part = pinv_column_size(&a, 3, true) * fabs((double)norm_value(d.moment.z));
+    assert_true(some_rotor_at_bound(&out, ldexp(yaw_part, -FC_UNIT16_FRAC) + 2.0 * PART16_ROUNDING));
     /* near full thrust: yaw gives way before the thrust does */
     const fc_allocation_demand top = demand_make(&a, 0.46f, 0.0f, 0.0f, 0.001f);
     step_crazyflie(&a, &top, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
     for (int r = 0; r < 3; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&a, &top, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &top, r)) <= kept_tolerance(&a, &top, r));
     }
     assert_true(achieved(&out, 3) > 0.0f && achieved(&out, 3) < 0.001f);
     /* the other way (-0.003 N m: -1.79 of the yaw authority) */
@@ -891,23 +1059,25 @@ static void test_saturation_thrust(void **state)
     assert_true((status & FC_STEP_OUTPUT_LIMITED) != 0u);
     assert_true(achieved(&out, 0) < 0.48f && achieved(&out, 0) > 0.4f);
     for (int r = 1; r < 4; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&a, &high, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &high, r)) <= kept_tolerance(&a, &high, r));
     }
-    assert_true(some_rotor_at_bound(&out));
+    /* t to 32 bits and q_i = 1 (exact): the rotor that bounds the collective
+     * ends within its R_i's ROTOR16 rounding of its bound */
+    assert_true(some_rotor_at_bound(&out, PART16_ROUNDING));
     /* within the thrust range but not with this moment: the thrust shifts down */
     const fc_allocation_demand near_top = demand_make(&a, 0.46f, 0.002f, 0.0f, 0.0f);
     step_crazyflie(&a, &near_top, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_THRUST_HIGH);
-    assert_true(fabsf(achieved(&out, 1) - demanded(&a, &near_top, 1)) <= kept_tolerance(1));
+    assert_true(fabsf(achieved(&out, 1) - demanded(&a, &near_top, 1)) <= kept_tolerance(&a, &near_top, 1));
     /* zero thrust demanded with a pitch moment: the thrust shifts up */
     const fc_allocation_demand low = demand_make(&a, 0.0f, 0.0f, 0.001f, 0.0f);
     step_crazyflie(&a, &low, &out, &status);
     assert_int_equal(out.saturation, FC_SAT_THRUST_LOW);
     assert_true(achieved(&out, 0) > 0.05f);
     for (int r = 1; r < 4; r++) {
-        assert_true(fabsf(achieved(&out, r) - demanded(&a, &low, r)) <= kept_tolerance(r));
+        assert_true(fabsf(achieved(&out, r) - demanded(&a, &low, r)) <= kept_tolerance(&a, &low, r));
     }
-    assert_true(some_rotor_at_bound(&out));
+    assert_true(some_rotor_at_bound(&out, PART16_ROUNDING));
 }
 
 static void test_saturation_roll_pitch(void **state)
@@ -940,9 +1110,27 @@ static void test_saturation_roll_pitch(void **state)
                   "thrust %.4g N, direction error %.3g rad\n",
                   (double)mx, (double)my, (double)dx, (double)dy, (double)achieved(&out, 3),
                   (double)achieved(&out, 0), (double)sine);
-    assert_true(fabsf(sine) <= (FIXED ? 1e-4f : 1e-5f));
-    assert_true(fabsf(achieved(&out, 3)) <= (FIXED ? 1e-6f : 1e-7f));
-    assert_true(some_rotor_at_bound(&out));
+    /* fixed: a scales the 16-bit R_i, so each moment is off by at most
+     * kept_tolerance (one ROTOR16 rounding per rotor, the roots, the output's
+     * LSB), and the direction by at most the two of them over |M| */
+    const float off = FIXED ? hypotf(kept_tolerance(&a, &d, 1), kept_tolerance(&a, &d, 2)) : 0.0f;
+    assert_true(fabsf(sine) <= (FIXED ? off / sqrtf(mx * mx + my * my) : 1e-5f));
+    /* a is rounded down (less than 2^-14 short of the largest that fits the
+     * 16-bit pair), the pair's e and c rounded to PAIR16 (2^-14 each, e + a c),
+     * the two rates' R_i to ROTOR16 (2^-15 each; q_i = 1, exact): the rotors
+     * of the pair that limits a end within 2^-14 (|c| + 3) of their bounds,
+     * |c| = |s_j - s_i| <= 2 max |R_i| <= 2 (max|P_i1| |x_1| + max|P_i2| |x_2|) */
+    const double rate_max = pinv_column_size(&a, 1, true) * fabs((double)norm_value(d.moment.x)) +
+                            pinv_column_size(&a, 2, true) * fabs((double)norm_value(d.moment.y));
+    const double v_tol =
+        ldexp(2.0 * rate_max, -FC_UNIT16_FRAC) + ldexp(1.0, -FC_PAIR16_FRAC) + 2.0 * PART16_ROUNDING;
+    assert_true(some_rotor_at_bound(&out, v_tol));
+    /* yaw gave way (b = 0) but for the room that a's rounding down left: at
+     * most v_tol on the rotor that limits b, which b Y_i fills, so b |x_3| <=
+     * v_tol / min |P_i3| of the yaw authority; on top of the kept tolerance */
+    const float yaw_room_left =
+        (float)(v_tol / pinv_column_size(&a, 3, false)) * to_f(a.moment_authority_nm.z, FC_MOMENT_FRAC);
+    assert_true(fabsf(achieved(&out, 3)) <= (FIXED ? kept_tolerance(&a, &d, 3) + yaw_room_left : 1e-7f));
     /* negative roll alone (-1.92 of the authority): only the roll bit (pitch
      * demand zero, thrust at the middle of the range is where roll gets the most) */
     const fc_allocation_demand d2 = demand_make(&a, 0.2657f, -0.015f, 0.0f, 0.0f);
@@ -952,7 +1140,7 @@ static void test_saturation_roll_pitch(void **state)
                                    FC_SAT_PITCH_NEG | FC_SAT_YAW_POS | FC_SAT_YAW_NEG)) ==
                 FC_SAT_ROLL_NEG);
     assert_true(achieved(&out, 1) < -0.005f);
-    assert_true(fabsf(achieved(&out, 2)) <= kept_tolerance(2));
+    assert_true(fabsf(achieved(&out, 2)) <= kept_tolerance(&a, &d2, 2));
 }
 
 static void test_saturation_hexa(void **state)
@@ -971,9 +1159,14 @@ static void test_saturation_hexa(void **state)
     assert_outputs_valid(&p, &out);
     assert_int_equal(status, FC_STEP_OUTPUT_LIMITED);
     assert_int_equal(out.saturation, FC_SAT_YAW_POS);
+    /* the kept axes: a round trip's bound with one ROTOR16 rounding (the
+     * 16-bit Y_i that b scales) in v */
+    double x_max[4];
+    demand_size(&d, x_max);
+    const double v_err = v_error(&a, x_max, 1);
     for (int r = 0; r < 3; r++) {
         assert_true(error_units(&a, r, achieved(&out, r) - demanded(&a, &d, r)) <=
-                    round_trip_bound(&a, r, 1e-6f));
+                    round_trip_bound(&a, r, 1e-6f, v_err));
     }
     assert_true(achieved(&out, 3) > 0.1f && achieved(&out, 3) < 1.2f);
 }

@@ -46,8 +46,10 @@
  * alike), each row then scaled by 1 / its absolute sum (one rounding in MAT);
  * P = pinv(B) (n x 4, MAT). fc_mat_pinv's result is refined by two
  * Newton-Schulz steps P <- P (2 I - B P), which take its cond^2-sized error
- * (it solves the normal equations) down to the rounding of the products.
- * Step: v = P x, u_i = v_i^(1/r_i) (fc_sqrt for r = 2, fc_pow_unit otherwise).
+ * (it solves the normal equations) down to the rounding of the products;
+ * the step holds P in 16 bits (PINV16, Formats).
+ * Step: v = P x, u_i = v_i^(1/r_i) (fc_sqrt_unit16 for r = 2, fc_pow_unit
+ * otherwise).
  * For n > 4 this is the least-norm v; the null space of A is not used, not
  * even to desaturate.
  *
@@ -98,11 +100,13 @@
  * only the room the thrust leaves. Steps 2-3 assume no yaw: where some yaw
  * would have widened the room for thrust or roll/pitch, that room is not used
  * (never for a quad-X, whose diagonal rotors share a spin direction). a is
- * found in closed form from the rotor pairs (n (n - 1) comparisons by cross
+ * found in closed form from the rotor pairs (when the interval of t at a = 1
+ * is empty: n (n - 1) comparisons, the pairs that bind compared by cross
  * products, one division), b from the rotors (one division), both only when
- * needed. Rotors whose share of the collective |p_T,i| is below 1/32 (none in
- * a vehicle whose rotors all point up) do not take part in steps 2-3; their
- * command is clamped.
+ * needed, each rounded down to the largest 16-bit value that fits. Rotors
+ * whose share of the collective |p_T,i| is below 1/32 (none in a vehicle
+ * whose rotors all point up) do not take part in steps 2-3; their command
+ * is clamped.
  * Reported in out->saturation, per axis not delivered, in the direction it fell
  * short (a positive demand not met sets _POS): a < 1 sets the roll and pitch
  * bits of the non-zero demands, b < 1 the yaw bit, a thrust shift down
@@ -118,11 +122,42 @@
  *
  * Formats (fixed backend): the demand NORM16; axes and speeds UNIT; positions
  * LENGTH; l x d LEVER; thrusts and F_max FORCE; moments, Q_max and the moment
- * authorities MOMENT; exponents RATIO; D A, B and P in MAT, the row scales 2^e
- * in GAIN (e in [-16, 14], exact); the allocation's internal x, v, t, a R,
- * b Y in RATIO (v in [0, 1], resolution 6e-8). The
- * speeds of rotors with r = 2 are v's roots to 16 bits (fc_sqrt_unit16:
- * within 2^-17 of sqrt(v), the resolution of a 16-bit motor command).
+ * authorities MOMENT; exponents RATIO; D A, B and P in MAT at init, the row
+ * scales 2^e in GAIN (e in [-16, 14], exact). The linear step and its
+ * desaturation multiply 16 x 16 bits into 32 (fc_mul16; only the r != s
+ * correction and the midpoint of an empty interval of t, a rounding case,
+ * keep 32-bit products), in their own formats:
+ *   P           PINV16, Q3.12: [-8, 8), resolution 2.4e-4, rounded to nearest
+ *   x           NORM16 as given; the collective t, when it shifts, RATIO and
+ *               multiplied as a NORM16 value and its remainder (exact)
+ *   P_ik x_k    PX, Q5.26 in 32 bits, [-32, 32): the parts t P_i0, R_i, Y_i and
+ *               v_i are exact sums of the products, and v_i (in [v_min, 1])
+ *               goes to the root as it is (UNIT, exactly), not rounded to 16
+ *               bits: a 16-bit v (Q14 to hold 1) would add up to 2^-15, 1.4
+ *               16-bit steps of the speed at hover and 6.6 at u_min 0.15
+ *   R_i, Y_i    ROTOR16, Q1.14, [-2, 2), 6.1e-5: copies where the desaturation
+ *               scales or compares them, with a rotor's slacks 1 - v_i and
+ *               v_i - v_min
+ *   s_i         NORM16 (collective units); the roll/pitch pairs' s_j - s_i and
+ *               high_j - low_i PAIR16, Q2.13, [-4, 4), 1.2e-4; q_i = 1 / P_i0
+ *               in the finest of Q16, Q14, Q12 and Q10 that holds it
+ *   a, b        UNIT16, rounded down (what they scale stays inside its bound)
+ * Whether a bound binds is decided on the exact 32-bit values, the 16-bit
+ * copies formed only for those that do. Error: with nothing saturated, v_i
+ * is within sum_k |x_k| 2^-13 (P's rounding; 0 for entries PINV16 holds, a
+ * quad-X's 1 and 1/2) of pinv(B) x, so the wrench is within sum_k |x_k|
+ * 2^-13 of each axis' sum_i |B_ki| (F_max, twice a moment authority): at
+ * hover (x_0 = 1/2, small moments) within 2^-14 of it. When an axis gives
+ * way, the rotor that limits its scale stays within 2^-14 (|c| + 1) of its
+ * bound (|c| the scaled part, |Y_i| or |s_j - s_i|; 2^-14 (|c| + 3) for a
+ * pair), and each axis kept is within a further 2^-15 of its sum_i |B_ki|
+ * (the 16-bit copy of R_i or Y_i). The speeds of rotors with r = 2 are v's
+ * roots to 16 bits (fc_sqrt_unit16: within 2^-17 of sqrt(v), the
+ * resolution of a 16-bit motor command). For a quad-X and a hexa-X the
+ * 16-bit values hold every NORM16 demand (|R_i| < 2, |Y_i| <= 1, |s_i| < 2);
+ * a geometry whose P takes one of them out of its format at an extreme
+ * demand saturates it (FC_STEP_ARITH_SATURATED), the speeds still in
+ * [u_min, 1].
  * Range limits checked at init (both backends): |l| components <= 16 m,
  * 0 < T_max <= 250 N, |Q_max| <= 16 N m, each row of A summed in absolute value
  * <= 1500 N (F_z) and <= 100 N m (moments), the largest entry of each row >=
@@ -130,8 +165,9 @@
  * inside their formats: T_max 2^e <= 100 for the F_z row (d_z of the largest
  * entry's rotor not far below the others'), <= 1000 1/m for a moment row with
  * 2^e >= 1 and <= 100 1/m with 2^e < 1 (a rotor's T_max not above ~1000 times
- * its row's largest entry in N m), |Q_max| 2^e <= 100. A P entry above 16 (a
- * geometry close to rank loss, for the formats) is treated as rank deficient.
+ * its row's largest entry in N m), |Q_max| 2^e <= 100. A P entry above
+ * 8 - 2^-12, the largest PINV16 value (a geometry close to rank loss, for the
+ * formats), is treated as rank deficient.
  */
 #ifndef FC_ALLOCATION_H
 #define FC_ALLOCATION_H
@@ -144,6 +180,18 @@
 /* The format of the lever arms l_i x d_i: Q7.24, [-128, 128) m, resolution
  * 6e-8 m (finer than LENGTH, so that T_max (l x d) keeps MAT's resolution). */
 #define FC_LEVER_FRAC 24
+/* The step's formats (header: Formats). P = pinv(B) in 16 bits: Q3.12,
+ * [-8, 8), resolution 2.4e-4 (init rejects a larger entry). */
+#define FC_PINV16_FRAC 12
+/* A product P_ik x_k (PINV16 x NORM16) and the sums of them, in 32 bits:
+ * Q5.26, [-32, 32), exact (the parts t P_i0, R_i, Y_i and v_i, v_min). */
+#define FC_PX_FRAC 26
+/* The 16-bit copies of R_i and Y_i and a rotor's slacks 1 - v_i, v_i - v_min
+ * that the desaturation compares: Q1.14, [-2, 2), resolution 6.1e-5. */
+#define FC_ROTOR16_FRAC 14
+/* The roll/pitch room's pair constraints a (s_j - s_i) <= high_j - low_i
+ * (collective units): Q2.13, [-4, 4), resolution 1.2e-4. */
+#define FC_PAIR16_FRAC 13
 /* Upper bound of newton_iterations (passes of the r != s correction). */
 #define FC_ALLOCATION_MAX_ITERATIONS 4
 
@@ -188,13 +236,14 @@ typedef struct fc_allocation_rotor {
     fc_real inv_thrust_exponent; /* RATIO: 1/r_i */
     fc_real exponent_ratio;   /* RATIO: s_i / r_i */
     fc_real speed_min;        /* UNIT: u_min,i */
-    fc_real v_min;            /* RATIO: u_min,i^r_i */
+    fc_real v_min;            /* PX: u_min,i^r_i */
     fc_vec3 torque_norm;      /* MAT: N Q_max,i d_i, the reaction torque's column of B */
-    fc_real pinv[4];          /* MAT: row i of P = pinv(B) */
-    fc_real shift_gain;       /* RATIO: 1 / P_i0 (collective thrust per unit v_i) */
     fc_real shift_low;        /* RATIO: lower bound of t from this rotor (at a = 0) */
     fc_real shift_high;       /* RATIO: upper bound of t from this rotor (at a = 0) */
-    uint8_t flags;            /* FC_ALLOCATION_ROTOR_* */
+    fc_real16 pinv[4];        /* PINV16: row i of P = pinv(B) */
+    fc_real16 shift_gain;     /* Q(shift_gain_frac): q_i = 1 / P_i0 (collective per unit v_i) */
+    uint8_t shift_gain_frac;  /* 16, 14, 12 or 10: the finest Q-format that holds |q_i| */
+    uint8_t flags;            /* ROTOR_* (allocation.c) */
 } fc_allocation_rotor;
 
 typedef struct fc_allocation {
@@ -204,7 +253,7 @@ typedef struct fc_allocation {
     fc_real inv_thrust_max;      /* PER_FORCE: 1 / F_max (fc_allocation_thrust_fraction) */
     fc_real row_scale[4];        /* GAIN: 2^e_k, the diagonal of D */
     fc_real row_norm[4];         /* RATIO: 1 / the absolute sum of row k of D A */
-    fc_real demand_limit[4];     /* RATIO: sum_i |B_ki|, the most any axis can get */
+    fc_real16 demand_limit[4];   /* NORM16: sum_i |B_ki|, the most any axis can get (at most 2 - 2^-14) */
     fc_vec3 delta_warm;          /* RATIO: N delta(v) of the last solution (r != s) */
     fc_allocation_demand last_good; /* held on bad input */
     uint8_t rotor_count;
@@ -271,7 +320,8 @@ fc_mat_status fc_allocation_effectiveness(const fc_allocation *a, fc_mat *out);
 /* B = N A (4 x n, MAT): the normalised effectiveness the allocation inverts. */
 fc_mat_status fc_allocation_effectiveness_normalised(const fc_allocation *a, fc_mat *out);
 
-/* P = pinv(B) (n x 4, MAT), so that pinv(A) = P N. */
+/* P = pinv(B) (n x 4, MAT) as the step multiplies it (its PINV16 values,
+ * exact in MAT), so that pinv(A) = P N. */
 fc_mat_status fc_allocation_pinv_normalised(const fc_allocation *a, fc_mat *out);
 
 /* Presets from FC_C constants only; rotors numbered front-right, back-right,

@@ -658,7 +658,7 @@ FC_FX_INLINE bool fc_is_finite(fc_real a)
 typedef int16_t fc_real16;
 #define FC_REAL16_MAX INT16_MAX /* symmetric as fc_real: -INT16_MAX is the least */
 /* An integer constant in 16-bit format KIND (exact). */
-#define FC_INT16(N, KIND) ((fc_real16)((N) * (1 << FC_##KIND##_FRAC)))
+#define FC_INT16(N, KIND) ((fc_real16)((N) * ((int32_t)1 << FC_##KIND##_FRAC)))
 
 /* x (format frac_from) in the 16-bit format frac_to <= frac_from: rounded to
  * nearest (fc_convert) and saturated at +-FC_REAL16_MAX. */
