@@ -33,6 +33,7 @@
 #include <cmocka.h>
 
 #include "fc/allocation.h"
+#include "test_support.h"
 
 /* ---- helpers ----------------------------------------------------------- */
 
@@ -52,12 +53,7 @@ static fc_real from_f(float x, int frac)
 /* The exact value of a backend number (fc_to_float rounds a 31-bit Q-value). */
 static double exact(fc_real x, int frac)
 {
-#if FC_NUMERIC_FIXED
-    return ldexp((double)x, -frac);
-#else
-    (void)frac;
-    return (double)x;
-#endif
+    return ts_val(x, frac);
 }
 
 static uint32_t rng_state = 0x2545F491u;

@@ -78,12 +78,7 @@ static fc_real R(double x, int frac)
 
 static double D(fc_real x, int frac)
 {
-#if FC_NUMERIC_FIXED
-    return ldexp((double)x, -frac);
-#else
-    (void)frac;
-    return (double)x;
-#endif
+    return ts_val(x, frac);
 }
 
 #define RU(x) R((x), FC_UNIT_FRAC)
@@ -98,12 +93,7 @@ static double DN(fc_real16 x)
 /* A 16-bit constant of the step (fc_real16) as a double, exactly. */
 static double D16(fc_real16 x, int frac)
 {
-#if FC_NUMERIC_FIXED
-    return ldexp((double)x, -frac);
-#else
-    (void)frac;
-    return (double)x;
-#endif
+    return ts_val16(x, frac);
 }
 
 /* The step's own formats (fc/attitude_control.h, "Formats"; the FC_*16_FRAC

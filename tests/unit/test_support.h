@@ -58,6 +58,12 @@ static inline double ts_val(fc_real x, int frac)
 #endif
 }
 
+/* Exact value of a 16-bit backend number (fc_real16) in format frac. */
+static inline double ts_val16(fc_real16 x, int frac)
+{
+    return ts_val((fc_real)x, frac); /* int16_t -> int32_t or float -> float: exact */
+}
+
 /* ---- tolerances --------------------------------------------------------- */
 
 static inline double ts_tol(int frac, double lsb, double ulps, double scale)
