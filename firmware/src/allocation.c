@@ -259,7 +259,10 @@ static fc_init_result derive_rows(fc_arith *ar, fc_allocation *a)
         if (!in_range) {
             return FC_INIT_BAD_PARAM;
         }
-        const int shift_to_ratio = k == 0 ? FC_SHIFT(FORCE, GAIN, RATIO) : FC_SHIFT(MOMENT, GAIN, RATIO);
+        int shift_to_ratio = FC_SHIFT(MOMENT, GAIN, RATIO);
+        if (k == 0) {
+            shift_to_ratio = FC_SHIFT(FORCE, GAIN, RATIO);
+        }
         if (!choose_row_scale(ar, largest, shift_to_ratio, &a->row_scale[k])) {
             return FC_INIT_RANK_DEFICIENT;
         }
@@ -313,12 +316,12 @@ static void normalise_rows(fc_arith *ar, fc_allocation *a, fc_mat *m)
 {
     fc_arith limit_ar = {0u};
     for (int k = 0; k < ROWS; k++) {
-        fc_real sum = FC_INT(0, MAT);
+        fc_real row_abs_sum = FC_INT(0, MAT);
         for (int i = 0; i < a->rotor_count; i++) {
-            sum = fc_add(ar, sum, fc_abs(ar, m->a[k][i]));
+            row_abs_sum = fc_add(ar, row_abs_sum, fc_abs(ar, m->a[k][i]));
         }
-        const fc_real numerator = k == 0 ? FC_INT(1, RATIO) : FC_INT(2, RATIO);
-        a->row_norm[k] = fc_div(ar, numerator, sum, FC_DIV_SHIFT(RATIO, MAT, RATIO));
+        const fc_real row_target = k == 0 ? FC_INT(1, RATIO) : FC_INT(2, RATIO);
+        a->row_norm[k] = fc_div(ar, row_target, row_abs_sum, FC_DIV_SHIFT(RATIO, MAT, RATIO));
         fc_real limit = FC_INT(0, MAT);
         for (int i = 0; i < a->rotor_count; i++) {
             m->a[k][i] = fc_mul(ar, m->a[k][i], a->row_norm[k], FC_SHIFT(MAT, RATIO, MAT));
@@ -1175,7 +1178,7 @@ fc_real16 fc_allocation_thrust_fraction(const fc_allocation *a, fc_real thrust_n
 }
 
 /* x / authority in NORM16, within +-1.99; 0 for a zero authority (not ready). */
-static fc_real16 normalised(fc_arith *ar, fc_real x, fc_real authority)
+static fc_real16 fraction_of_authority(fc_arith *ar, fc_real x, fc_real authority)
 {
     if (!(authority > FC_INT(0, MOMENT))) {
         return FC_INT16(0, NORM16);
@@ -1191,8 +1194,8 @@ fc_allocation_demand fc_allocation_normalise(const fc_allocation *a, fc_real thr
     fc_arith ar = {0u};
     const fc_vec3 m = a->moment_authority_nm;
     const fc_allocation_demand d = {
-        normalised(&ar, thrust_n, a->thrust_max_n),
-        {normalised(&ar, moment_nm.x, m.x), normalised(&ar, moment_nm.y, m.y), normalised(&ar, moment_nm.z, m.z)}};
+        fraction_of_authority(&ar, thrust_n, a->thrust_max_n),
+        {fraction_of_authority(&ar, moment_nm.x, m.x), fraction_of_authority(&ar, moment_nm.y, m.y), fraction_of_authority(&ar, moment_nm.z, m.z)}};
     return d;
 }
 

@@ -704,8 +704,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     }
     /* the thrust in the allocation's normalised units: the altitude law gives
      * it so; the failsafe, the ramp and the hover hold set N */
-    const fc_real16 thrust = fly_reference ? tm->altitude.thrust
-                                           : fc_allocation_thrust_fraction(&ctl->allocation, thrust_n);
+    fc_real16 thrust = tm->altitude.thrust;
+    if (!fly_reference) {
+        thrust = fc_allocation_thrust_fraction(&ctl->allocation, thrust_n);
+    }
 
     /* attitude: setpoint from the horizontal loop (level in the failsafe and the ramp), then the moments */
     if (level) {
