@@ -295,9 +295,8 @@ void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *
 /* Whether fc_allocation_step fills out->thrust_n, moment_nm and rotor_thrust_n
  * from the forward model (2.2)-(2.3) of the speeds it chose (on after init),
  * or leaves them 0. A caller that uses only speed and saturation (the
- * controller) turns it off: the model is 6 x 8 products per step on the hexa
- * (about 20 000 cycles of the ATmega's 230 000 in the fixed backend). The
- * speeds and the saturation bits do not depend on it. */
+ * controller) turns it off: the model is 6 x 8 products of 32 bits per step
+ * on the hexa. The speeds and the saturation bits do not depend on it. */
 void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled);
 
 /* Forgets the warm start of the r != s iteration and the last good demand. */
