@@ -1046,8 +1046,7 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     const fc_real16 w[ROWS] = {demand.thrust, demand.moment.x, demand.moment.y, demand.moment.z};
 
     /* v (UNIT): rotor_count entries written by allocate_linear; zeroed for
-     * -fanalyzer by stores (an initialiser is a memset call, ~70 cycles on
-     * the M4F) */
+     * -fanalyzer by stores (an initialiser is a memset call every step) */
     fc_real v[FC_MAX_ROTORS];
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         v[i] = FC_INT(0, UNIT);
