@@ -588,7 +588,10 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         return FC_STEP_BAD_INPUT;
     }
     fc_step_status status = FC_STEP_OK;
-    safe_output(c, out);
+    /* every field of out is written below; these three by the SSC only */
+    out->sigma_tilde_mps = FC_INT(0, VEL);
+    out->rho_n = FC_INT(0, FORCE);
+    out->observer_bound_n = FC_INT(0, FORCE);
 
     const tracking_signals t = tracking(c, in);
     const fc_real u_nom = fc_mul(ar, c->theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)); /* Theta phi */

@@ -224,16 +224,29 @@ static fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real1
     return fc_sub(ar, gyro, fc_add(ar, pi, d));
 }
 
+/* What stops an axis integrating (header: anti-windup): a hold, the
+ * allocation's report for that direction (sat_pos, sat_neg: its FC_SAT_* bits),
+ * or this step's own clamp of the moment (raw beyond moment). */
+typedef struct axis_block {
+    bool hold;
+    uint8_t sat;
+    uint8_t sat_pos, sat_neg;
+    fc_real raw, moment;
+} axis_block;
+
 /* Conditional integration of one axis (header: anti-windup). The integral acts
- * as -ki I on the moment: a positive step of I pushes the moment negative. */
+ * as -ki I on the moment: a positive step of I pushes the moment negative.
+ * Only the direction the step goes in is looked at. */
 static fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real e, fc_real dt, fc_real ki,
-                              fc_real limit, bool blocked_pos, bool blocked_neg)
+                              fc_real limit, const axis_block *b)
 {
     if (!(ki > FC_INT(0, GAIN))) {
         return FC_INT(0, ANGLE);
     }
     const fc_real step = fc_mul(ar, e, dt, FC_SHIFT(ANGLE, DT, ANGLE));
-    if ((step > FC_INT(0, ANGLE) && blocked_neg) || (step < FC_INT(0, ANGLE) && blocked_pos)) {
+    const bool blocked_neg = step > FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_neg) != 0u || b->raw < b->moment);
+    const bool blocked_pos = step < FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_pos) != 0u || b->raw > b->moment);
+    if (blocked_neg || blocked_pos) {
         return integral;
     }
     return fc_clamp(fc_add(ar, integral, step), fc_neg(ar, limit), limit);
@@ -256,11 +269,13 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
         }
         m.x = fc_mul(ar, m.x, f, FC_SHIFT(NSUM, UNIT, NSUM));
         m.y = fc_mul(ar, m.y, f, FC_SHIFT(NSUM, UNIT, NSUM));
+        /* the hard clamp catches the last rounding of the scaling */
+        m.x = fc_clamp(m.x, fc_neg(ar, limit.x), limit.x);
+        m.y = fc_clamp(m.y, fc_neg(ar, limit.y), limit.y);
     }
-    /* the hard clamp catches the last rounding of the scaling */
-    return fc_vec3_make(fc_clamp(m.x, fc_neg(ar, limit.x), limit.x),
-                        fc_clamp(m.y, fc_neg(ar, limit.y), limit.y),
-                        fc_clamp(m.z, fc_neg(ar, limit.z), limit.z));
+    /* (unscaled, |m.x| and |m.y| are inside their limits already, or NaN,
+     * which the clamp would pass through as well) */
+    return fc_vec3_make(m.x, m.y, fc_clamp(m.z, fc_neg(ar, limit.z), limit.z));
 }
 
 /* A rate as the products read it: RATE16, clamped to its range first (by
@@ -269,8 +284,11 @@ static fc_vec3_16 rate16(fc_arith *ar, fc_vec3 rate)
 {
     const fc_real max = FC_C(31.999f, RATE);
     const fc_real min = FC_C(-31.999f, RATE);
-    const fc_vec3 clamped =
-        fc_vec3_make(fc_clamp(rate.x, min, max), fc_clamp(rate.y, min, max), fc_clamp(rate.z, min, max));
+    fc_vec3 clamped = rate;
+    if (!fc_vec3_within(rate, max)) {
+        /* (inside, the usual case, the clamp leaves every component as it is) */
+        clamped = fc_vec3_make(fc_clamp(rate.x, min, max), fc_clamp(rate.y, min, max), fc_clamp(rate.z, min, max));
+    }
     return fc_vec3_narrow16(ar, clamped, FC_RATE_FRAC, FC_RATE16_FRAC);
 }
 
@@ -348,15 +366,12 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         const fc_vec3 lim = p->integral_limit_rad;
         const fc_real dt = p->dt_s;
         const fc_vec3 ki_per_s3 = p->ki_per_s3;
-        const bool roll_pos = hold || (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x;
-        const bool roll_neg = hold || (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x;
-        const bool pitch_pos = hold || (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y;
-        const bool pitch_neg = hold || (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y;
-        const bool yaw_pos = hold || (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z;
-        const bool yaw_neg = hold || (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z;
-        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki_per_s3.x, lim.x, roll_pos, roll_neg),
-                                         integrate_axis(ar, i.y, e.y, dt, ki_per_s3.y, lim.y, pitch_pos, pitch_neg),
-                                         integrate_axis(ar, i.z, e.z, dt, ki_per_s3.z, lim.z, yaw_pos, yaw_neg));
+        const axis_block roll = {hold, sat, FC_SAT_ROLL_POS, FC_SAT_ROLL_NEG, raw.x, moment.x};
+        const axis_block pitch = {hold, sat, FC_SAT_PITCH_POS, FC_SAT_PITCH_NEG, raw.y, moment.y};
+        const axis_block yaw = {hold, sat, FC_SAT_YAW_POS, FC_SAT_YAW_NEG, raw.z, moment.z};
+        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki_per_s3.x, lim.x, &roll),
+                                         integrate_axis(ar, i.y, e.y, dt, ki_per_s3.y, lim.y, &pitch),
+                                         integrate_axis(ar, i.z, e.z, dt, ki_per_s3.z, lim.z, &yaw));
     }
     c->last_moment = moment;
     out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);

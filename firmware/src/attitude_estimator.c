@@ -193,16 +193,24 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
 
 /* ---- the step ---------------------------------------------------------- */
 
+/* lo <= x <= hi for bounds that are numbers: false for a NaN x and for an
+ * infinite one, as fc_in_range, without its test of x. */
+static bool between(fc_real x, fc_real lo, fc_real hi)
+{
+    return x >= lo && x <= hi;
+}
+
 /* |a - b| <= slack on each axis, as b - slack <= a <= b + slack: a bound
  * that leaves RATE saturates to its edge, which a sample inside the gyro
  * range (<= 100 rad/s) cannot pass, so the comparison is exact and its
- * saturation is not the step's. */
+ * saturation is not the step's. b (a sample that passed) and slack (<= 100
+ * rad/s) are numbers, and so are the bounds. */
 static bool within_of(fc_vec3 a, fc_vec3 b, fc_real slack)
 {
     fc_arith scratch = {0u};
-    return fc_in_range(a.x, fc_sub(&scratch, b.x, slack), fc_add(&scratch, b.x, slack)) &&
-           fc_in_range(a.y, fc_sub(&scratch, b.y, slack), fc_add(&scratch, b.y, slack)) &&
-           fc_in_range(a.z, fc_sub(&scratch, b.z, slack), fc_add(&scratch, b.z, slack));
+    return between(a.x, fc_sub(&scratch, b.x, slack), fc_add(&scratch, b.x, slack)) &&
+           between(a.y, fc_sub(&scratch, b.y, slack), fc_add(&scratch, b.y, slack)) &&
+           between(a.z, fc_sub(&scratch, b.z, slack), fc_add(&scratch, b.z, slack));
 }
 
 /* Inside the range, and (after the first, unless gyro_jump is 0) no further

@@ -375,12 +375,21 @@ static bool command_arms(fc_controller_command command)
     return command == FC_COMMAND_TRACK_PAD || command == FC_COMMAND_HOLD || command == FC_COMMAND_LAND;
 }
 
-/* The horizontal error to the pad's centre, |p_xy - sp_xy|. */
-static fc_real horizontal_error_m(fc_arith *ar, const fc_gated_inputs *in)
+/* The horizontal error to the pad's centre, |p_xy - sp_xy|, for a landing
+ * step that reads it (fc_landing_reads_horizontal_error); for the others 0,
+ * without the root, its saturation (fixed: past 2048 m) recorded as the
+ * root would have recorded it. */
+static fc_real horizontal_error_m(fc_arith *ar, const fc_gated_inputs *in, bool read)
 {
     const fc_real dx = fc_sub(ar, in->position_m.x, in->position_setpoint_m.x);
     const fc_real dy = fc_sub(ar, in->position_m.y, in->position_setpoint_m.y);
-    return fc_hypot3(ar, dx, dy, FC_INT(0, LENGTH));
+    if (read) {
+        return fc_hypot3(ar, dx, dy, FC_INT(0, LENGTH));
+    }
+    if (fc_hypot3_saturates(dx, dy, FC_INT(0, LENGTH))) {
+        ar->saturated = 1u;
+    }
+    return FC_INT(0, LENGTH);
 }
 
 static void landing_telemetry(const fc_controller *ctl, fc_controller_telemetry *tm, fc_landing_state state_before,
@@ -421,8 +430,7 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
     c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &c->rate_radps);
     c->tilt_cos = tilt_cos_of(&ctl->ar, c->attitude);
     ctl->last_attitude = c->attitude;
-    tm->attitude = c->attitude;
-    tm->attitude_setpoint = c->attitude;
+    tm->attitude = c->attitude; /* and the setpoint's telemetry, on the paths without one */
     tm->rate_radps = c->rate_radps;
     tm->tilt_cos = c->tilt_cos;
     return passed_on(tm->estimator_status) | attitude_status;
@@ -529,14 +537,19 @@ static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical
  * mission on good inputs, the thrust free, away from the surface. */
 static bool hover_learnable(const fc_controller *ctl, const step_context *c)
 {
+    /* the flags first: each test only when those before it pass */
+    if (!ctl->armed || ctl->failsafe.active || !c->inputs_ok ||
+        (ctl->last_saturation & (FC_SAT_THRUST_HIGH | FC_SAT_THRUST_LOW)) != 0u) {
+        return false;
+    }
     const fc_landing_state s = ctl->landing.state;
-    const bool on_surface = s == FC_LANDING_TOUCHDOWN || s == FC_LANDING_DISARM || s == FC_LANDING_LANDED;
-    const bool thrust_free = (ctl->last_saturation & (FC_SAT_THRUST_HIGH | FC_SAT_THRUST_LOW)) == 0u &&
-                             ctl->last_thrust_n > ctl->p.thrust_min_n &&
-                             ctl->last_thrust_n < ctl->p.thrust_max_n;
+    if (s == FC_LANDING_TOUCHDOWN || s == FC_LANDING_DISARM || s == FC_LANDING_LANDED) {
+        return false; /* on the surface */
+    }
+    const bool thrust_free = ctl->last_thrust_n > ctl->p.thrust_min_n && ctl->last_thrust_n < ctl->p.thrust_max_n;
     const bool near_surface = ctl->gear_height_known && ctl->gear_height_age_s <= ctl->p.range_fresh_s &&
                               ctl->gear_height_m < FC_C(0.2f, LENGTH);
-    return ctl->armed && !ctl->failsafe.active && c->inputs_ok && thrust_free && !on_surface && !near_surface;
+    return thrust_free && !near_surface;
 }
 
 /* The vertical channel (fc/vertical_estimator.h), every step. */
@@ -580,6 +593,7 @@ static fc_step_status stopped(fc_controller *ctl, fc_controller_outputs *out, fc
         reset_loops(ctl);
     }
     ctl->last_command = FC_COMMAND_DISARM;
+    out->telemetry.attitude_setpoint = out->telemetry.attitude; /* no setpoint: the attitude itself */
     out->telemetry.altitude = (fc_altitude_control_output){0};
     landing_telemetry(ctl, &out->telemetry, state_before, reason_before);
     motors_off(ctl, out);
@@ -643,9 +657,13 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         const bool from_mission = ctl->last_command == FC_COMMAND_HOLD || ctl->last_command == FC_COMMAND_LAND;
         const bool to_mission = c.command == FC_COMMAND_HOLD || c.command == FC_COMMAND_LAND;
         if (!(from_mission && to_mission)) {
-            /* a new task: loops start clean; (3.6) starts again from z_r_init */
+            /* a new task: loops start clean; (3.6) starts again from z_r_init
+             * when the task is TRACK_PAD, its only user (any later switch to
+             * TRACK_PAD is a new task too, so it always starts there) */
             reset_loops(ctl);
-            fc_altitude_reference_restart(&ctl->reference, ctl->p.reference_offset_init_m);
+            if (c.command == FC_COMMAND_TRACK_PAD) {
+                fc_altitude_reference_restart(&ctl->reference, ctl->p.reference_offset_init_m);
+            }
             fc_landing_reset(&ctl->landing);
         }
     }
@@ -664,7 +682,8 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     } else if (c.command == FC_COMMAND_TRACK_PAD) {
         status |= passed_on(fc_altitude_reference_step(&ctl->reference, &c.in.pad, &tm->reference));
     } else {
-        const fc_landing_input lin = {landing_request_of(c.command), c.in.position_m.z, horizontal_error_m(ar, &c.in),
+        const fc_landing_input lin = {landing_request_of(c.command), c.in.position_m.z,
+                                      horizontal_error_m(ar, &c.in, fc_landing_reads_horizontal_error(&ctl->landing)),
                                       c.tilt_cos, ctl->gear_height_m, c.range_fresh, ctl->last_thrust_n, &tm->pad};
         fc_landing_output lout;
         status |= passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
@@ -693,6 +712,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     if (!motors_on) {
         reset_loops(ctl);
         motors_off(ctl, out);
+        tm->attitude_setpoint = tm->attitude; /* no setpoint: the attitude itself */
         return status;
     }
     if (fly_reference) {

@@ -367,6 +367,15 @@ static void follow_request(fc_landing *lm, const fc_landing_input *in)
     }
 }
 
+bool fc_landing_reads_horizontal_error(const fc_landing *lm)
+{
+    /* descent_blocked (OBSERVE) and descent_abort_reason (DESCEND, TOUCHDOWN)
+     * are its only readers; a step's request moves the state only to HOLD or
+     * IDLE before them, and neither reads it */
+    const fc_landing_state s = lm->state;
+    return s == FC_LANDING_OBSERVE || s == FC_LANDING_DESCEND || s == FC_LANDING_TOUCHDOWN;
+}
+
 fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
 {
     *out = (fc_landing_output){0};

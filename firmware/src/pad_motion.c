@@ -33,6 +33,10 @@ static bool pad_motion_params_valid(const fc_pad_motion_params *p)
            fc_in_range(p->error_average_gain, FC_C(1e-4f, UNIT), FC_INT(1, UNIT));
 }
 
+/* phi[0], the regressor of the level theta[0]: 1 at every step (only the
+ * modes' entries turn), so the sums over phi take it as the constant. */
+#define LEVEL_REGRESSOR FC_INT(1, UNIT)
+
 /* Where mode k's sine and cosine sit in phi (and its a_k, b_k in theta). */
 static unsigned sin_of(unsigned k)
 {
@@ -172,7 +176,7 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
     pm->rotation_stale = 0u;
     pm->phases_behind = false;
     /* phases start at t = 0: sin 0, cos 0 (and zero past n) */
-    pm->phi[0] = FC_INT(1, UNIT);
+    pm->phi[0] = LEVEL_REGRESSOR;
     for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
         pm->phi[sin_of(k)] = FC_INT(0, UNIT);
         pm->phi[cos_of(k)] = k < p->mode_count ? FC_INT(1, UNIT) : FC_INT(0, UNIT);
@@ -218,11 +222,11 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
  * unrolled where the compiler unrolls, the same result to the bit. */
 
 /* theta' phi: LENGTH x UNIT summed into LENGTH (over every entry: those
- * past n are zero, PARAMETERS_PAST_N). */
+ * past n are zero, PARAMETERS_PAST_N; phi[0] is LEVEL_REGRESSOR). */
 static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real *phi)
 {
-    fc_acc acc = fc_acc_zero();
-    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+    fc_acc acc = fc_acc_mac(fc_acc_zero(), theta[0], LEVEL_REGRESSOR);
+    for (unsigned i = 1u; i < FC_PAD_MAX_PARAMS; i++) {
         acc = fc_acc_mac(acc, theta[i], phi[i]);
     }
     return fc_acc_result(ar, acc, FC_SHIFT(LENGTH, UNIT, LENGTH));
@@ -314,16 +318,17 @@ static void prepare_sample(fc_pad_motion *pm)
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *phi = pm->phi;
-    /* S phi (MAT; = (phi' S)' as S is symmetric) and phi' S phi */
+    /* S phi (MAT; = (phi' S)' as S is symmetric) and phi' S phi (phi[0]:
+     * LEVEL_REGRESSOR) */
     fc_real *s_phi = pm->pending_s_phi;
     fc_acc quad = fc_acc_zero();
     for (unsigned i = 0u; i < n; i++) {
-        fc_acc acc = fc_acc_zero();
-        for (unsigned j = 0u; j < n; j++) {
+        fc_acc acc = fc_acc_mac(fc_acc_zero(), pm->s[i][0], LEVEL_REGRESSOR);
+        for (unsigned j = 1u; j < n; j++) {
             acc = fc_acc_mac(acc, pm->s[i][j], phi[j]);
         }
         s_phi[i] = fc_acc_result(ar, acc, FC_SHIFT(MAT, UNIT, MAT));
-        quad = fc_acc_mac(quad, phi[i], s_phi[i]);
+        quad = fc_acc_mac(quad, i == 0u ? LEVEL_REGRESSOR : phi[i], s_phi[i]);
     }
     /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
     const fc_real phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));

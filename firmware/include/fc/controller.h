@@ -212,18 +212,6 @@ typedef struct fc_controller_settings {
 
 typedef struct fc_controller {
     fc_controller_settings p;
-    fc_attitude_estimator estimator;
-    fc_attitude_control attitude;
-    fc_allocation allocation;
-    fc_altitude_reference reference;
-    fc_altitude_control altitude;
-    fc_position_control position;
-    fc_pad_motion pad_motion;
-    fc_landing landing;
-    fc_input_gate gate;
-    fc_vertical_estimator vertical;
-    fc_land_detector land_detector;
-    fc_failsafe failsafe;
     fc_controller_command last_command; /* the mode flown at the last step (DISARM: none) */
     fc_controller_command mode;         /* the newest valid command: what an unknown one keeps */
     bool armed;
@@ -253,6 +241,26 @@ typedef struct fc_controller {
     fc_real step_s;                     /* TIME: dt */
     bool ready;
     fc_arith ar;
+    /* The modules after the step's own fields: those stepped at every step
+     * first, then the outer group's (position loop, pad model) and the
+     * allocation, the largest. The order is for the Cortex-M4F: a VLDR/VSTR
+     * reaches 1020 bytes from its base register, and in the one translation
+     * unit (unity/fc_library.c) the step addresses the modules' fields from
+     * ctl, so a field placed further off costs an address computation at
+     * each access; among the per-step modules, the order the bench's step
+     * (tools/bench.sh) took the fewest cycles with. */
+    fc_attitude_estimator estimator;
+    fc_vertical_estimator vertical;
+    fc_altitude_reference reference;
+    fc_input_gate gate;
+    fc_attitude_control attitude;
+    fc_failsafe failsafe;
+    fc_land_detector land_detector;
+    fc_landing landing;
+    fc_altitude_control altitude;
+    fc_position_control position;
+    fc_pad_motion pad_motion;
+    fc_allocation allocation;
 } fc_controller;
 
 /* Parameters for an airframe at step dt_s, with the altitude law of variant. */

@@ -179,4 +179,9 @@ void fc_landing_abort(fc_landing *lm, const fc_landing_input *in, fc_landing_rea
 
 fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out);
 
+/* Whether the next fc_landing_step reads in->horizontal_error_m: only in
+ * OBSERVE (what keeps the descent from starting) and in DESCEND and
+ * TOUCHDOWN (the aborts); in the other states it may be left unformed. */
+bool fc_landing_reads_horizontal_error(const fc_landing *lm);
+
 #endif /* FC_LANDING_H */

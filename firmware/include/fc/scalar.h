@@ -851,7 +851,11 @@ static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int fra
 
 static inline bool fc_is_finite(fc_real a)
 {
-    return __builtin_isfinite(a);
+    /* a - a is +0 for every finite a and NaN for an infinity or a NaN: the
+     * same answer as isfinite, compared with the zero the FPU's VCMP takes
+     * as an immediate (isfinite compares |a| with the largest float, a
+     * literal load at every test) */
+    return a - a == 0.0f;
 }
 
 /* ---- 16-bit values: float here too, the same expressions as fc_real's ---- */
@@ -1038,6 +1042,20 @@ static inline bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real lim
     return limit >= 0.0f && sum <= limit * limit;
 }
 #endif
+/* Whether fc_hypot3(a, b, c) would saturate (its root beyond FC_REAL_MAX), told
+ * without the root: for a caller that leaves out a norm it does not need and
+ * keeps its saturation record as the norm would have left it. Never in float. */
+static inline bool fc_hypot3_saturates(fc_real a, fc_real b, fc_real c)
+{
+#if FC_NUMERIC_FIXED
+    return !fc_hypot3_within(a, b, c, FC_REAL_MAX);
+#else
+    (void)a;
+    (void)b;
+    (void)c;
+    return false;
+#endif
+}
 
 /* sin and cos of an ANGLE, results in UNIT. Accuracy in fixed: a few UNIT LSB. */
 fc_real fc_sin(fc_arith *ar, fc_real angle_rad);
