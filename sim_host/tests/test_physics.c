@@ -167,7 +167,7 @@ static void test_ground_effect_gain(void **state)
     const double kg_max = 1.0 / (1.0 - 1.184 * pow(0.16 / (4.0 * 0.18), 2.0));
     assert_true(fabs(plant_ground_gain(0.16, 1.184, 0.18) - kg_max) < 1e-15);
     const double heights[] = {-0.3, 0.0, 0.1, 0.18, 0.2, 0.3, 0.5, 1.0, 3.0};
-    double last = INFINITY;
+    double last = (double)INFINITY;
     for (unsigned k = 0; k < sizeof heights / sizeof heights[0]; k++) {
         const double h = heights[k];
         plant pl;

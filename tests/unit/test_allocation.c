@@ -1287,7 +1287,7 @@ static void test_normalise_round_trip(void **state)
                  * it; float: the division's rounding */
                 const double norm_tol = FIXED ? ldexp(1.0, -15) + ldexp(1.0, -25) : EPS * fabs(ratio);
                 worst_norm = fmax(worst_norm, fabs((double)x[r] - ratio) / norm_tol);
-                assert_near("normalised", x[r], ratio, norm_tol);
+                assert_near("normalised", (double)x[r], ratio, norm_tol);
                 /* physical: back within that times the authority, plus the
                  * product's rounding (half an LSB of FORCE or MOMENT) */
                 const double phys_tol = FIXED ? norm_tol * (double)auth[r] + ldexp(0.5, -frac[r])
@@ -1309,7 +1309,7 @@ static void test_normalise_round_trip(void **state)
                 if (FIXED) {
                     assert_true(first[r] == second[r]);
                 } else {
-                    assert_near("normalised again", norm_value(second[r]), norm_value(first[r]),
+                    assert_near("normalised again", (double)norm_value(second[r]), (double)norm_value(first[r]),
                                 2.0 * EPS * fabs((double)norm_value(first[r])));
                 }
             }
@@ -1317,7 +1317,8 @@ static void test_normalise_round_trip(void **state)
              * 1 / F_max in PER_FORCE, 2^-27 relative of 1 / F_max at worst)
              * within one NORM16 LSB of the division */
             const fc_real16 fraction = fc_allocation_thrust_fraction(&a, w[0]);
-            assert_near("thrust fraction", norm_value(fraction), x[0], FIXED ? ldexp(1.0, -14) : 2.0 * EPS);
+            assert_near("thrust fraction", (double)norm_value(fraction), (double)x[0],
+                        FIXED ? ldexp(1.0, -14) : 2.0 * EPS);
         }
         print_message("%-11s normalise/physical: worst %.3g / %.3g of the tolerance\n", preset_names[k],
                       worst_norm, worst_phys);
@@ -1326,10 +1327,10 @@ static void test_normalise_round_trip(void **state)
             &a, from_f(5.0f * auth[0], FC_FORCE_FRAC),
             fc_vec3_make(from_f(-3.0f * auth[1], FC_MOMENT_FRAC), FC_INT(0, MOMENT),
                          from_f(2.5f * auth[3], FC_MOMENT_FRAC)));
-        assert_near("clamped thrust", norm_value(big.thrust), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
-        assert_near("clamped roll", norm_value(big.moment.x), -1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+        assert_near("clamped thrust", (double)norm_value(big.thrust), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+        assert_near("clamped roll", (double)norm_value(big.moment.x), -1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
         assert_true(big.moment.y == FC_INT16(0, NORM16));
-        assert_near("clamped yaw", norm_value(big.moment.z), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
+        assert_near("clamped yaw", (double)norm_value(big.moment.z), 1.99, FIXED ? ldexp(1.0, -15) : 2.0 * EPS);
     }
     /* not ready: a zero demand (no authority to divide by) */
     fc_allocation idle;

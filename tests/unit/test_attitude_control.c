@@ -353,13 +353,34 @@ static void ref_error(dq q, dq qd, double err[3])
 }
 
 /* Tolerance of the attitude error (rad), for a tilt error N = cos(tilt_e / 2)
- * away from upside down: the heading split divides by N, so its rounding
- * grows as 1/N. Fixed: the error is formed from the quaternions in UNIT16
- * (fc/quat.h: fc_quat16, LSB 2^-14 = 6.1e-5), within 4.5 LSB / N
- * (test_error_accuracy: 4.0 seen); float within 1e-6 / N (2.7e-7 seen). */
+ * away from upside down (N >= 0.01, the heading split's threshold), the
+ * quaternions given unit to well below a UNIT16 LSB (as every test here
+ * gives them). With d the error of the error quaternion e (2-norm), U that
+ * of fc_unit2_16's (c, s) against e's own (w, z) / N, and r the rounding of
+ * the tilt's dot product: the heading 2 s is off by 2 (d / N' + U) and the
+ * tilt 2 R(c, s) (x, y) by 2 (d_xy + S (d_wz / N' + sqrt(2) U) + r), S =
+ * |(x, y)|, where N' = (N + N_e) / 2 >= N (1 - d / 0.02) (the two normalised
+ * vectors differ by at most 2 d / (N + N_e)). With N^2 + S^2 = 1 and
+ * d_xy^2 + d_wz^2 <= d^2, N times either is below 2 (1.01 d + U + r):
+ *   fixed (L = 2^-14, UNIT16): q and q_d rounded to UNIT16, 0.5 L a
+ *     component, 1 L each in norm, and e's four roundings 1 L: d = 3.01 L
+ *     (the 32-bit inputs' own 2^-30); U = 1.32 L (test_scalar's
+ *     unit2_16_bound_lsb); r = 0 (exact 16 x 16-bit products);
+ *   float (u = 2^-24, each rounding within u relative): fc_quat_normalize
+ *     5 u each (|q|^2 in 4 u, 1/sqrt 2 u of that and two roundings, the
+ *     product u), e's 4-term sums 4 u a component, 8 u in norm: d = 18 u;
+ *     U = 4 u (test_scalar's unit2_16_bound_lsb); r = u (the dot product's
+ *     2 u S, N S <= 1/2). */
 static double error_tol_at(double n)
 {
-    return (FC_NUMERIC_FIXED ? 4.5 * ldexp(1.0, -FC_UNIT16_FRAC) : 1e-6) / n;
+#if FC_NUMERIC_FIXED
+    const double lsb = ldexp(1.0, -FC_UNIT16_FRAC);
+    const double d = 3.01 * lsb, unit2 = 1.32 * lsb, dot = 0.0;
+#else
+    const double u = ldexp(1.0, -24);
+    const double d = 18.0 * u, unit2 = 4.0 * u, dot = u;
+#endif
+    return 2.0 * (1.01 * d + unit2 + dot) / n;
 }
 
 /* ... and for the tilt errors of the tests below, up to 90 deg (N >= 0.707) */
@@ -1186,8 +1207,9 @@ static void test_integral_hold(void **state)
     const ref_params r = ref_from(&c);
     const dq q = dq_axis_angle(1.0, 1.0, 1.0, 5.0 * kDeg);
     fc_attitude_control_output out;
-    /* 200 steps of 0.05 rad (per axis) x 2 ms: I = 0.02 rad s, Ki I = 0.008 */
-    for (int k = 0; k < 200; k++) {
+    /* 400 steps of 0.05 rad (per axis) x 2 ms: I = 0.04 rad s (below the
+     * limit 0.05), Ki I = 0.016: well above the moment's tolerance */
+    for (int k = 0; k < 400; k++) {
         step_with(&c, q, 0u, &out);
     }
     const fc_vec3 held = c.integral_rad_s;

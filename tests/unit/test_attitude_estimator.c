@@ -48,7 +48,7 @@
 #if FC_NUMERIC_FIXED
 #define NAN_OR_BEYOND 60.0
 #else
-#define NAN_OR_BEYOND NAN
+#define NAN_OR_BEYOND ((double)NAN)
 #endif
 #define G_MPS2 9.81
 #define DT_S 0.002
@@ -745,8 +745,8 @@ static void test_bad_gyro_nan(void **state)
     s.gyro_radps.x = FC_REAL_MAX;
     check_bad_gyro(s, "saturated gyro");
 #else
-    check_bad_gyro(sample(NAN, 0, 0, 0, 0, G_MPS2), "NaN gyro");
-    check_bad_gyro(sample(0, INFINITY, 0, 0, 0, G_MPS2), "inf gyro");
+    check_bad_gyro(sample((double)NAN, 0, 0, 0, 0, G_MPS2), "NaN gyro");
+    check_bad_gyro(sample(0, (double)INFINITY, 0, 0, 0, G_MPS2), "inf gyro");
 #endif
 }
 
@@ -761,10 +761,10 @@ static void test_bad_accel_inf(void **state)
 {
     (void)state;
     /* fixed: fc_from_float turns infinity into the int32 limit, beyond the range */
-    check_bad_accel(sample(0, 0, 0, INFINITY, 0, G_MPS2), "inf accel");
-    check_bad_accel(sample(0, 0, 0, 0, 0, -INFINITY), "-inf accel");
+    check_bad_accel(sample(0, 0, 0, (double)INFINITY, 0, G_MPS2), "inf accel");
+    check_bad_accel(sample(0, 0, 0, 0, 0, -(double)INFINITY), "-inf accel");
 #if !FC_NUMERIC_FIXED
-    check_bad_accel(sample(0, 0, 0, 0, NAN, G_MPS2), "NaN accel");
+    check_bad_accel(sample(0, 0, 0, 0, (double)NAN, G_MPS2), "NaN accel");
 #endif
 }
 

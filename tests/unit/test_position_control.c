@@ -200,7 +200,7 @@ static void test_attitude_setpoint(void **state)
         in.accel_ff_mps2 = fc_vec3_make(ts_in(ts_uniform(&rng, -8, 8), FC_ACCEL_FRAC, &ax),
                                         ts_in(ts_uniform(&rng, -8, 8), FC_ACCEL_FRAC, &ay),
                                         ts_in(ts_uniform(&rng, -3, 3), FC_ACCEL_FRAC, &az));
-        const double psi = ts_uniform(&rng, -3.14159f, 3.14159f);
+        const double psi = (double)ts_uniform(&rng, -3.14159f, 3.14159f);
         in.heading_cos = fc_from_float((float)cos(psi), FC_UNIT_FRAC);
         in.heading_sin = fc_from_float((float)sin(psi), FC_UNIT_FRAC);
         fc_position_control_output out;
