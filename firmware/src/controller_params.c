@@ -269,10 +269,11 @@ static void gyro_plausibility(fc_controller_params *p, fc_vec3 inertia)
     p->estimator.gyro_jump_radps = FC_C(0.5f, RATE);
 }
 
-void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
-                                  fc_real dt_s)
+/* Everything that follows from the airframe's mass, inertia and rotors
+ * (p->mass_kg, p->allocation), with the gains and limits of airframe. */
+static void defaults_around(fc_controller_params *p, fc_airframe airframe, fc_vec3 inertia,
+                            fc_altitude_variant variant, fc_real dt_s)
 {
-    const fc_vec3 inertia = airframe_defaults(p, airframe);
     p->dt_s = dt_s;
     p->outer_divider = default_outer_divider(dt_s);
     p->gravity_mps2 = FC_C(9.81f, ACCEL);
@@ -319,6 +320,23 @@ void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe,
     landing_defaults(p, airframe);
     safety_defaults(p, airframe);
     fc_controller_set_mass(p, p->mass_kg);
+}
+
+void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
+                                  fc_real dt_s)
+{
+    const fc_vec3 inertia = airframe_defaults(p, airframe);
+    defaults_around(p, airframe, inertia, variant, dt_s);
+}
+
+void fc_controller_default_params_for(fc_controller_params *p, fc_airframe gains_of,
+                                      const fc_allocation_params *rotors, fc_real mass_kg, fc_vec3 inertia_kgm2,
+                                      fc_altitude_variant variant, fc_real dt_s)
+{
+    (void)airframe_defaults(p, gains_of);
+    p->allocation = *rotors;
+    p->mass_kg = mass_kg;
+    defaults_around(p, gains_of, inertia_kgm2, variant, dt_s);
 }
 
 void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg)

@@ -2,6 +2,7 @@
 #include "cf_convert.h"
 
 #include <math.h>
+#include <stddef.h>
 
 #define F(x, KIND) fc_from_float((x), FC_##KIND##_FRAC)
 #define R(x, KIND) fc_to_float((x), FC_##KIND##_FRAC)
@@ -55,12 +56,71 @@ fc_quat cf_quat_from_legacy_rpy_deg(float roll_deg, float pitch_legacy_deg, floa
                              cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy);
 }
 
+/* ---- airframe ------------------------------------------------------------------ */
+
+/* mass 0: the library's preset as it is */
+static cf_airframe airframe;
+
+static bool within(float value, float low, float high)
+{
+    return value >= low && value <= high;
+}
+
+bool cf_airframe_use(const cf_airframe *af)
+{
+    if (af == NULL) {
+        airframe = (cf_airframe){0};
+        return true;
+    }
+    const bool plausible = within(af->mass_kg, 0.005f, 1.0f) && within(af->arm_m, 0.01f, 0.5f) &&
+                           within(af->thrust_max_n, 0.01f, 10.0f) &&
+                           within(af->thrust_min_n, 0.0f, 0.9f * af->thrust_max_n) &&
+                           within(af->torque_per_thrust_m, 0.0005f, 0.05f);
+    if (!plausible) {
+        return false;
+    }
+    airframe = *af;
+    return true;
+}
+
+/* The preset's quad-X (rotor order and spin) with the platform's arm,
+ * thrust range and torque per thrust; the idle speed sqrt(THRUST_MIN /
+ * THRUST_MAX) of a thrust that goes with the speed squared. */
+static void airframe_rotors(fc_allocation_params *a)
+{
+    fc_allocation_preset_crazyflie2(a);
+    const float arm_ratio = airframe.arm_m / CF_AIRFRAME_PRESET_ARM_M;
+    const float speed_min = sqrtf(airframe.thrust_min_n / airframe.thrust_max_n);
+    for (int i = 0; i < a->rotor_count && i < FC_MAX_ROTORS; i++) {
+        fc_rotor_params *r = &a->rotor[i];
+        const float spin = R(r->torque_max_nm, MOMENT) < 0.0f ? -1.0f : 1.0f;
+        r->position_m.x = F(R(r->position_m.x, LENGTH) * arm_ratio, LENGTH);
+        r->position_m.y = F(R(r->position_m.y, LENGTH) * arm_ratio, LENGTH);
+        r->thrust_max_n = F(airframe.thrust_max_n, FORCE);
+        r->torque_max_nm = F(spin * airframe.thrust_max_n * airframe.torque_per_thrust_m, MOMENT);
+        r->speed_min = F(speed_min, UNIT);
+    }
+}
+
 /* ---- tuning -------------------------------------------------------------------- */
 
 static void default_params(fc_controller_params *p, uint8_t variant)
 {
-    fc_controller_default_params(p, FC_AIRFRAME_CRAZYFLIE2, (fc_altitude_variant)variant,
-                                 FC_C(CF_STEP_DT_S, DT));
+    if (!(airframe.mass_kg > 0.0f)) {
+        fc_controller_default_params(p, FC_AIRFRAME_CRAZYFLIE2, (fc_altitude_variant)variant,
+                                     FC_C(CF_STEP_DT_S, DT));
+        return;
+    }
+    /* the platform's airframe; the preset's inertia scaled by mass and arm^2 */
+    fc_allocation_params rotors;
+    airframe_rotors(&rotors);
+    const float arm_ratio = airframe.arm_m / CF_AIRFRAME_PRESET_ARM_M;
+    const float scale = airframe.mass_kg / CF_AIRFRAME_PRESET_MASS_KG * arm_ratio * arm_ratio;
+    const fc_vec3 inertia = fc_vec3_make(F(CF_AIRFRAME_PRESET_JXY_KGM2 * scale, INERTIA),
+                                         F(CF_AIRFRAME_PRESET_JXY_KGM2 * scale, INERTIA),
+                                         F(CF_AIRFRAME_PRESET_JZ_KGM2 * scale, INERTIA));
+    fc_controller_default_params_for(p, FC_AIRFRAME_CRAZYFLIE2, &rotors, F(airframe.mass_kg, MASS), inertia,
+                                     (fc_altitude_variant)variant, FC_C(CF_STEP_DT_S, DT));
 }
 
 bool cf_tuning_prepare(cf_tuning *t)
@@ -137,10 +197,10 @@ float cf_approach_offset_m(const cf_tuning *t, float z_m, float pad_z_m)
         return t->z_init;
     }
     const float above = z_m - pad_z_m - t->z_bias;
-    if (!(above > 0.0f)) {
-        return 0.0f; /* below the hold point, or no position yet */
+    if (!isfinite(above)) {
+        return 0.0f; /* no position yet */
     }
-    return above < CF_APPROACH_OFFSET_MAX_M ? above : CF_APPROACH_OFFSET_MAX_M;
+    return fminf(fmaxf(above, -CF_APPROACH_OFFSET_MAX_M), CF_APPROACH_OFFSET_MAX_M);
 }
 
 /* ---- decisions ------------------------------------------------------------------ */
@@ -148,9 +208,16 @@ float cf_approach_offset_m(const cf_tuning *t, float z_m, float pad_z_m)
 void cf_session_reset(cf_session *s)
 {
     s->last_command = FC_COMMAND_DISARM;
-    s->hold_x_m = 0.0f;
-    s->hold_y_m = 0.0f;
-    s->hold_yaw_rad = 0.0f;
+    s->sp_x_m = 0.0f;
+    s->sp_y_m = 0.0f;
+    s->sp_yaw_rad = 0.0f;
+    s->cmd_z_m = 0.0f;
+    s->cmd_vz_mps = 0.0f;
+    s->cmd_az_mps2 = 0.0f;
+    s->have_cmd_z = false;
+    s->approach_offset_m = 0.0f;
+    s->approach_decay = 0.0f;
+    s->approach_pending = false;
     s->pad_phase_rad = 0.0f;
     s->range_last_mm = 0.0f;
     s->range_m = 0.0f;
@@ -179,39 +246,174 @@ fc_controller_command cf_command(uint8_t mission, uint8_t track, const cf_sample
     }
 }
 
-bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s)
+/* A finite value, or the fallback. */
+static float finite_or(float value, float fallback)
 {
+    return isfinite(value) ? value : fallback;
+}
+
+bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s, const cf_tuning *t)
+{
+    (void)t;
     const bool begins = ss->last_command == FC_COMMAND_DISARM && command != FC_COMMAND_DISARM;
     if (begins) {
-        ss->hold_x_m = s->pos_m[0];
-        ss->hold_y_m = s->pos_m[1];
-        ss->hold_yaw_rad = cf_wrap_pi(cf_rad_from_deg(s->yaw_deg));
+        ss->sp_x_m = finite_or(s->pos_m[0], 0.0f);
+        ss->sp_y_m = finite_or(s->pos_m[1], 0.0f);
+        ss->sp_yaw_rad = finite_or(cf_wrap_pi(cf_rad_from_deg(s->yaw_deg)), 0.0f);
+        ss->cmd_z_m = finite_or(s->pos_m[2], 0.0f);
+        ss->cmd_vz_mps = 0.0f;
+        ss->cmd_az_mps2 = 0.0f;
+        ss->have_cmd_z = false;
         ss->pad_phase_rad = 0.0f;
     }
+    /* every switch into tracking: the approach starts at the next setpoint step */
+    ss->approach_pending = command == FC_COMMAND_TRACK_PAD && ss->last_command != FC_COMMAND_TRACK_PAD;
     ss->last_command = command;
     return begins;
 }
 
+/* value kept within lead of centre */
+static float within_lead(float value, float centre, float lead)
+{
+    return fminf(fmaxf(value, centre - lead), centre + lead);
+}
+
+/* x, y: a point, a velocity, or none (level). */
+static void horizontal_setpoint_step(cf_session *ss, const cf_sample *s, const cf_tuning *t, float dt_s)
+{
+    if (s->sp_mode_x == CF_MODE_ABS && s->sp_mode_y == CF_MODE_ABS) {
+        ss->sp_x_m = finite_or(s->sp_pos_m[0], ss->sp_x_m);
+        ss->sp_y_m = finite_or(s->sp_pos_m[1], ss->sp_y_m);
+    } else if (s->sp_mode_x == CF_MODE_VELOCITY && s->sp_mode_y == CF_MODE_VELOCITY) {
+        float vx_mps = finite_or(s->sp_vel_mps[0], 0.0f), vy_mps = finite_or(s->sp_vel_mps[1], 0.0f);
+        if (s->sp_velocity_body) {
+            /* the body's heading frame, turned to the world by the vehicle's yaw */
+            const float yaw_rad = finite_or(cf_rad_from_deg(s->yaw_deg), 0.0f);
+            const float c = cosf(yaw_rad), sn = sinf(yaw_rad);
+            const float forward_mps = vx_mps;
+            vx_mps = c * forward_mps - sn * vy_mps;
+            vy_mps = sn * forward_mps + c * vy_mps;
+        }
+        const float x = within_lead(ss->sp_x_m + vx_mps * dt_s, s->pos_m[0], CF_VELOCITY_LEAD_MAX_M);
+        const float y = within_lead(ss->sp_y_m + vy_mps * dt_s, s->pos_m[1], CF_VELOCITY_LEAD_MAX_M);
+        ss->sp_x_m = finite_or(x, ss->sp_x_m);
+        ss->sp_y_m = finite_or(y, ss->sp_y_m);
+    } else {
+        /* level out: the PD's kp (sp - p) - kd v is zero at sp = p + v kd / kp */
+        const float lead_s = t->h_kp > 0.0f ? t->h_kd / t->h_kp : 0.0f;
+        ss->sp_x_m = finite_or(s->pos_m[0] + s->vel_mps[0] * lead_s, ss->sp_x_m);
+        ss->sp_y_m = finite_or(s->pos_m[1] + s->vel_mps[1] * lead_s, ss->sp_y_m);
+    }
+}
+
+static void yaw_setpoint_step(cf_session *ss, const cf_sample *s, float dt_s)
+{
+    if (s->sp_mode_yaw == CF_MODE_ABS) {
+        ss->sp_yaw_rad = finite_or(cf_wrap_pi(cf_rad_from_deg(s->sp_yaw_deg)), ss->sp_yaw_rad);
+    } else if (s->sp_mode_yaw == CF_MODE_VELOCITY) {
+        const float turned = cf_wrap_pi(ss->sp_yaw_rad + cf_rad_from_deg(s->sp_yaw_rate_dps) * dt_s);
+        ss->sp_yaw_rad = finite_or(turned, ss->sp_yaw_rad);
+    } else {
+        /* held */
+    }
+}
+
+/* z: toward the commanded height at most CF_COMMAND_Z_SPEED_MAX_MPS, with its feed-forward. */
+static void vertical_setpoint_step(cf_session *ss, const cf_sample *s, float dt_s)
+{
+    float target_m = ss->cmd_z_m, vz_mps = 0.0f, az_mps2 = 0.0f;
+    if (s->sp_mode_z == CF_MODE_ABS) {
+        target_m = finite_or(s->sp_pos_m[2], ss->cmd_z_m);
+        vz_mps = finite_or(s->sp_vel_mps[2], 0.0f);
+        az_mps2 = finite_or(s->sp_acc_mps2[2], 0.0f);
+    } else if (s->sp_mode_z == CF_MODE_VELOCITY) {
+        vz_mps = finite_or(s->sp_vel_mps[2], 0.0f);
+        target_m = finite_or(within_lead(ss->cmd_z_m + vz_mps * dt_s, s->pos_m[2], CF_VELOCITY_LEAD_MAX_M),
+                             ss->cmd_z_m);
+    } else {
+        return; /* held: the level-out keeps z, and so does a setpoint without one */
+    }
+    /* the first height after a start is taken as it is (the approach joins it to the
+     * vehicle's); later ones move at most CF_COMMAND_Z_SPEED_MAX_MPS */
+    const float step_max_m = ss->have_cmd_z ? CF_COMMAND_Z_SPEED_MAX_MPS * dt_s : CF_APPROACH_OFFSET_MAX_M;
+    const float moved_m = within_lead(target_m, ss->cmd_z_m, step_max_m);
+    const bool limited = moved_m != target_m;
+    ss->cmd_z_m = moved_m;
+    /* a ramp the limit makes has its own speed and no acceleration */
+    const float ramp_mps = target_m > moved_m ? CF_COMMAND_Z_SPEED_MAX_MPS : -CF_COMMAND_Z_SPEED_MAX_MPS;
+    ss->cmd_vz_mps = limited ? ramp_mps : within_lead(vz_mps, 0.0f, CF_COMMAND_Z_SPEED_MAX_MPS);
+    ss->cmd_az_mps2 = limited ? 0.0f : az_mps2;
+    ss->have_cmd_z = true;
+}
+
+void cf_setpoint_step(cf_session *ss, const cf_sample *s, const cf_tuning *t, float dt_s)
+{
+    horizontal_setpoint_step(ss, s, t, dt_s);
+    yaw_setpoint_step(ss, s, dt_s);
+    vertical_setpoint_step(ss, s, dt_s);
+    if (ss->approach_pending) {
+        /* z_r starts at the vehicle's height, over the height this step tracks */
+        ss->approach_offset_m = cf_approach_offset_m(t, s->pos_m[2], cf_pad_height_m(ss, t));
+        ss->approach_decay = 1.0f;
+        ss->approach_pending = false;
+    }
+}
+
+/* Tracking rides on the commander's height (less the bias) once it gave one. */
+static bool follows_command(const cf_session *ss, const cf_tuning *t)
+{
+    return t->command_z != 0u && ss->have_cmd_z;
+}
+
+/* The pad in float: m, m/s, m/s^2. */
+static void pad_float(const cf_session *ss, const cf_tuning *t, float *z_m, float *vz_mps, float *az_mps2)
+{
+    const float w = 2.0f * CF_PI_F * t->pad_freq;
+    const float sn = sinf(ss->pad_phase_rad), c = cosf(ss->pad_phase_rad);
+    const bool command = follows_command(ss, t);
+    *z_m = (command ? ss->cmd_z_m - t->z_bias : t->pad_z) + t->pad_amp * sn;
+    *vz_mps = (command ? ss->cmd_vz_mps : 0.0f) + t->pad_amp * w * c;
+    *az_mps2 = (command ? ss->cmd_az_mps2 : 0.0f) - t->pad_amp * w * w * sn;
+}
+
 float cf_pad_height_m(const cf_session *ss, const cf_tuning *t)
 {
-    return t->pad_z + t->pad_amp * sinf(ss->pad_phase_rad);
+    float z_m, vz_mps, az_mps2;
+    pad_float(ss, t, &z_m, &vz_mps, &az_mps2);
+    return z_m;
 }
 
 fc_vertical_trajectory cf_pad_trajectory(const cf_session *ss, const cf_tuning *t)
 {
-    const float w = 2.0f * CF_PI_F * t->pad_freq;
-    const float s = sinf(ss->pad_phase_rad), c = cosf(ss->pad_phase_rad);
+    float z_m, vz_mps, az_mps2;
+    pad_float(ss, t, &z_m, &vz_mps, &az_mps2);
     fc_vertical_trajectory pad;
-    pad.z_m = F(t->pad_z + t->pad_amp * s, LENGTH);
-    pad.vz_mps = F(t->pad_amp * w * c, VEL);
-    pad.az_mps2 = F(-t->pad_amp * w * w * s, ACCEL);
+    pad.z_m = F(z_m, LENGTH);
+    pad.vz_mps = F(vz_mps, VEL);
+    pad.az_mps2 = F(az_mps2, ACCEL);
     return pad;
+}
+
+fc_vertical_trajectory cf_track_trajectory(const cf_session *ss, const cf_tuning *t)
+{
+    float z_m, vz_mps, az_mps2;
+    pad_float(ss, t, &z_m, &vz_mps, &az_mps2);
+    /* (3.6)'s decaying offset and its derivatives: -offset / tau, offset / tau^2 */
+    const float inv_tau_per_s = t->tau_zr > 0.0f ? 1.0f / t->tau_zr : 0.0f;
+    const float offset_m = ss->approach_offset_m * ss->approach_decay;
+    fc_vertical_trajectory track;
+    track.z_m = F(z_m + offset_m, LENGTH);
+    track.vz_mps = F(vz_mps - offset_m * inv_tau_per_s, VEL);
+    track.az_mps2 = F(az_mps2 + offset_m * inv_tau_per_s * inv_tau_per_s, ACCEL);
+    return track;
 }
 
 void cf_pad_advance(cf_session *ss, const cf_tuning *t, float dt_s)
 {
     const float next = cf_wrap_pi(ss->pad_phase_rad + 2.0f * CF_PI_F * t->pad_freq * dt_s);
     ss->pad_phase_rad = isfinite(next) ? next : 0.0f;
+    const float decay = t->tau_zr > 0.0f ? ss->approach_decay * expf(-dt_s / t->tau_zr) : 0.0f;
+    ss->approach_decay = isfinite(decay) ? decay : 0.0f;
 }
 
 void cf_range_step(cf_session *ss, float range_mm, const cf_tuning *t)
@@ -243,12 +445,9 @@ void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tu
     in->heading_fresh = false;
     in->position_m = fc_vec3_make(F(s->pos_m[0], LENGTH), F(s->pos_m[1], LENGTH), F(s->pos_m[2], LENGTH));
     in->velocity_mps = fc_vec3_make(F(s->vel_mps[0], VEL), F(s->vel_mps[1], VEL), F(s->vel_mps[2], VEL));
-    in->pad = cf_pad_trajectory(ss, t);
-    const float x = s->sp_mode_x == CF_MODE_ABS ? s->sp_pos_m[0] : ss->hold_x_m;
-    const float y = s->sp_mode_y == CF_MODE_ABS ? s->sp_pos_m[1] : ss->hold_y_m;
-    in->position_setpoint_m = fc_vec3_make(F(x, LENGTH), F(y, LENGTH), FC_INT(0, LENGTH));
-    const float yaw = s->sp_mode_yaw == CF_MODE_ABS ? cf_wrap_pi(cf_rad_from_deg(s->sp_yaw_deg)) : ss->hold_yaw_rad;
-    in->yaw_setpoint_rad = F(yaw, ANGLE);
+    in->pad = cf_track_trajectory(ss, t);
+    in->position_setpoint_m = fc_vec3_make(F(ss->sp_x_m, LENGTH), F(ss->sp_y_m, LENGTH), FC_INT(0, LENGTH));
+    in->yaw_setpoint_rad = F(ss->sp_yaw_rad, ANGLE);
     in->range_m = F(ss->range_m, LENGTH);
     in->range_fresh = ss->range_fresh;
     in->command = command;

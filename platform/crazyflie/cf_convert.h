@@ -37,6 +37,7 @@
 /* Values of the firmware's stab_mode_t (cf_glue.c checks them at compile time). */
 #define CF_MODE_DISABLE 0u
 #define CF_MODE_ABS 1u
+#define CF_MODE_VELOCITY 2u
 
 /* The altitude law the app starts with: SSC with the adaptive Theta (4.4), which
  * learns the real vehicle's mass (a Crazyflie with decks is heavier than the
@@ -47,8 +48,16 @@
  * beyond the ~8 m/s^2 a Crazyflie can add to gravity: 2 s keeps it at 0.25 m/s^2
  * per metre. The only default that differs from fc_controller_default_params. */
 #define CF_DEFAULT_TAU_ZR_S 2.0f
-/* The approach offset taken from the present height is kept inside [0, this]. */
+/* The approach offset taken from the present height is kept inside
+ * [-this, this]: the reference starts where the vehicle is, above or below. */
 #define CF_APPROACH_OFFSET_MAX_M 4.0f
+/* How far a velocity setpoint's integrated point may lead the vehicle, per
+ * axis: a vehicle held back does not wind up a run-away target. */
+#define CF_VELOCITY_LEAD_MAX_M 1.0f
+/* The commander's height moves the tracked height at most this fast: an
+ * absolute z that steps (a new hover height) becomes a ramp the library's
+ * pad gate accepts (fc/input_gate.h: 3 m/s and a 0.1 m jump). */
+#define CF_COMMAND_Z_SPEED_MAX_MPS 1.0f
 /* loaded_variant before any defaults were loaded */
 #define CF_TUNING_NONE 0xFFu
 
@@ -93,11 +102,43 @@ typedef struct cf_sample {
     float pos_m[3];        /* state.position: world, z up */
     float vel_mps[3];      /* state.velocity: world */
     float sp_pos_m[3];     /* setpoint.position */
+    float sp_vel_mps[3];   /* setpoint.velocity (world, or body x/y when sp_velocity_body) */
+    float sp_acc_mps2[3];  /* setpoint.acceleration (the high-level commander's) */
+    bool sp_velocity_body; /* setpoint.velocity_body: x/y velocity in the body's heading frame */
     float sp_yaw_deg;      /* setpoint.attitude.yaw */
+    float sp_yaw_rate_dps; /* setpoint.attitudeRate.yaw (mode.yaw velocity: hover, MotionCommander, level-out) */
     float sp_thrust;       /* setpoint.thrust (legacy PWM units; 0 = no thrust asked) */
     float range_mm;        /* rangeGet(rangeDown): the down ranger's last reading, mm (0: none yet) */
     uint8_t sp_mode_x, sp_mode_y, sp_mode_z, sp_mode_yaw; /* setpoint.mode.*: CF_MODE_* */
 } cf_sample;
+
+/* ---- the airframe ------------------------------------------------------------ */
+
+/* The firmware's platform constants (platform_defaults_*.h), which cf_glue.c
+ * passes at compile time. */
+typedef struct cf_airframe {
+    float mass_kg;              /* CF_MASS */
+    float arm_m;                /* ARM_LENGTH: centre to each motor */
+    float thrust_max_n;         /* THRUST_MAX, per motor */
+    float thrust_min_n;         /* THRUST_MIN, per motor */
+    float torque_per_thrust_m;  /* THRUST2TORQUE */
+} cf_airframe;
+
+/* The library's Crazyflie preset (FC_AIRFRAME_CRAZYFLIE2): the cf2 with 2.1+
+ * propellers, 27 g. */
+#define CF_AIRFRAME_PRESET_ARM_M 0.046f
+#define CF_AIRFRAME_PRESET_MASS_KG 0.027f
+#define CF_AIRFRAME_PRESET_JXY_KGM2 1.66e-5f
+#define CF_AIRFRAME_PRESET_JZ_KGM2 2.93e-5f
+
+/* The airframe the parameters are made for (cf_tuning_prepare,
+ * cf_params_from_tuning): the preset's gains and layout (quad-X, the
+ * firmware's motor order) with the platform's arm, rotor thrust range,
+ * torque per thrust and mass; the inertia is the preset's scaled by mass
+ * and arm squared (platform_defaults has none). NULL: the library's preset
+ * as it is (the default). Returns false, and keeps the last one, for
+ * values outside what a Crazyflie-class quad has. */
+bool cf_airframe_use(const cf_airframe *af);
 
 /* ---- the parameters a user tunes (PARAM group "fcssc") --------------------- */
 
@@ -113,12 +154,16 @@ typedef struct cf_tuning {
     float k0;              /* rho = rho_bar + k0 |sigma_tilde|, N s/m */
     float delta;           /* margin delta of (4.39), N */
     float theta0;          /* nominal Theta = m / (k_h k_g) and Theta(0), kg */
+    /* z_r: the app passes the library z_r_init = 0 and shapes the approach in the
+     * trajectory it gives (cf_track_trajectory), from the height at each switch */
     /* reference (3.6) */
     float tau_zr;          /* s */
     float z_init;          /* z_r_init when offset_auto is 0, m */
     float z_bias;          /* z_r_bias: the height held above the pad, m */
-    uint8_t offset_auto;   /* 1: z_r_init = the height above pad + bias at arming */
-    /* the virtual pad: z_d = pad_z + pad_amp sin(2 pi pad_freq t), t from arming */
+    uint8_t offset_auto;   /* 1: z_r_init from the height when tracking starts (no jump of z_r) */
+    uint8_t command_z;     /* 1: tracking follows the commander's height (its z is held; padZ unused) */
+    /* the virtual pad: z_d = pad_z (or the commander's height - z_bias, command_z)
+     * + pad_amp sin(2 pi pad_freq t), t from the command's start */
     float pad_z;           /* m, world */
     float pad_amp;         /* m */
     float pad_freq;        /* Hz */
@@ -133,7 +178,7 @@ typedef struct cf_tuning {
 /* A tuning with no gains loaded yet (the first cf_tuning_prepare loads them). */
 #define CF_TUNING_INITIALIZER                                                       \
     {                                                                              \
-        .variant = CF_DEFAULT_VARIANT, .offset_auto = 1u, .loaded_variant = CF_TUNING_NONE \
+        .variant = CF_DEFAULT_VARIANT, .offset_auto = 1u, .command_z = 1u, .loaded_variant = CF_TUNING_NONE \
     }
 
 /* Make the tuning usable: a variant out of range goes back to the loaded one (or
@@ -142,8 +187,8 @@ typedef struct cf_tuning {
  * variant. Returns true when it loaded gains. */
 bool cf_tuning_prepare(cf_tuning *t);
 
-/* The library's parameters for the tuning: fc_controller_default_params for
- * the Crazyflie airframe and t->variant at CF_STEP_DT_S, then every tuned
+/* The library's parameters for the tuning: the library's Crazyflie defaults
+ * for the airframe of cf_airframe_use and t->variant at CF_STEP_DT_S, then every tuned
  * value that differs from the default written over it (an untouched value keeps
  * the library's number bit for bit), the platform's attitude estimate in use
  * (use_external_attitude) and z_r_init = offset_m. Returns false if a tuned
@@ -154,7 +199,8 @@ bool cf_params_from_tuning(const cf_tuning *t, float offset_m, fc_controller_par
 
 /* z_r_init for an approach that starts now at height z_m over a pad at pad_z_m:
  * with offset_auto the height above the hold point pad + bias, in
- * [0, CF_APPROACH_OFFSET_MAX_M] (no jump of the reference); else t->z_init. */
+ * [-CF_APPROACH_OFFSET_MAX_M, CF_APPROACH_OFFSET_MAX_M] (no jump of the
+ * reference, from above or below; 0 without a height); else t->z_init. */
 float cf_approach_offset_m(const cf_tuning *t, float z_m, float pad_z_m);
 
 /* ---- the app's decisions ---------------------------------------------------- */
@@ -162,8 +208,17 @@ float cf_approach_offset_m(const cf_tuning *t, float z_m, float pad_z_m);
 /* What the app remembers between steps; cleared by controllerOutOfTreeInit. */
 typedef struct cf_session {
     fc_controller_command last_command; /* the command of the previous step */
-    float hold_x_m, hold_y_m;           /* position when the command began */
-    float hold_yaw_rad;                 /* heading when the command began */
+    /* the setpoint flown (cf_setpoint_step): the last absolute one, moved by
+     * velocity setpoints, following the vehicle while the commander levels out */
+    float sp_x_m, sp_y_m;               /* world */
+    float sp_yaw_rad;                   /* heading */
+    float cmd_z_m, cmd_vz_mps, cmd_az_mps2; /* the commander's height and its derivatives */
+    bool have_cmd_z;                    /* the commander gave a height since the command began */
+    /* the approach of the tracked height (3.6), owned by the app so that every
+     * switch to tracking starts from the vehicle's height */
+    float approach_offset_m;            /* z_r_init: vehicle height - tracked height at the switch */
+    float approach_decay;               /* e^(-t / tau_zr), t from the switch */
+    bool approach_pending;              /* switched into tracking: the next cf_setpoint_step starts it */
     float pad_phase_rad;                /* of the virtual pad, in [-pi, pi] */
     /* the range finder (cf_range_step) */
     float range_last_mm;                /* the reading of the previous step */
@@ -190,14 +245,44 @@ bool cf_setpoint_live(const cf_sample *s);
  *                          descent and never stops the motors in flight */
 fc_controller_command cf_command(uint8_t mission, uint8_t track, const cf_sample *s);
 
-/* Start of a command (DISARM before, something else now): hold the present
- * position and heading, restart the pad's phase. Returns true then (the app
- * re-initialises the controller). Remembers command for the next call. */
-bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s);
+/* The command of this step against the last one. From DISARM to another
+ * command: the setpoint starts at the vehicle's position, heading and height,
+ * the pad's phase at 0; returns true (a new start: the app takes a freshly
+ * initialised controller). Into TRACK_PAD from any other command: the
+ * approach restarts at the next cf_setpoint_step. Remembers command for
+ * the next call. */
+bool cf_session_begin(cf_session *ss, fc_controller_command command, const cf_sample *s, const cf_tuning *t);
 
-/* The virtual pad now, and its phase advanced by dt_s. */
+/* The commander's setpoint of this step into the session, as the firmware's
+ * controllers read its modes (stabilizer_types.h), dt_s after the last:
+ *   x, y   modeAbs: that point; modeVelocity: the point moves at that velocity
+ *          (world, or the body's heading frame when velocity_body, as the
+ *          hover setpoint sends it), at most CF_VELOCITY_LEAD_MAX_M ahead of
+ *          the vehicle; modeDisable (the supervisor's level-out, or no
+ *          position at all): no horizontal target, the point follows the
+ *          vehicle ahead of it by velocity kd / kp, so the loop asks for no
+ *          acceleration (level)
+ *   yaw    modeAbs: that heading; modeVelocity: turned at that rate (0 in the
+ *          level-out: held); modeDisable: held
+ *   z      modeAbs: that height, with the velocity and acceleration as
+ *          feed-forward (the high-level commander's); modeVelocity: moved at
+ *          that speed; modeDisable: held (the level-out keeps z as it is).
+ *          After the first height of a command, the height moves at most
+ *          CF_COMMAND_Z_SPEED_MAX_MPS toward the commanded one.
+ * Then, on the first step of tracking, the approach from the vehicle's
+ * height (cf_approach_offset_m over this step's pad): z_r starts where the
+ * vehicle is. */
+void cf_setpoint_step(cf_session *ss, const cf_sample *s, const cf_tuning *t, float dt_s);
+
+/* The height the tracking holds z_bias above, without the approach: the
+ * commander's height less z_bias (command_z, once it gave one) or padZ, with
+ * the virtual pad's heave; and its derivatives. */
 fc_vertical_trajectory cf_pad_trajectory(const cf_session *ss, const cf_tuning *t);
 float cf_pad_height_m(const cf_session *ss, const cf_tuning *t);
+/* What the library tracks in TRACK_PAD (its own approach offset is 0): the
+ * pad above plus the app's approach offset, decaying at tau_zr. */
+fc_vertical_trajectory cf_track_trajectory(const cf_session *ss, const cf_tuning *t);
+/* The pad's phase and the approach's decay advanced by dt_s. */
 void cf_pad_advance(cf_session *ss, const cf_tuning *t, float dt_s);
 
 /* The range finder at this step (before cf_inputs_from_sample): a reading is a
@@ -214,8 +299,8 @@ void cf_range_step(cf_session *ss, float range_mm, const cf_tuning *t);
 
 /* The controller's inputs from the firmware's numbers: IMU in SI, the
  * quaternion reordered, position and velocity as they are (both z up), the x/y
- * setpoint and the heading from the commander when it gives them absolutely,
- * else the held ones, the pad, and the range finder of cf_range_step. */
+ * setpoint and the heading of cf_setpoint_step, the tracked trajectory
+ * (cf_track_trajectory), and the range finder of cf_range_step. */
 void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tuning *t,
                            fc_controller_command command, fc_controller_inputs *in);
 
@@ -260,6 +345,8 @@ typedef struct cf_telemetry {
     float pad_period;      /* the period of its dominant heave, s */
     float gear_height;     /* gear above the pad from the range finder (last sample), m */
     float range;           /* the range input: the newest sample from the CG, m */
+    uint32_t step_cycles;  /* the last step's core cycles (DWT), 0 where not measured */
+    uint32_t step_cycles_max; /* the most since the controller was selected */
 } cf_telemetry;
 
 /* The LOG fields from the step's outputs; pad_z_m is the virtual pad's height,

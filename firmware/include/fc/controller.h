@@ -267,6 +267,15 @@ typedef struct fc_controller {
 void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
                                   fc_real dt_s);
 
+/* Parameters for a vehicle given by the platform's own rotors, mass and
+ * inertia (the Crazyflie app: the firmware's platform constants): the gains
+ * and limits of the preset gains_of, with everything that follows from the
+ * rotors and the mass (authority, thrust range, gates, the altitude law's
+ * mass-scaled gains) derived from them. */
+void fc_controller_default_params_for(fc_controller_params *p, fc_airframe gains_of,
+                                      const fc_allocation_params *rotors, fc_real mass_kg, fc_vec3 inertia_kgm2,
+                                      fc_altitude_variant variant, fc_real dt_s);
+
 /* The nominal mass, and everything that follows it: the position loop's
  * mass, the altitude law's Theta0 and mass bounds (-25 % / +25 %), the
  * hover thrust before it is learnt and its bounds. The gains stay. */

@@ -6,6 +6,7 @@
  * publish state.attitude from their quaternion.
  */
 #include <stdarg.h>
+#include <stdio.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
@@ -13,6 +14,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "cf_app.h"
 #include "cf_convert.h"
 
 #define D(x, KIND) val((x), FC_##KIND##_FRAC)
@@ -30,7 +32,7 @@ static double val(fc_real x, int frac)
 }
 
 /* |got - want| within a few LSB of the format in fixed, a few float ulps in float. */
-static void near_fmt(double got, double want, int frac, double lsb)
+static void near_fmt_double(double got, double want, int frac, double lsb)
 {
 #if FC_NUMERIC_FIXED
     const double tol = lsb * ldexp(1.0, -frac) + 4.0 * 1.2e-7 * fabs(want);
@@ -45,12 +47,30 @@ static void near_fmt(double got, double want, int frac, double lsb)
     }
 }
 
-static void near_abs(double got, double want, double tol)
+static void near_abs_double(double got, double want, double tol)
 {
     if (!(fabs(got - want) <= tol)) {
         print_error("got %.9g, want %.9g (tol %.3g)\n", got, want, tol);
         fail();
     }
+}
+
+/* Values under test are often floats: compared in double, promoted on purpose
+ * (clang's -Wdouble-promotion flags the implicit promotion of an argument). */
+#define near_fmt(got, want, frac, lsb) near_fmt_double((double)(got), (double)(want), (frac), (lsb))
+#define near_abs(got, want, tol) near_abs_double((double)(got), (double)(want), (tol))
+
+/* The cf2's platform constants (platform_defaults_cf2.h, 2.1+ propellers), as cf_glue.c passes them. */
+static const cf_airframe cf2_airframe = {0.029f, 0.046f, 0.12f, 0.012817578f, 0.0069928949f};
+/* The cf21bl's (platform_defaults_cf21bl.h, 200 mN per motor). */
+static const cf_airframe cf21bl_airframe = {0.0393f, 0.050f, 0.2f, 0.02136263f, 0.00569278844f};
+
+/* The app's tuning as loaded at boot (the library's Crazyflie defaults). */
+static const cf_tuning *loaded(void)
+{
+    static cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    return &t;
 }
 
 static cf_sample hover_sample(void)
@@ -221,7 +241,11 @@ static void test_inputs_out_of_range(void **state)
 #endif
 }
 
-static void test_setpoint_or_hold(void **state)
+/* The commander's modes as the firmware's controllers read them: an absolute
+ * point is remembered (not the point where the command began), a velocity
+ * moves it, the supervisor's level-out (x, y disabled, yaw rate 0) follows
+ * the vehicle with no horizontal target and keeps the heading. */
+static void test_setpoint_modes(void **state)
 {
     (void)state;
     cf_tuning t = CF_TUNING_INITIALIZER;
@@ -232,16 +256,17 @@ static void test_setpoint_or_hold(void **state)
     s.pos_m[0] = 0.4f;
     s.pos_m[1] = -0.3f;
     s.yaw_deg = 90.0f;
-    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
-    near_abs(ss.hold_x_m, (double)0.4f, 0.0);
-    near_abs(ss.hold_y_m, (double)-0.3f, 0.0);
-    near_abs(ss.hold_yaw_rad, PI / 2, 1e-6);
-    /* commander gives x, y and yaw absolutely: they are used */
-    s.pos_m[0] = 5.0f; /* the vehicle moved; the hold does not follow */
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, &t));
+    near_abs(ss.sp_x_m, (double)0.4f, 0.0);
+    near_abs(ss.sp_y_m, (double)-0.3f, 0.0);
+    near_abs(ss.sp_yaw_rad, PI / 2, 1e-6);
+    /* absolute x, y and yaw: used, and remembered */
+    s.pos_m[0] = 5.0f;
     s.sp_pos_m[0] = 1.0f;
     s.sp_pos_m[1] = 2.0f;
     s.sp_yaw_deg = -90.0f;
     s.sp_mode_yaw = CF_MODE_ABS;
+    cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
     fc_controller_inputs in;
     cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
     near_fmt(D(in.position_setpoint_m.x, LENGTH), 1.0, FC_LENGTH_FRAC, 1);
@@ -249,15 +274,101 @@ static void test_setpoint_or_hold(void **state)
     near_fmt(D(in.yaw_setpoint_rad, ANGLE), -PI / 2, FC_ANGLE_FRAC, 4);
     /* a yaw setpoint beyond +-180 deg is wrapped */
     s.sp_yaw_deg = 270.0f;
-    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
-    near_fmt(D(in.yaw_setpoint_rad, ANGLE), -PI / 2, FC_ANGLE_FRAC, 8);
-    /* not absolute: the position and heading held when the command began */
+    cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    near_abs(ss.sp_yaw_rad, -PI / 2, 1e-6);
+    /* the velocity of the world frame moves the point: 0.5 m/s in x for 0.2 s */
+    s.pos_m[0] = 1.0f;
+    s.pos_m[1] = 2.0f;
+    s.sp_mode_x = s.sp_mode_y = CF_MODE_VELOCITY;
+    s.sp_vel_mps[0] = 0.5f;
+    s.sp_vel_mps[1] = 0.0f;
+    s.sp_mode_yaw = CF_MODE_VELOCITY;
+    s.sp_yaw_rate_dps = 45.0f;
+    for (int i = 0; i < 100; i++) {
+        cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    }
+    near_abs(ss.sp_x_m, 1.1, 1e-5);
+    near_abs(ss.sp_y_m, 2.0, 1e-6);
+    near_abs(ss.sp_yaw_rad, -PI / 2 + 0.2 * PI / 4, 1e-5);
+    /* the hover setpoint's body frame: forward at yaw 90 deg is world +y */
+    s.sp_velocity_body = true;
+    for (int i = 0; i < 100; i++) {
+        cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    }
+    near_abs(ss.sp_x_m, 1.1, 1e-5);
+    near_abs(ss.sp_y_m, 2.1, 1e-5);
+    /* a held-back vehicle: the point leads it by at most CF_VELOCITY_LEAD_MAX_M */
+    for (int i = 0; i < 5000; i++) {
+        cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    }
+    near_abs(ss.sp_y_m, 2.0 + (double)CF_VELOCITY_LEAD_MAX_M, 1e-5);
+    /* the supervisor's level-out: x, y disabled, yaw at rate 0, z kept */
+    s.sp_velocity_body = false;
     s.sp_mode_x = s.sp_mode_y = CF_MODE_DISABLE;
-    s.sp_mode_yaw = 2u; /* modeVelocity */
-    cf_inputs_from_sample(&s, &ss, &t, FC_COMMAND_TRACK_PAD, &in);
-    near_fmt(D(in.position_setpoint_m.x, LENGTH), 0.4, FC_LENGTH_FRAC, 1);
-    near_fmt(D(in.position_setpoint_m.y, LENGTH), -0.3, FC_LENGTH_FRAC, 1);
-    near_fmt(D(in.yaw_setpoint_rad, ANGLE), PI / 2, FC_ANGLE_FRAC, 4);
+    s.sp_yaw_rate_dps = 0.0f;
+    const float yaw_before = ss.sp_yaw_rad;
+    s.pos_m[0] = 3.0f;
+    s.pos_m[1] = -1.0f;
+    s.vel_mps[0] = 0.2f;
+    s.vel_mps[1] = 0.0f;
+    cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    near_abs(ss.sp_x_m, 3.0 + 0.2 * (double)t.h_kd / (double)t.h_kp, 1e-5);
+    near_abs(ss.sp_y_m, -1.0, 1e-6);
+    near_abs(ss.sp_yaw_rad, yaw_before, 0.0);
+    /* the library's PD asks for no acceleration there (level) */
+    near_abs(t.h_kp * (ss.sp_x_m - s.pos_m[0]) - t.h_kd * s.vel_mps[0], 0.0, 1e-5);
+}
+
+/* z from the commander: absolute with the high-level commander's feed-forward,
+ * a velocity integrated, a step ramped; the level-out keeps it. */
+static void test_commander_height(void **state)
+{
+    (void)state;
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    cf_session ss;
+    cf_session_reset(&ss);
+    cf_sample s = hover_sample();
+    s.pos_m[2] = 0.5f;
+    s.sp_pos_m[2] = 0.5f;
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, &t));
+    assert_false(ss.have_cmd_z);
+    near_abs(cf_pad_height_m(&ss, &t), 0.0, 0.0); /* padZ until the commander gives a height */
+    s.sp_vel_mps[2] = 0.1f;
+    s.sp_acc_mps2[2] = 0.2f;
+    cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    assert_true(ss.have_cmd_z);
+    fc_vertical_trajectory pad = cf_pad_trajectory(&ss, &t);
+    near_abs(D(pad.z_m, LENGTH), 0.5 - (double)t.z_bias, 1e-5);
+    near_abs(D(pad.vz_mps, VEL), 0.1, 1e-5);
+    near_abs(D(pad.az_mps2, ACCEL), 0.2, 1e-5);
+    /* a step of the height: a ramp at CF_COMMAND_Z_SPEED_MAX_MPS */
+    s.sp_pos_m[2] = 1.5f;
+    s.sp_vel_mps[2] = 0.0f;
+    s.sp_acc_mps2[2] = 0.0f;
+    for (int i = 0; i < 250; i++) {
+        cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    }
+    near_abs(ss.cmd_z_m, 0.5 + 0.5 * (double)CF_COMMAND_Z_SPEED_MAX_MPS, 1e-4);
+    near_abs(ss.cmd_vz_mps, CF_COMMAND_Z_SPEED_MAX_MPS, 0.0);
+    /* a velocity: MotionCommander's up at 0.2 m/s for 1 s */
+    s.pos_m[2] = ss.cmd_z_m;
+    s.sp_mode_z = CF_MODE_VELOCITY;
+    s.sp_vel_mps[2] = 0.2f;
+    const float z0 = ss.cmd_z_m;
+    for (int i = 0; i < 500; i++) {
+        cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    }
+    near_abs(ss.cmd_z_m, (double)z0 + 0.2, 1e-4);
+    near_abs(ss.cmd_vz_mps, 0.2, 1e-6);
+    /* disabled: held */
+    s.sp_mode_z = CF_MODE_DISABLE;
+    const float z1 = ss.cmd_z_m;
+    cf_setpoint_step(&ss, &s, &t, CF_STEP_DT_S);
+    near_abs(ss.cmd_z_m, z1, 0.0);
+    /* command_z off: the virtual pad's padZ as before */
+    t.command_z = 0u;
+    near_abs(cf_pad_height_m(&ss, &t), t.pad_z, 0.0);
 }
 
 static void test_command_gating(void **state)
@@ -291,15 +402,15 @@ static void test_session_edges(void **state)
     cf_session_reset(&ss);
     cf_sample s = hover_sample();
     ss.pad_phase_rad = 1.0f;
-    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s));
-    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s, loaded()));
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, loaded()));
     near_abs(ss.pad_phase_rad, 0.0, 0.0); /* the pad's time starts with the command */
-    assert_false(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
-    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s));
-    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    assert_false(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, loaded()));
+    assert_false(cf_session_begin(&ss, FC_COMMAND_DISARM, &s, loaded()));
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, loaded()));
     /* Init resets: the next command is a new one */
     cf_session_reset(&ss);
-    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s));
+    assert_true(cf_session_begin(&ss, FC_COMMAND_TRACK_PAD, &s, loaded()));
 }
 
 static void test_virtual_pad(void **state)
@@ -330,7 +441,7 @@ static void test_virtual_pad(void **state)
         cf_pad_advance(&ss, &t, CF_STEP_DT_S);
     }
     assert_true(ss.pad_phase_rad >= -(float)PI && ss.pad_phase_rad <= (float)PI);
-    const double z = cf_pad_height_m(&ss, &t);
+    const double z = (double)cf_pad_height_m(&ss, &t);
     assert_true(z >= 0.2 - 1e-6 && z <= 0.4 + 1e-6);
     /* no heave: a still pad */
     t.pad_amp = 0.0f;
@@ -369,11 +480,11 @@ static void test_mission_command(void **state)
     /* a command begins (re-initialisation) only from DISARM: LAND -> HOLD keeps the mission */
     cf_session ss;
     cf_session_reset(&ss);
-    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s));
-    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s));
-    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s));
-    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &null_sp), &s));
-    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s));
+    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s, loaded()));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s, loaded()));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &s), &s, loaded()));
+    assert_false(cf_session_begin(&ss, cf_command(CF_MISSION_LAND, 0u, &null_sp), &s, loaded()));
+    assert_true(cf_session_begin(&ss, cf_command(CF_MISSION_HOLD, 0u, &s), &s, loaded()));
 }
 
 /* ---- the range finder ----------------------------------------------------------------------- */
@@ -578,6 +689,7 @@ static void test_telemetry_landing(void **state)
 static void test_tuning_defaults_are_the_library_defaults(void **state)
 {
     (void)state;
+    assert_true(cf_airframe_use(NULL));
     for (uint8_t v = 0u; v < (uint8_t)FC_ALT_VARIANT_COUNT; v++) {
         cf_tuning t = CF_TUNING_INITIALIZER;
         t.variant = v;
@@ -612,6 +724,25 @@ static void test_tuning_defaults_are_the_library_defaults(void **state)
         /* and the result initialises */
         static fc_controller ctl;
         assert_int_equal(fc_controller_init(&ctl, &got), FC_INIT_OK);
+    }
+}
+
+/* The library's fc_controller_default_params_for with the preset's own rotors,
+ * mass and inertia gives the preset's parameters, byte for byte. */
+static void test_default_params_for_is_the_preset(void **state)
+{
+    (void)state;
+    for (uint8_t v = 0u; v < (uint8_t)FC_ALT_VARIANT_COUNT; v++) {
+        static fc_controller_params want, got;
+        memset(&want, 0, sizeof want);
+        memset(&got, 0, sizeof got);
+        fc_controller_default_params(&want, FC_AIRFRAME_CRAZYFLIE2, (fc_altitude_variant)v, FC_C(0.002f, DT));
+        fc_allocation_params rotors;
+        fc_allocation_preset_crazyflie2(&rotors);
+        const fc_vec3 inertia = fc_vec3_make(FC_C(1.66e-5f, INERTIA), FC_C(1.66e-5f, INERTIA), FC_C(2.93e-5f, INERTIA));
+        fc_controller_default_params_for(&got, FC_AIRFRAME_CRAZYFLIE2, &rotors, FC_C(0.027f, MASS), inertia,
+                                         (fc_altitude_variant)v, FC_C(0.002f, DT));
+        assert_memory_equal(&want, &got, sizeof want);
     }
 }
 
@@ -672,8 +803,9 @@ static void test_approach_offset(void **state)
     assert_int_equal(t.offset_auto, 1);
     near_abs(cf_approach_offset_m(&t, 1.0f, 0.0f), 0.82, 1e-6);
     near_abs(cf_approach_offset_m(&t, 1.0f, 0.5f), 0.32, 1e-6);
-    near_abs(cf_approach_offset_m(&t, 0.05f, 0.0f), 0.0, 0.0); /* on the ground */
+    near_abs(cf_approach_offset_m(&t, 0.05f, 0.0f), 0.05 - 0.18, 1e-6); /* below: the reference rises from there */
     near_abs(cf_approach_offset_m(&t, 50.0f, 0.0f), CF_APPROACH_OFFSET_MAX_M, 0.0);
+    near_abs(cf_approach_offset_m(&t, -50.0f, 0.0f), -CF_APPROACH_OFFSET_MAX_M, 0.0);
     near_abs(cf_approach_offset_m(&t, NAN, 0.0f), 0.0, 0.0);
     t.offset_auto = 0u;
     near_abs(cf_approach_offset_m(&t, 0.05f, 0.0f), 1.0, 0.0);
@@ -691,7 +823,7 @@ static void test_chain_hover(void **state)
     cf_session_reset(&ss);
     cf_sample s = hover_sample(); /* level, at rest, at the hold point over a pad at 0 */
     const fc_controller_command cmd = cf_command(0u, 1u, &s);
-    assert_true(cf_session_begin(&ss, cmd, &s));
+    assert_true(cf_session_begin(&ss, cmd, &s, &t));
     fc_controller_params p;
     assert_true(cf_params_from_tuning(&t, cf_approach_offset_m(&t, s.pos_m[2], cf_pad_height_m(&ss, &t)), &p));
     assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
@@ -719,7 +851,7 @@ static void test_chain_hover(void **state)
     /* the commander stops: motors off */
     s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_DISABLE;
     const fc_controller_command off = cf_command(0u, 1u, &s);
-    assert_false(cf_session_begin(&ss, off, &s));
+    assert_false(cf_session_begin(&ss, off, &s, &t));
     cf_inputs_from_sample(&s, &ss, &t, off, &in);
     (void)fc_controller_step(&ctl, &in, &out);
     cf_force_torque_from_outputs(&out, &ft);
@@ -744,7 +876,7 @@ static void test_chain_land_then_hold_aborts(void **state)
     uint8_t mission = CF_MISSION_LAND;
     fc_controller_command cmd = cf_command(mission, 0u, &s);
     assert_int_equal(cmd, FC_COMMAND_LAND);
-    assert_true(cf_session_begin(&ss, cmd, &s));
+    assert_true(cf_session_begin(&ss, cmd, &s, &t));
     fc_controller_params p;
     assert_true(cf_params_from_tuning(&t, cf_approach_offset_m(&t, s.pos_m[2], cf_pad_height_m(&ss, &t)), &p));
     assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
@@ -764,7 +896,7 @@ static void test_chain_land_then_hold_aborts(void **state)
             mission = CF_MISSION_HOLD; /* the operator aborts, 0.2 s into the descent */
         }
         cmd = cf_command(mission, 0u, &s);
-        assert_false(cf_session_begin(&ss, cmd, &s)); /* LAND -> HOLD: no re-initialisation */
+        assert_false(cf_session_begin(&ss, cmd, &s, &t)); /* LAND -> HOLD: no re-initialisation */
         cf_range_step(&ss, s.range_mm, &t);
         cf_inputs_from_sample(&s, &ss, &t, cmd, &in);
         const fc_step_status st = fc_controller_step(&ctl, &in, &out);
@@ -791,13 +923,557 @@ static void test_chain_land_then_hold_aborts(void **state)
     s.sp_mode_x = s.sp_mode_y = s.sp_mode_z = CF_MODE_DISABLE;
     cmd = cf_command(mission, 0u, &s);
     assert_int_equal(cmd, FC_COMMAND_DISARM);
-    assert_false(cf_session_begin(&ss, cmd, &s));
+    assert_false(cf_session_begin(&ss, cmd, &s, &t));
     cf_range_step(&ss, s.range_mm, &t);
     cf_inputs_from_sample(&s, &ss, &t, cmd, &in);
     const fc_step_status st = fc_controller_step(&ctl, &in, &out);
     cf_telemetry_from_outputs(&out, st, cmd, cf_pad_height_m(&ss, &t), ss.range_m, &tm);
     assert_false(out.motors_on);
     assert_int_equal(tm.landing_state, FC_LANDING_IDLE);
+}
+
+/* ---- the firmware's flows through the app (cf_app.c) and the library, closed loop ------------ */
+
+/* A Crazyflie for the flows: a rigid body under the app's body thrust and
+ * moments (what the firmware's mixer makes of controlModeForceTorque), the
+ * ground at z = 0, stepped at the stabilizer's 1 kHz; its mass is the cf2's
+ * CF_MASS, heavier than the library's nominal 27 g. */
+#define PLANT_MASS_KG 0.029
+#define PLANT_G 9.81
+
+typedef struct plant {
+    double p[3], v[3];
+    double q[4]; /* w, x, y, z: body -> world */
+    double w[3]; /* body rate, rad/s */
+    double f_body_z; /* specific force along body z, m/s^2 (the accelerometer) */
+    double mass_kg;
+    double inertia[3]; /* kg m^2 */
+} plant;
+
+static void plant_at(plant *pl, double x, double y, double z, double yaw_rad)
+{
+    memset(pl, 0, sizeof *pl);
+    pl->p[0] = x;
+    pl->p[1] = y;
+    pl->p[2] = z;
+    pl->q[0] = cos(yaw_rad / 2);
+    pl->q[3] = sin(yaw_rad / 2);
+    pl->f_body_z = PLANT_G;
+    pl->mass_kg = PLANT_MASS_KG;
+    pl->inertia[0] = pl->inertia[1] = 1.66e-5;
+    pl->inertia[2] = 2.93e-5;
+}
+
+/* body z axis in the world: the third column of R(q) */
+static void plant_body_z(const plant *pl, double e[3])
+{
+    const double w = pl->q[0], x = pl->q[1], y = pl->q[2], z = pl->q[3];
+    e[0] = 2 * (x * z + w * y);
+    e[1] = 2 * (y * z - w * x);
+    e[2] = 1 - 2 * (x * x + y * y);
+}
+
+static double plant_yaw_rad(const plant *pl)
+{
+    const double w = pl->q[0], x = pl->q[1], y = pl->q[2], z = pl->q[3];
+    return atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+}
+
+static void plant_step(plant *pl, const cf_force_torque *ft, double dt)
+{
+    double e[3];
+    plant_body_z(pl, e);
+    const double a = (double)ft->thrust_n / pl->mass_kg;
+    pl->f_body_z = a;
+    for (int k = 0; k < 3; k++) {
+        pl->v[k] += (a * e[k] - (k == 2 ? PLANT_G : 0.0)) * dt;
+        pl->p[k] += pl->v[k] * dt;
+    }
+    if (pl->p[2] <= 0.0) {
+        /* on the ground: held there, level, still */
+        pl->p[2] = 0.0;
+        if (pl->v[2] < 0.0) {
+            pl->v[0] = pl->v[1] = pl->v[2] = 0.0;
+        }
+        pl->f_body_z = PLANT_G;
+    }
+    const double *J = pl->inertia;
+    double wdot[3];
+    const double Jw[3] = {J[0] * pl->w[0], J[1] * pl->w[1], J[2] * pl->w[2]};
+    const double gyro[3] = {pl->w[1] * Jw[2] - pl->w[2] * Jw[1], pl->w[2] * Jw[0] - pl->w[0] * Jw[2],
+                            pl->w[0] * Jw[1] - pl->w[1] * Jw[0]};
+    for (int k = 0; k < 3; k++) {
+        wdot[k] = ((double)ft->torque_nm[k] - gyro[k]) / J[k];
+    }
+    for (int k = 0; k < 3; k++) {
+        pl->w[k] += wdot[k] * dt;
+    }
+    const double *q = pl->q, *w = pl->w;
+    const double dq[4] = {-0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]), 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]),
+                          0.5 * (q[0] * w[1] - q[1] * w[2] + q[3] * w[0]), 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])};
+    double n = 0.0;
+    for (int k = 0; k < 4; k++) {
+        pl->q[k] += dq[k] * dt;
+        n += pl->q[k] * pl->q[k];
+    }
+    n = sqrt(n);
+    for (int k = 0; k < 4; k++) {
+        pl->q[k] /= n;
+    }
+}
+
+/* What cf_glue.c copies out of sensorData_t and state_t for this plant; the
+ * setpoint fields are the caller's. */
+static void plant_sample(const plant *pl, cf_sample *s)
+{
+    for (int k = 0; k < 3; k++) {
+        s->gyro_dps[k] = (float)(pl->w[k] * 180.0 / PI);
+        s->pos_m[k] = (float)pl->p[k];
+        s->vel_mps[k] = (float)pl->v[k];
+    }
+    s->acc_g[0] = s->acc_g[1] = 0.0f;
+    s->acc_g[2] = (float)(pl->f_body_z / PLANT_G);
+    s->quat_xyzw[0] = (float)pl->q[1];
+    s->quat_xyzw[1] = (float)pl->q[2];
+    s->quat_xyzw[2] = (float)pl->q[3];
+    s->quat_xyzw[3] = (float)pl->q[0];
+    s->yaw_deg = (float)(plant_yaw_rad(pl) * 180.0 / PI);
+}
+
+/* The setpoints the firmware hands the controller (stabilizer_types.h semantics). */
+static void sp_clear(cf_sample *s)
+{
+    memset(s->sp_pos_m, 0, sizeof s->sp_pos_m);
+    memset(s->sp_vel_mps, 0, sizeof s->sp_vel_mps);
+    memset(s->sp_acc_mps2, 0, sizeof s->sp_acc_mps2);
+    s->sp_velocity_body = false;
+    s->sp_yaw_deg = s->sp_yaw_rate_dps = s->sp_thrust = 0.0f;
+    s->sp_mode_x = s->sp_mode_y = s->sp_mode_z = s->sp_mode_yaw = CF_MODE_DISABLE;
+}
+
+/* The high-level commander's setpoint (crtp_commander_high_level.c): x, y, z
+ * and yaw absolute, with velocity and acceleration. */
+static void sp_high_level(cf_sample *s, const double p[3], const double v[3], const double a[3], double yaw_deg)
+{
+    sp_clear(s);
+    for (int k = 0; k < 3; k++) {
+        s->sp_pos_m[k] = (float)p[k];
+        s->sp_vel_mps[k] = (float)v[k];
+        s->sp_acc_mps2[k] = (float)a[k];
+    }
+    s->sp_yaw_deg = (float)yaw_deg;
+    s->sp_mode_x = s->sp_mode_y = s->sp_mode_z = s->sp_mode_yaw = CF_MODE_ABS;
+}
+
+/* The hover setpoint MotionCommander sends (hoverDecoder): x, y velocity in
+ * the body's heading frame, z absolute, yaw rate. */
+static void sp_hover(cf_sample *s, double vx, double vy, double yaw_rate_dps, double z)
+{
+    sp_clear(s);
+    s->sp_vel_mps[0] = (float)vx;
+    s->sp_vel_mps[1] = (float)vy;
+    s->sp_velocity_body = true;
+    s->sp_mode_x = s->sp_mode_y = CF_MODE_VELOCITY;
+    s->sp_pos_m[2] = (float)z;
+    s->sp_mode_z = CF_MODE_ABS;
+    s->sp_yaw_rate_dps = (float)yaw_rate_dps;
+    s->sp_mode_yaw = CF_MODE_VELOCITY;
+}
+
+/* The supervisor's level-out (supervisor.c, supervisorStateWarningLevelOut):
+ * x, y disabled, roll and pitch 0, yaw rate 0, z kept. */
+static void sp_level_out(cf_sample *s)
+{
+    s->sp_mode_x = s->sp_mode_y = CF_MODE_DISABLE;
+    s->sp_mode_yaw = CF_MODE_VELOCITY;
+    s->sp_yaw_rate_dps = 0.0f;
+}
+
+/* A smooth move from a to b over t_s (a quintic, zero speed and acceleration at both ends), at time t. */
+static void smooth(double a, double b, double t_s, double t, double *p, double *v, double *acc)
+{
+    const double u = t <= 0 ? 0 : (t >= t_s ? 1 : t / t_s);
+    const double s5 = u * u * u * (10 - 15 * u + 6 * u * u);
+    const double d5 = 30 * u * u * (1 - u) * (1 - u) / t_s;
+    const double dd5 = 60 * u * (1 - 3 * u + 2 * u * u) / (t_s * t_s);
+    *p = a + (b - a) * s5;
+    *v = (b - a) * d5;
+    *acc = (b - a) * dd5;
+}
+
+typedef struct flow {
+    cf_app app;
+    cf_tuning tuning;
+    cf_app_commands cmd;
+    plant pl;
+    cf_sample s;
+    long tick;
+    int zero_thrust_ticks; /* calls whose output had no thrust */
+} flow;
+
+static flow *flow_new(double x, double y, double z)
+{
+    static flow f;
+    memset(&f, 0, sizeof f);
+    assert_true(cf_airframe_use(&cf2_airframe));
+    cf_app_reset(&f.app);
+    f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
+    assert_true(cf_app_worker(&f.app, &f.tuning)); /* the app task at boot */
+    assert_false(cf_app_worker(&f.app, &f.tuning));
+    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    plant_at(&f.pl, x, y, z, 0.0);
+    memset(&f.s, 0, sizeof f.s);
+    sp_clear(&f.s);
+    cf_app_select(&f.app); /* at boot the controller is selected */
+    return &f;
+}
+
+/* One stabilizer tick: the app's call, then 1 ms of flight. */
+static void flow_tick(flow *f)
+{
+    plant_sample(&f->pl, &f->s);
+    (void)cf_app_tick(&f->app, &f->s, &f->tuning, &f->cmd);
+    f->cmd.reinit = false;
+    if (!(f->app.held.thrust_n > 0.0f)) {
+        f->zero_thrust_ticks++;
+    }
+    plant_step(&f->pl, &f->app.held, 0.001);
+    f->tick++;
+}
+
+static double horizontal_distance(const plant *pl, double x, double y)
+{
+    return hypot(pl->p[0] - x, pl->p[1] - y);
+}
+
+/* Take-off, go_to and land from the high-level commander, then its stop (a
+ * null setpoint): tracking follows the commander's trajectory, the motors
+ * stop with the null setpoint. */
+static void test_flow_high_level_commander(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.0, 0.0, 0.0);
+    f->cmd.track = 1u; /* fcssc.track = 1, mission 0 */
+    const double h = 0.5, pos0[3] = {0, 0, 0};
+    double p[3], v[3], a[3];
+    /* take-off: 0 -> 0.5 m in 2 s, then hold 2 s */
+    for (int i = 0; i < 4000; i++) {
+        const double t = i * 1e-3;
+        for (int k = 0; k < 3; k++) {
+            smooth(pos0[k], k == 2 ? h : pos0[k], 2.0, t, &p[k], &v[k], &a[k]);
+        }
+        sp_high_level(&f->s, p, v, a, 0.0);
+        flow_tick(f);
+        if (i > 200) {
+            /* it follows the trajectory as it goes (within 10 cm) */
+            assert_true(fabs(f->pl.p[2] - p[2]) < 0.1);
+        }
+    }
+    near_abs(f->pl.p[2], h, 0.03);
+    assert_true(horizontal_distance(&f->pl, 0, 0) < 0.03);
+    /* go_to (0.5, 0.3, 0.5), yaw 0, in 2 s, then 2 s */
+    for (int i = 0; i < 4000; i++) {
+        const double t = i * 1e-3;
+        smooth(0, 0.5, 2.0, t, &p[0], &v[0], &a[0]);
+        smooth(0, 0.3, 2.0, t, &p[1], &v[1], &a[1]);
+        smooth(h, h, 2.0, t, &p[2], &v[2], &a[2]);
+        sp_high_level(&f->s, p, v, a, 0.0);
+        flow_tick(f);
+    }
+    assert_true(horizontal_distance(&f->pl, 0.5, 0.3) < 0.05);
+    near_abs(f->pl.p[2], h, 0.03);
+    /* land: down to 0 in 2 s, then 1 s */
+    for (int i = 0; i < 3000; i++) {
+        const double t = i * 1e-3;
+        p[0] = 0.5;
+        p[1] = 0.3;
+        v[0] = v[1] = a[0] = a[1] = 0;
+        smooth(h, 0.0, 2.0, t, &p[2], &v[2], &a[2]);
+        sp_high_level(&f->s, p, v, a, 0.0);
+        flow_tick(f);
+    }
+    assert_true(f->pl.p[2] < 0.03);
+    assert_true(horizontal_distance(&f->pl, 0.5, 0.3) < 0.05);
+    /* stop: the high-level commander's null setpoint; motors off at the next step */
+    sp_clear(&f->s);
+    flow_tick(f);
+    flow_tick(f);
+    assert_true(f->app.held.thrust_n == 0.0f);
+    assert_int_equal(f->app.telemetry.command, FC_COMMAND_DISARM);
+}
+
+/* MotionCommander: hover setpoints at 10 Hz, forward 0.3 m/s for 2 s with
+ * the nose at 90 deg (world +y), a turn at 45 deg/s, up 0.2 m. */
+static void test_flow_motion_commander(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.0, 0.0, 0.5);
+    plant_at(&f->pl, 0.0, 0.0, 0.5, PI / 2);
+    f->cmd.track = 1u;
+    double z = 0.5;
+    for (int i = 0; i < 1000; i++) { /* hover, 1 s */
+        if (i % 100 == 0) {
+            sp_hover(&f->s, 0, 0, 0, z);
+        }
+        flow_tick(f);
+    }
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    assert_true(horizontal_distance(&f->pl, 0, 0) < 0.02);
+    for (int i = 0; i < 2000; i++) { /* forward 0.3 m/s, 2 s */
+        if (i % 100 == 0) {
+            sp_hover(&f->s, 0.3, 0, 0, z);
+        }
+        flow_tick(f);
+    }
+    for (int i = 0; i < 2000; i++) { /* stop, settle */
+        if (i % 100 == 0) {
+            sp_hover(&f->s, 0, 0, 0, z);
+        }
+        flow_tick(f);
+    }
+    /* 0.6 m along the nose: world +y */
+    near_abs(f->pl.p[1], 0.6, 0.05);
+    near_abs(f->pl.p[0], 0.0, 0.05);
+    /* up 0.2 m at 0.2 m/s (MotionCommander moves the hover height), turning 90 deg */
+    for (int i = 0; i < 2000; i++) {
+        if (i % 100 == 0) {
+            z = i < 1000 ? 0.5 + 0.2 * (i + 100) / 1000.0 : 0.7;
+            sp_hover(&f->s, 0, 0, i < 1000 ? 90.0 : 0.0, z);
+        }
+        flow_tick(f);
+    }
+    for (int i = 0; i < 2000; i++) {
+        if (i % 100 == 0) {
+            sp_hover(&f->s, 0, 0, 0, z);
+        }
+        flow_tick(f);
+    }
+    near_abs(f->pl.p[2], 0.7, 0.03);
+    near_abs(fabs(plant_yaw_rad(&f->pl)), PI, 0.1); /* 90 + 90 deg */
+    assert_int_equal(f->zero_thrust_ticks, 0);
+}
+
+/* The commander stops (cfclient's setpoints, the last one absolute): 0.5 s of
+ * the same setpoint, then the supervisor's level-out, then after 2 s its
+ * null setpoint. Tracking stays where the vehicle is (not at the point where
+ * the command began), keeps its height, and the motors stop at the cut-off. */
+static void test_flow_watchdog_level_out_then_cut(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.0, 0.0, 0.5);
+    f->cmd.track = 1u;
+    const double zero[3] = {0, 0, 0};
+    double p[3] = {0.0, 0.0, 0.5};
+    for (int i = 0; i < 1000; i++) {
+        sp_high_level(&f->s, p, zero, zero, 0.0);
+        flow_tick(f);
+    }
+    /* a go_to by position setpoints to (0.6, 0, 0.5), then they stop */
+    p[0] = 0.6;
+    for (int i = 0; i < 3000; i++) {
+        sp_high_level(&f->s, p, zero, zero, 0.0);
+        flow_tick(f);
+    }
+    assert_true(horizontal_distance(&f->pl, 0.6, 0.0) < 0.05);
+    for (int i = 0; i < 500; i++) { /* the setpoint ages: the firmware repeats it */
+        flow_tick(f);
+    }
+    sp_level_out(&f->s);
+    double x_min = 1e9;
+    for (int i = 0; i < 1500; i++) { /* level-out until the 2 s watchdog */
+        flow_tick(f);
+        x_min = fmin(x_min, f->pl.p[0]);
+        assert_true(f->app.held.thrust_n > 0.0f);
+    }
+    /* it did not fly back toward (0, 0), where the command began */
+    assert_true(x_min > 0.5);
+    near_abs(f->pl.p[2], 0.5, 0.05);
+    /* level: no position target, the drift of a level vehicle (the firmware's PID does the same) */
+    assert_true(horizontal_distance(&f->pl, 0.6, 0.0) < 0.3);
+    /* the supervisor's null setpoint: motors off */
+    sp_clear(&f->s);
+    flow_tick(f);
+    flow_tick(f);
+    assert_true(f->app.held.thrust_n == 0.0f);
+}
+
+/* The airframe from the platform's constants: the cf2's and the cf21bl's
+ * rotors give the library's thrust range and authority; the cf21bl (39.3 g,
+ * 0.2 N a motor, 50 mm arms) takes off, goes to a point and lands. */
+static void test_flow_airframe_cf21bl(void **state)
+{
+    (void)state;
+    fc_controller_params p;
+    assert_true(cf_airframe_use(&cf2_airframe));
+    cf_tuning t = CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    near_abs(D(p.mass_kg, MASS), 0.029, 1e-4);
+    near_abs(D(p.altitude.thrust_max_n, FORCE), 0.48, 1e-3);
+    near_abs(D(p.allocation.rotor[0].torque_max_nm, MOMENT), -0.12 * 0.0069928949, 1e-6);
+    static fc_controller ctl;
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    assert_true(cf_airframe_use(&cf21bl_airframe));
+    t = (cf_tuning)CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    near_abs(D(p.mass_kg, MASS), 0.0393, 1e-4);
+    near_abs(D(p.altitude.thrust_max_n, FORCE), 0.8, 1e-3);
+    near_abs(D(p.allocation.rotor[3].position_m.x, LENGTH), 0.05 * 0.70710678, 1e-4);
+    near_abs(D(p.altitude.theta0_kg, MASS), 0.0393, 2e-3); /* Theta0 follows the mass (k_g at hover) */
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    /* implausible constants are refused and the last airframe kept */
+    cf_airframe bad = cf21bl_airframe;
+    bad.thrust_min_n = bad.thrust_max_n;
+    assert_false(cf_airframe_use(&bad));
+    /* fly it: a cf21bl plant */
+    static flow f;
+    memset(&f, 0, sizeof f);
+    cf_app_reset(&f.app);
+    f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
+    assert_true(cf_app_worker(&f.app, &f.tuning));
+    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    plant_at(&f.pl, 0.0, 0.0, 0.0, 0.0);
+    const double scale = 0.0393 / 0.027 * (0.05 / 0.046) * (0.05 / 0.046);
+    f.pl.mass_kg = 0.0393;
+    for (int k = 0; k < 3; k++) {
+        f.pl.inertia[k] *= scale;
+    }
+    sp_clear(&f.s);
+    cf_app_select(&f.app);
+    f.cmd.track = 1u;
+    double pos[3], v[3], a[3];
+    for (int i = 0; i < 6000; i++) {
+        const double tt = i * 1e-3;
+        smooth(0.0, 0.3, 2.0, tt - 2.0, &pos[0], &v[0], &a[0]);
+        pos[1] = v[1] = a[1] = 0.0;
+        smooth(0.0, 0.5, 2.0, tt, &pos[2], &v[2], &a[2]);
+        sp_high_level(&f.s, pos, v, a, 0.0);
+        flow_tick(&f);
+    }
+    near_abs(f.pl.p[2], 0.5, 0.03);
+    assert_true(horizontal_distance(&f.pl, 0.3, 0.0) < 0.05);
+    assert_true(cf_airframe_use(NULL));
+}
+
+/* A landing over a pad at (0.3, 0) that began at (0, 0): the commander's
+ * setpoints stop during the descent and the supervisor levels out. The
+ * horizontal setpoint stays with the vehicle (the old hold point of the
+ * command's start would be 0.3 m off: an abort on the horizontal error). */
+static void test_flow_land_through_level_out(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.0, 0.0, 0.32);
+    f->cmd.mission = CF_MISSION_LAND;
+    const double zero[3] = {0, 0, 0};
+    const double pad[3] = {0.3, 0.0, 0.5};
+    sp_high_level(&f->s, pad, zero, zero, 0.0);
+    int descend_tick = -1;
+    bool horizontal_abort = false;
+    for (int i = 0; i < 40000 && descend_tick < 0; i++) {
+        /* the ranger: CG to the pad at z = 0, a reading every 25 ms, +-1 mm */
+        if (i % 25 == 0) {
+            f->s.range_mm = (float)(floor(f->pl.p[2] * 1000.0) + (double)((i / 25) % 2));
+        }
+        flow_tick(f);
+        if (f->app.telemetry.landing_state == FC_LANDING_DESCEND) {
+            descend_tick = i;
+        }
+    }
+    assert_true(descend_tick > 0);
+    assert_true(horizontal_distance(&f->pl, 0.3, 0.0) < 0.05);
+    sp_level_out(&f->s);
+    for (int i = 0; i < 1500; i++) {
+        if (i % 25 == 0) {
+            f->s.range_mm = (float)(floor(f->pl.p[2] * 1000.0) + (double)((i / 25) % 2));
+        }
+        flow_tick(f);
+        horizontal_abort = horizontal_abort || f->app.telemetry.landing_reason == FC_REASON_ABORT_HORIZONTAL;
+    }
+    assert_false(horizontal_abort);
+    assert_true(horizontal_distance(&f->pl, 0.3, 0.0) < 0.1);
+}
+
+/* Switching to this controller in flight (stabilizer.controller = 6) from a
+ * hover another controller flew: no call without thrust, and the height
+ * reference starts at the vehicle's height. */
+static void test_flow_in_flight_switch(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.3, -0.2, 0.6);
+    f->cmd.track = 1u;
+    const double zero[3] = {0, 0, 0};
+    const double p[3] = {0.3, -0.2, 0.5};
+    /* the other controller's hover: the app is not called; the commander
+     * holds (0.3, -0.2, 0.5) while the vehicle is 0.1 m above it */
+    sp_high_level(&f->s, p, zero, zero, 0.0);
+    cf_app_select(&f->app);
+    f->zero_thrust_ticks = 0;
+    flow_tick(f);
+    const double first_thrust_n = (double)f->app.held.thrust_n;
+    /* the first call flies, at about the weight */
+    assert_true((double)f->app.held.thrust_n > 0.5 * PLANT_MASS_KG * PLANT_G);
+    assert_true((double)f->app.held.thrust_n < 1.5 * PLANT_MASS_KG * PLANT_G);
+    near_abs(f->app.telemetry.z_ref, 0.6, 1e-3);
+    double z_min = 1e9;
+    for (int i = 0; i < 6000; i++) {
+        flow_tick(f);
+        z_min = fmin(z_min, f->pl.p[2]);
+    }
+    assert_int_equal(f->zero_thrust_ticks, 0); /* the measured gap: no call without thrust */
+    print_message("in-flight switch: calls without thrust %d, first call's thrust %.3f of the weight, "
+                  "lowest %.3f m from 0.6 m toward 0.5 m\n",
+                  f->zero_thrust_ticks, first_thrust_n / (PLANT_MASS_KG * PLANT_G), z_min);
+    assert_true(z_min > 0.48); /* no dip: z_r starts at the vehicle and decays to the commander's height */
+    near_abs(f->pl.p[2], 0.5, 0.03);
+    /* a parameter written in flight and reinit: a new spare, taken without a gap */
+    f->tuning.z_bias = 0.2f;
+    assert_true(cf_app_worker(&f->app, &f->tuning));
+    f->cmd.reinit = true;
+    for (int i = 0; i < 2000; i++) {
+        flow_tick(f);
+    }
+    assert_false(f->app.reinit_pending);
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    near_abs(f->pl.p[2], 0.5, 0.03);
+}
+
+/* HOLD -> TRACK -> LAND with the mission parameters, the commander holding
+ * the pad's centre: z_r and the horizontal setpoint continuous at each switch. */
+static void test_flow_hold_track_land_continuity(void **state)
+{
+    (void)state;
+    flow *f = flow_new(0.0, 0.0, 0.6);
+    const double zero[3] = {0, 0, 0};
+    const double p[3] = {0.0, 0.0, 0.6};
+    f->cmd.mission = CF_MISSION_HOLD;
+    sp_high_level(&f->s, p, zero, zero, 0.0);
+    for (int i = 0; i < 3000; i++) {
+        flow_tick(f);
+    }
+    assert_int_equal(f->app.telemetry.command, FC_COMMAND_HOLD);
+    const uint8_t missions[2] = {CF_MISSION_FOLLOW, CF_MISSION_LAND};
+    for (int m = 0; m < 2; m++) {
+        /* the switch lands on a step (even tick) */
+        if (f->app.tick_phase != 0u) {
+            flow_tick(f);
+        }
+        const float z_ref_before = f->app.telemetry.z_ref;
+        const fc_vec3 sp_before = f->app.inputs.position_setpoint_m;
+        f->cmd.mission = missions[m];
+        f->cmd.track = 1u;
+        flow_tick(f);
+        const double z = f->pl.p[2];
+        near_abs(f->app.telemetry.z_ref, z_ref_before, 0.01);
+        assert_true(fabs((double)f->app.telemetry.z_ref - z) < 0.02);
+        assert_true(f->app.inputs.position_setpoint_m.x == sp_before.x);
+        assert_true(f->app.inputs.position_setpoint_m.y == sp_before.y);
+        for (int i = 0; i < 3000; i++) {
+            flow_tick(f);
+        }
+    }
+    assert_int_equal(f->app.telemetry.command, FC_COMMAND_LAND);
+    assert_int_equal(f->zero_thrust_ticks, 0);
 }
 
 int main(void)
@@ -809,13 +1485,15 @@ int main(void)
         cmocka_unit_test(test_legacy_euler_matches_estimator),
         cmocka_unit_test(test_inputs_units_and_frames),
         cmocka_unit_test(test_inputs_out_of_range),
-        cmocka_unit_test(test_setpoint_or_hold),
+        cmocka_unit_test(test_setpoint_modes),
+        cmocka_unit_test(test_commander_height),
         cmocka_unit_test(test_command_gating),
         cmocka_unit_test(test_session_edges),
         cmocka_unit_test(test_virtual_pad),
         cmocka_unit_test(test_force_torque),
         cmocka_unit_test(test_telemetry),
         cmocka_unit_test(test_tuning_defaults_are_the_library_defaults),
+        cmocka_unit_test(test_default_params_for_is_the_preset),
         cmocka_unit_test(test_tuning_overrides_and_variants),
         cmocka_unit_test(test_approach_offset),
         cmocka_unit_test(test_chain_hover),
@@ -824,6 +1502,13 @@ int main(void)
         cmocka_unit_test(test_range_into_inputs),
         cmocka_unit_test(test_telemetry_landing),
         cmocka_unit_test(test_chain_land_then_hold_aborts),
+        cmocka_unit_test(test_flow_high_level_commander),
+        cmocka_unit_test(test_flow_motion_commander),
+        cmocka_unit_test(test_flow_watchdog_level_out_then_cut),
+        cmocka_unit_test(test_flow_land_through_level_out),
+        cmocka_unit_test(test_flow_airframe_cf21bl),
+        cmocka_unit_test(test_flow_in_flight_switch),
+        cmocka_unit_test(test_flow_hold_track_land_continuity),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "cf.convert (fixed)" : "cf.convert (float)", tests, NULL,
                                        NULL);
