@@ -14,10 +14,6 @@
 
 #if FC_NUMERIC_FIXED
 
-#if defined(FC_SCALAR_COMPACT)
-#error "scalar.c holds the out-of-line products: it is never a compact unit"
-#endif
-
 /* Constant tables: in program memory on the ATmega (read by LPM), where a
  * const array would otherwise be copied into its 8 KB of RAM at start-up. */
 #if defined(__AVR__)
@@ -94,7 +90,7 @@ FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, 
 #define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
 #endif
 
-/* The out-of-line products of compact translation units (fc/scalar.h). On
+/* The out-of-line products (fc/scalar.h: the ATmega's fc_mul, fc_dotN). On
  * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
  * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
  * atmega.scalar_equivalence), and so are the shifts of 32 and more that

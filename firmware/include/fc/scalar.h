@@ -51,6 +51,9 @@
  *                                                  loop's modules (fc_wrench16): thrust
  *                                                  as a fraction of the airframe's
  *                                                  maximum, moments of their authority
+ *   RATE16     10   [-32, 32) rad/s   9.8e-4 rad/s body rates as the attitude law and the
+ *                                                  filter's integration read them (a
+ *                                                  2000 deg/s gyro's LSB is 1.1e-3)
  *
  * A product of two fc_real16 is exact in an fc_real, in the format whose FRAC
  * is the sum of theirs (UNIT16 x UNIT16: UNIT16_SQ, Q28), and so is the sum of
@@ -100,6 +103,7 @@
 #define FC_UNIT16_FRAC 14
 #define FC_UNIT16_SQ_FRAC 28 /* a product of two UNIT16 values: 2 x 14 */
 #define FC_NORM16_FRAC 14    /* the normalised wrench: room for 2x the authority */
+#define FC_RATE16_FRAC 10    /* body rates read by 16-bit products */
 
 /* Right shift of a product: operand formats A and B, result format OUT. */
 #define FC_SHIFT(A, B, OUT) (FC_##A##_FRAC + FC_##B##_FRAC - FC_##OUT##_FRAC)
@@ -459,11 +463,18 @@ FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
     return a < 0 ? fc_neg(ar, a) : a;
 }
 
-/* Compact translation units: with FC_SCALAR_COMPACT defined before this
- * header, fc_mul and fc_dot2/3/4 call one out-of-line copy each (scalar.c)
- * with the shift at run time. Bit-identical results, a fraction of the code,
- * some cycles more per product: the ATmega image builds its outer-loop
- * modules so (position, pad motion, landing), as its flash is what runs out. */
+/* Where the 32-bit products are formed. On the ATmega out of line: one copy
+ * each of fc_mul and fc_dot2/3/4 (scalar.c, the shift at run time), since
+ * inlined at every site they overflow its flash, and the inner loop's
+ * frequent products are the 16-bit ones (fc_mul16, ...), inline everywhere.
+ * The ATmega's equivalence test defines FC_SCALAR_INLINE_PRODUCTS before
+ * this header to form them inline and compare.
+ * Elsewhere inline. The same bits either way (atmega.scalar_equivalence). */
+#if defined(__AVR__) && !defined(FC_SCALAR_INLINE_PRODUCTS)
+#define FC_FX_OUTLINE_PRODUCTS 1
+#else
+#define FC_FX_OUTLINE_PRODUCTS 0
+#endif
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift);
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift);
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -471,10 +482,10 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift);
 
-/* The bodies of fc_mul and fc_dot2, callable inline even in a compact unit:
- * where a site runs so often that the call, its register saves and the
- * run-time shift matter more than the flash of the inlined product: pad
- * motion's covariance update (two sites, 28 times a range sample).
+/* The bodies of fc_mul and fc_dot2, inline on the ATmega too: for a site
+ * that runs so often that the call, its register saves and the run-time
+ * shift matter more than the flash of the inlined product (pad motion's
+ * covariance update: two sites, 28 times a range sample).
  * The same values as fc_mul / fc_dot2 (atmega.scalar_equivalence: the
  * outlined products against these). */
 FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
@@ -494,7 +505,7 @@ FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift
 /* a * b >> shift, rounded, saturated. */
 FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_mul_outline(ar, a, b, shift);
 #endif
     return fc_mul_inline(ar, a, b, shift);
@@ -533,7 +544,7 @@ FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_rea
 FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
 #endif
     return fc_dot2_inline(ar, a0, b0, a1, b1, shift);
@@ -542,7 +553,7 @@ FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
 #endif
     if (shift > 0 && shift < 32) {
@@ -562,7 +573,7 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 #endif
     if (shift > 0 && shift < 32) {
@@ -788,7 +799,7 @@ static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, 
     return a0 * b0 + a1 * b1 + a2 * b2;
 }
 
-/* (the fixed backend's products inlined in compact units: here fc_mul and fc_dot2) */
+/* (the fixed backend's products inlined on the ATmega too: here fc_mul and fc_dot2) */
 static inline fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
     return fc_mul(ar, a, b, shift);
