@@ -234,8 +234,9 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     if (shift >= 0 && shift < 32) {
         /* the library's divisions on the ATmega, where an int64_t division
          * is a 64-round libgcc loop: in 32-bit halves, the same value as the
-         * int64_t form below (atmega.scalar_equivalence; the same algorithm
-         * on the host: test_scalar.test_div_exact) */
+         * int64_t form below (atmega.scalar_equivalence; the host's
+         * test_scalar.test_div_exact checks the int64_t form against an
+         * exact quotient) */
         const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
         const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
         const uint32_t q = div_rounded_u32(n, shift, d);

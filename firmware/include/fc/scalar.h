@@ -1022,8 +1022,9 @@ static inline fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 /* (c, s) = (a, b) / sqrt(a^2 + b^2) for UNIT16 a and b, given their n_sq =
  * fc_dot2_16(a, a, b, b) (UNIT16_SQ) of at least 2^-14; c and s UNIT16. Fixed:
  * 1/sqrt from fc_rsqrt's table and one Newton step, in 16 x 16-bit products
- * (no 64-bit one): c and s within 1.02 UNIT16 LSB of the exact ratio
- * (test_scalar.test_unit2_16: worst 1.011 over 762,064 pairs). Float:
+ * (no 64-bit one): c and s within 1.33 UNIT16 LSB of the exact ratio
+ * (half an LSB of rounding and the table's and the step's relative error,
+ * derived in test_scalar.test_unit2_16). Float:
  * fc_rsqrt and two products. */
 #if FC_NUMERIC_FIXED
 void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out);
