@@ -18,9 +18,9 @@
 #define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT16_SQ)
 
 /* The 16-bit law's own Q-formats (fc/attitude_control.h, Formats): what its
- * products read, each chosen from the range the law can reach. */
+ * products read, each chosen from the range the law can reach (and RATE16,
+ * fc/scalar.h). */
 #define FC_ANGLE16_FRAC 12    /* [-8, 8) rad, 2.4e-4 rad: the error (|e| <= 2) and the integral (<= 4) */
-#define FC_RATE16_FRAC 10     /* [-32, 32) rad/s, 9.8e-4 rad/s: the rate and its error */
 #define FC_NGAIN16_FRAC 12    /* [-8, 8), 2.4e-4: the gains times J / authority */
 #define FC_NINERTIA16_FRAC 15 /* [-1, 1) s^2, 3.1e-5: the inertia differences / authority */
 #define FC_WW16_FRAC 5        /* [-1024, 1024) rad^2/s^2, 0.031: w_i w_j */

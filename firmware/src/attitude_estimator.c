@@ -140,6 +140,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->inv_band_s2pm = FC_INT(0, RATIO);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
+    est->half_dt_s = FC_INT(0, DT);
     est->heading_hold_steps = 0u;
     if (p == NULL || !params_in_range(p)) {
         return FC_INIT_BAD_PARAM;
@@ -185,6 +186,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->inv_band_s2pm = inv_band;
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
+    est->half_dt_s = fc_mul(&ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
     est->heading_hold_steps = heading_hold_steps;
     est->gyro_slack_step_radps = slack_step;
     est->ready = true;
@@ -304,6 +306,23 @@ static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
     est->aligned = true;
 }
 
+/* Below this on every axis the rate takes the 16-bit step (RATE16's range). */
+#define MAX_RATE16_RADPS FC_C(31.999f, RATE)
+
+/* q <- q (x) exp(rate dt / 2): by fc_quat_advance_body_rate (products of 16
+ * bits) for the rates it takes; beyond them (a tumble), by the exponential
+ * map. */
+static fc_quat integrate(fc_attitude_estimator *est, fc_vec3 rate_radps)
+{
+    fc_arith *ar = &est->ar;
+    if (!fc_vec3_within(rate_radps, MAX_RATE16_RADPS)) {
+        return fc_quat_integrate_body_rate(ar, est->attitude, rate_radps, est->p.dt_s);
+    }
+    bool ok = false;
+    const fc_quat next = fc_quat_advance_body_rate(ar, est->attitude, rate_radps, est->half_dt_s, &ok);
+    return ok ? next : est->attitude;
+}
+
 /* One corrected integration step; returns the weight used (RATIO). */
 static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3 accel_mps2,
                                      fc_real norm_mps2)
@@ -329,8 +348,7 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         /* the same actions for the heading's w_h e_h (attitude_heading.c) */
         fc_attitude_heading_correct(est, &rate);
     }
-    /* q <- q (x) exp(rate dt / 2), renormalised inside */
-    est->attitude = fc_quat_integrate_body_rate(ar, est->attitude, rate, est->p.dt_s);
+    est->attitude = integrate(est, rate);
     return weight;
 }
 

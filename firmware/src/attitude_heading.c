@@ -2,9 +2,8 @@
  * attitude_heading.c - the heading aid of the complementary attitude filter
  * (fc/attitude_estimator.h, "Heading"). One source for both backends.
  *
- * A source of its own so that the ATmega's fixed image can build it with the
- * out-of-line products (FC_SCALAR_COMPACT, firmware/CMakeLists.txt): that
- * image has no heading sensor, and its flash is full.
+ * A source of its own: the aid is optional (a vehicle without a heading
+ * sensor, like the ATmega's, never runs it).
  *
  * Formats (fixed backend): the sample's cos and sin, the measured heading in
  * the body m_b and s are UNIT (|.| <= 1); w_h and w_h s are RATIO.

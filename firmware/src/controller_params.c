@@ -1,8 +1,7 @@
 /* controller_params.c - fc_controller's parameters (fc/controller.h): the
  * airframe presets, the nominal mass and what follows it, and the checks
  * across modules that fc_controller_init makes. Run at init only, apart
- * from the step: on the ATmega it calls the out-of-line products
- * (FC_SCALAR_COMPACT, firmware/CMakeLists.txt). */
+ * from the step. */
 #include "fc/controller.h"
 #include "controller_params.h"
 

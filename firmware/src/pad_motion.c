@@ -254,9 +254,7 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real 
     return t;
 }
 
-/* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). (On the
- * ATmega this unit's products stay out of line, FC_SCALAR_COMPACT: inlined
- * they would not fit the flash the bootloader leaves.) */
+/* (sin, cos) rotated by the angle whose (cos, sin) is (rc, rs). */
 static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 {
     const fc_real s_new = fc_dot2(ar, *s, rc, *c, rs, FC_SHIFT(UNIT, UNIT, UNIT));
@@ -394,8 +392,8 @@ static fc_step_status update_covariance(fc_pad_motion *pm, unsigned row_end)
         pm->covariance_inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
     }
     const bool inflate = pm->covariance_inflate;
-    /* the products inlined even where this unit is compact (the ATmega): two
-     * sites run 28 times an update (fc/scalar.h, fc_mul_inline) */
+    /* the products inlined on the ATmega too: two sites run 28 times an
+     * update (fc/scalar.h, fc_mul_inline) */
     for (unsigned i = pm->covariance_rows_done; i < row_end && i < n; i++) {
         for (unsigned j = i; j < n; j++) {
             fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));

@@ -84,6 +84,16 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
     return quat_scale(ar, q, inv_norm, FC_SHIFT(UNIT, RATIO, UNIT));
 }
 
+/* q rounded to the 16-bit format (float: q) */
+static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
+{
+    const fc_quat16 r = {fc_narrow16(ar, q.w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(ar, q.z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
+    return r;
+}
+
 #if FC_NUMERIC_FIXED
 /* fc_quat16_normalize in fixed (float: fc/quat.h) */
 
@@ -94,15 +104,6 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
  * length: 1 UNIT16 LSB at most on a component. */
 #define UNIT16_LENGTH_SQ_TOLERANCE                                                                    \
     (((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 13)) + ((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 24))) /* 2^-13 + 2^-24 */
-
-static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
-{
-    const fc_quat16 r = {fc_narrow16(ar, q.w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(ar, q.x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(ar, q.y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(ar, q.z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
-    return r;
-}
 
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
@@ -311,6 +312,116 @@ fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_r
 {
     const fc_quat dq = step_rotation(ar, rate_body_radps, dt_s);
     return renormalised_or(ar, fc_quat_mul(ar, q, dq), q);
+}
+
+/* ---- the filter's step (fc_quat_advance_body_rate) ---------------------- */
+
+/* Half the length error of a step's p, (|p|^2 - 1) / 2, as the 16-bit value
+ * the Newton step multiplies: [-2^-11, 2^-11), 1.5e-8. */
+#define FC_HALF_LENGTH_ERROR16_FRAC 26
+/* The Newton step takes |p|^2 within 2^-10 of 1: it leaves |p|^2 off by
+ * 3/4 (|p|^2 - 1)^2 <= 7e-7, which the next step removes with its own. */
+#define NEWTON_WINDOW_LOG2 10
+/* q (x) [0, w] of q in UNIT16 and w in RATE16 is RATE as it stands */
+_Static_assert(FC_UNIT16_FRAC + FC_RATE16_FRAC == FC_RATE_FRAC, "q16 w16 is not RATE");
+
+#if FC_NUMERIC_FIXED
+/* (|p|^2 - 1) / 2 from the halves of p's components: p_i = 2^16 h_i + l_i,
+ * h_i = p_i rounded to UNIT16 (into *high), |l_i| <= 2^15. In UNIT,
+ * p_i^2 = 4 h_i^2 + h_i l_i / 2^13 + l_i^2 / 2^30: the last, below one LSB,
+ * is left out (|p|^2 is then up to 4 LSB low), the others are 16 x 16
+ * products. False when |p|^2 is further than 2^-NEWTON_WINDOW_LOG2 from 1
+ * (or a component beyond UNIT16). */
+static bool half_length_error(fc_quat p, fc_quat16 *high, fc_real16 *error)
+{
+    fc_arith probe = {0u};
+    const fc_quat16 h = quat16_round(&probe, p);
+    const uint32_t squares = (uint32_t)fc_mul16(h.w, h.w) + (uint32_t)fc_mul16(h.x, h.x) +
+                             (uint32_t)fc_mul16(h.y, h.y) + (uint32_t)fc_mul16(h.z, h.z); /* UNIT16_SQ */
+    const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
+    const uint32_t window = (uint32_t)1u << (FC_UNIT16_SQ_FRAC - NEWTON_WINDOW_LOG2);
+    if (probe.saturated != 0u || squares > one + window || squares < one - window) {
+        return false;
+    }
+    const int16_t l_w = (int16_t)(p.w - (fc_real)h.w * 65536), l_x = (int16_t)(p.x - (fc_real)h.x * 65536);
+    const int16_t l_y = (int16_t)(p.y - (fc_real)h.y * 65536), l_z = (int16_t)(p.z - (fc_real)h.z * 65536);
+    /* sum_i |h_i l_i| <= 2^15 sum_i |h_i| <= 2^30 (sum_i |p_i| <= 2 |p|) */
+    const fc_real cross = fc_dot2_16(h.w, l_w, h.x, l_x) + fc_dot2_16(h.y, l_y, h.z, l_z);
+    fc_arith never = {0u};
+    const fc_real length_error = (fc_real)(4 * ((int32_t)squares - (int32_t)one)) +
+                                 fc_convert(&never, cross, FC_UNIT_FRAC + 13, FC_UNIT_FRAC); /* UNIT */
+    /* halved by reading it one FRAC finer */
+    *error = fc_narrow16(&probe, length_error, FC_UNIT_FRAC + 1, FC_HALF_LENGTH_ERROR16_FRAC);
+    *high = h;
+    return probe.saturated == 0u;
+}
+#else
+static bool half_length_error(fc_quat p, fc_quat16 *high, fc_real16 *error)
+{
+    fc_arith none = {0u};
+    const fc_real half = 0.5f * (fc_quat_norm_sq(&none, p) - 1.0f);
+    *high = p;
+    *error = half;
+    return fc_within(half, FC_C(0.5f / (float)(1 << NEWTON_WINDOW_LOG2), UNIT));
+}
+#endif
+
+/* q (x) [0, w] = [-v . w, s w + v x w] (2.8) for 16-bit q and w: each sum
+ * exact, in the format whose FRAC is the sum of the operands' (|q| <= 1 +
+ * 2^-13, |w_i| < 2^15 LSB: every sum below 2^31) */
+static fc_quat quat16_times_vector16(fc_arith *ar, fc_quat16 q, fc_vec3_16 w)
+{
+    return fc_quat_make(fc_neg(ar, fc_add(ar, fc_dot2_16(q.x, w.x, q.y, w.y), fc_mul16(q.z, w.z))),
+                        fc_add(ar, fc_dot2_16(q.w, w.x, q.y, w.z), fc_mul16(fc_neg16(q.z), w.y)),
+                        fc_add(ar, fc_dot2_16(q.w, w.y, q.z, w.x), fc_mul16(fc_neg16(q.x), w.z)),
+                        fc_add(ar, fc_dot2_16(q.w, w.z, q.x, w.y), fc_mul16(fc_neg16(q.y), w.x)));
+}
+
+/* q (x) [0, w] in RATE, q rounded to UNIT16 (q16) and w taken whole: in fixed
+ * w = hi + lo, hi rounded to RATE16 and lo (at most half its LSB) in RATE as
+ * 16 bits, each part's product formed exactly */
+static fc_quat rate_increment(fc_arith *ar, fc_quat16 q16, fc_vec3 rate_radps)
+{
+    const fc_vec3_16 hi = fc_vec3_narrow16(ar, rate_radps, FC_RATE_FRAC, FC_RATE16_FRAC);
+    const fc_quat by_hi = quat16_times_vector16(ar, q16, hi); /* UNIT16 x RATE16: RATE */
+#if FC_NUMERIC_FIXED
+    const int hi_lsb = 1 << (FC_RATE_FRAC - FC_RATE16_FRAC);
+    const fc_vec3_16 lo = {(fc_real16)(rate_radps.x - (fc_real)hi.x * hi_lsb),
+                           (fc_real16)(rate_radps.y - (fc_real)hi.y * hi_lsb),
+                           (fc_real16)(rate_radps.z - (fc_real)hi.z * hi_lsb)};
+    const fc_quat by_lo = quat16_times_vector16(ar, q16, lo); /* UNIT16 x RATE */
+    const int from = FC_UNIT16_FRAC + FC_RATE_FRAC;
+    return fc_quat_make(fc_add(ar, by_hi.w, fc_convert(ar, by_lo.w, from, FC_RATE_FRAC)),
+                        fc_add(ar, by_hi.x, fc_convert(ar, by_lo.x, from, FC_RATE_FRAC)),
+                        fc_add(ar, by_hi.y, fc_convert(ar, by_lo.y, from, FC_RATE_FRAC)),
+                        fc_add(ar, by_hi.z, fc_convert(ar, by_lo.z, from, FC_RATE_FRAC)));
+#else
+    return by_hi; /* hi is the rate itself */
+#endif
+}
+
+fc_quat fc_quat_advance_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_radps, fc_real half_dt_s, bool *ok)
+{
+    fc_arith rounding = {0u}; /* q is unit: its rounding cannot saturate */
+    const fc_quat d = rate_increment(ar, quat16_round(&rounding, q), rate_radps);
+    const int to_unit = FC_SHIFT(RATE, DT, UNIT);
+    const fc_quat p = fc_quat_make(fc_add(ar, q.w, fc_mul(ar, d.w, half_dt_s, to_unit)),
+                                   fc_add(ar, q.x, fc_mul(ar, d.x, half_dt_s, to_unit)),
+                                   fc_add(ar, q.y, fc_mul(ar, d.y, half_dt_s, to_unit)),
+                                   fc_add(ar, q.z, fc_mul(ar, d.z, half_dt_s, to_unit)));
+    fc_quat16 p16;
+    fc_real16 e;
+    if (!half_length_error(p, &p16, &e)) {
+        return fc_quat_normalize(ar, p, ok);
+    }
+    /* p (1 - e) = p - p16 e: the product of the rounded p is off by
+     * 2^-15 |e| <= 2^-26 */
+    const int from = FC_UNIT16_FRAC + FC_HALF_LENGTH_ERROR16_FRAC;
+    *ok = true;
+    return fc_quat_make(fc_sub(ar, p.w, fc_convert(ar, fc_mul16(p16.w, e), from, FC_UNIT_FRAC)),
+                        fc_sub(ar, p.x, fc_convert(ar, fc_mul16(p16.x, e), from, FC_UNIT_FRAC)),
+                        fc_sub(ar, p.y, fc_convert(ar, fc_mul16(p16.y, e), from, FC_UNIT_FRAC)),
+                        fc_sub(ar, p.z, fc_convert(ar, fc_mul16(p16.z, e), from, FC_UNIT_FRAC)));
 }
 
 fc_quat fc_quat_integrate_world_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_world_radps, fc_real dt_s)

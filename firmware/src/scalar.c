@@ -14,10 +14,6 @@
 
 #if FC_NUMERIC_FIXED
 
-#if defined(FC_SCALAR_COMPACT)
-#error "scalar.c holds the out-of-line products: it is never a compact unit"
-#endif
-
 /* Constant tables: in program memory on the ATmega (read by LPM), where a
  * const array would otherwise be copied into its 8 KB of RAM at start-up. */
 #if defined(__AVR__)
@@ -94,7 +90,7 @@ FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, 
 #define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
 #endif
 
-/* The out-of-line products of compact translation units (fc/scalar.h). On
+/* The out-of-line products (fc/scalar.h: the ATmega's fc_mul, fc_dotN). On
  * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
  * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
  * atmega.scalar_equivalence), and so are the shifts of 32 and more that
@@ -238,8 +234,9 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     if (shift >= 0 && shift < 32) {
         /* the library's divisions on the ATmega, where an int64_t division
          * is a 64-round libgcc loop: in 32-bit halves, the same value as the
-         * int64_t form below (atmega.scalar_equivalence; the same algorithm
-         * on the host: test_scalar.test_div_exact) */
+         * int64_t form below (atmega.scalar_equivalence; the host's
+         * test_scalar.test_div_exact checks the int64_t form against an
+         * exact quotient) */
         const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
         const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
         const uint32_t q = div_rounded_u32(n, shift, d);

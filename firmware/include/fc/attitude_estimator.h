@@ -124,6 +124,7 @@ typedef struct fc_attitude_estimator {
     fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
     fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
     fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */
+    fc_real half_dt_s;                 /* DT: dt / 2, the integration's factor */
     fc_quat attitude;                  /* UNIT: body -> world */
     fc_vec3 gyro_bias_fine;            /* UNIT (Q30 holding rad/s, |b| <= 0.8): the bias
                                         * estimate, held finer than RATE so that the small

@@ -51,6 +51,9 @@
  *                                                  loop's modules (fc_wrench16): thrust
  *                                                  as a fraction of the airframe's
  *                                                  maximum, moments of their authority
+ *   RATE16     10   [-32, 32) rad/s   9.8e-4 rad/s body rates as the attitude law and the
+ *                                                  filter's integration read them (a
+ *                                                  2000 deg/s gyro's LSB is 1.1e-3)
  *
  * A product of two fc_real16 is exact in an fc_real, in the format whose FRAC
  * is the sum of theirs (UNIT16 x UNIT16: UNIT16_SQ, Q28), and so is the sum of
@@ -69,10 +72,6 @@
 
 #ifndef FC_NUMERIC_FIXED
 #define FC_NUMERIC_FIXED 0
-#endif
-
-#if FC_NUMERIC_FIXED && defined(__AVR__)
-#include "fc/scalar_avr.h" /* the ATmega's products in assembly */
 #endif
 
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
@@ -100,6 +99,7 @@
 #define FC_UNIT16_FRAC 14
 #define FC_UNIT16_SQ_FRAC 28 /* a product of two UNIT16 values: 2 x 14 */
 #define FC_NORM16_FRAC 14    /* the normalised wrench: room for 2x the authority */
+#define FC_RATE16_FRAC 10    /* body rates read by 16-bit products */
 
 /* Right shift of a product: operand formats A and B, result format OUT. */
 #define FC_SHIFT(A, B, OUT) (FC_##A##_FRAC + FC_##B##_FRAC - FC_##OUT##_FRAC)
@@ -208,39 +208,37 @@ FC_FX_INLINE int64_t fc_fx_join(fc_fx_wide value)
     return join.whole;
 }
 
-/* a * b exactly, as halves. */
+/*
+ * The port. The definitions below are the reference, written in portable C.
+ * A target may replace the few marked "port:" with its own, which must give
+ * the same bits: fc/scalar_avr.h, the ATmega's, does (avr-gcc 5.4 forms
+ * int64_t products and shifts in libgcc loops), checked against these on the
+ * target by atmega.scalar_equivalence.
+ */
+#if defined(__AVR__)
+#include "fc/scalar_avr.h"
+#endif
+
+/* a * b exactly, as halves. (port: FC_PORT_MUL_WIDE) */
+#ifndef FC_PORT_MUL_WIDE
 FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
 {
-#if defined(__AVR__)
-    /* unsigned product of the bit patterns, then the high half corrected for
-     * the signs (fc/scalar_avr.h) */
-    fc_fx_wide product;
-    fc_avr_mul_u32((uint32_t)a, (uint32_t)b, &product.low, &product.high);
-    if (a < 0) {
-        product.high -= (uint32_t)b;
-    }
-    if (b < 0) {
-        product.high -= (uint32_t)a;
-    }
-    return product;
-#else
     return fc_fx_split((int64_t)a * b);
-#endif
 }
+#endif
 
-/* a * b exactly, unsigned, as halves (the square roots of scalar.c). */
+/* a * b exactly, unsigned, as halves (the square roots of scalar.c). (port:
+ * FC_PORT_MUL_WIDE) */
+#ifndef FC_PORT_MUL_WIDE
 FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
 {
-    fc_fx_wide product;
-#if defined(__AVR__)
-    fc_avr_mul_u32(a, b, &product.low, &product.high);
-#else
     const uint64_t whole = (uint64_t)a * b;
+    fc_fx_wide product;
     product.low = (uint32_t)whole;
     product.high = (uint32_t)(whole >> 32);
-#endif
     return product;
 }
+#endif
 
 /* fc_fx_add64 on halves: a + b, clamped at +-INT64_MAX. */
 FC_FX_INLINE fc_fx_wide fc_fx_add_wide(fc_fx_wide a, fc_fx_wide b)
@@ -266,44 +264,29 @@ FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
     return sum;
 }
 
-/* Bits [shift, shift + 31] of high:low, 0 < shift < 32 (a compile-time constant). */
+/* Bits [shift, shift + 31] of high:low, 0 < shift < 32. (port: FC_PORT_EXTRACT) */
+#ifndef FC_PORT_EXTRACT
 FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
 {
-#if defined(__AVR__)
-    if (__builtin_constant_p(shift)) {
-        /* a C shift by a constant that is not a multiple of 8 is a loop at
-         * -Os: whole bytes by moves, then the 0..7 bits left of 40 bits,
-         * the shorter way (fc/scalar_avr.h) */
-        const int bytes = shift / 8, bits = shift % 8;
-        if (bits <= 4) {
-            uint32_t word = fc_avr_word(low, high, bytes);
-            uint8_t top = fc_avr_byte(low, high, bytes + 4);
-            FC_AVR_SHR40(word, top, bits);
-            return word;
-        }
-        uint32_t word = fc_avr_word(low, high, bytes + 1);
-        uint8_t bottom = fc_avr_byte(low, high, bytes);
-        FC_AVR_SHL40(word, bottom, 8 - bits);
-        return word;
-    }
-    /* a run-time shift: whole bytes, then the 0..7 bits by an ASR/ROR loop */
-    const int bytes = shift / 8;
-    if (bytes == 1) {
-        low = (low >> 8) | (high << 24);
-        high >>= 8;
-    } else if (bytes == 2) {
-        low = (low >> 16) | (high << 16);
-        high >>= 16;
-    } else if (bytes == 3) {
-        low = (low >> 24) | (high << 8);
-        high >>= 24;
-    }
-    FC_AVR_ASR64(low, high, shift % 8);
-    return low;
-#else
     return (high << (32 - shift)) | (low >> shift);
-#endif
 }
+#endif
+
+/* a >> n, arithmetic (floor(a / 2^n)), and a 2^n modulo 2^32, for 0 <= n < 32.
+ * (port: FC_PORT_SHIFT32) */
+#ifndef FC_PORT_SHIFT32
+FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
+{
+    /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
+     * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
+    return a >> n;
+}
+
+FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
+{
+    return (int32_t)((uint32_t)a << n);
+}
+#endif
 
 /*
  * value / 2^shift rounded to nearest and saturated, the way every product
@@ -335,18 +318,14 @@ FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift
     return result;
 }
 
-/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8: on the
- * ATmega by ASR/ROR, unrolled for a compile-time constant and a counted loop
- * for a run-time one (fc/scalar_avr.h). */
+/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8.
+ * (port: FC_PORT_ASR_WIDE) */
+#ifndef FC_PORT_ASR_WIDE
 FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
 {
-#if defined(__AVR__)
-    FC_AVR_ASR64(value.low, value.high, bits);
-    return value;
-#else
     return fc_fx_split(fc_fx_join(value) >> bits); /* arithmetic shift (gcc) */
-#endif
 }
+#endif
 
 /*
  * fc_fx_narrow_wide for 32 <= shift <= FC_FX_FAR_SHIFT_MAX: the products whose
@@ -360,12 +339,10 @@ FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
  * those of fc_fx_narrow's 64-bit form.
  */
 #define FC_FX_FAR_SHIFT_MAX 38
-/* Where those products are formed: inline, or on the ATmega by the
- * out-of-line products of scalar.c (fc_fx_mul_outline, ...), as its flash does
- * not hold another inlined multiply and narrowing per such site. */
-#if defined(__AVR__)
-#define FC_FX_FAR_INLINE 0
-#else
+/* Where those products are formed: inline, or (0) by the out-of-line
+ * products of scalar.c (fc_fx_mul_outline, ...) even where the others are
+ * inline. (port: FC_FX_FAR_INLINE) */
+#ifndef FC_FX_FAR_INLINE
 #define FC_FX_FAR_INLINE 1
 #endif
 FC_FX_INLINE fc_real fc_fx_narrow_wide_far(fc_arith *ar, fc_fx_wide value, int shift)
@@ -459,11 +436,13 @@ FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
     return a < 0 ? fc_neg(ar, a) : a;
 }
 
-/* Compact translation units: with FC_SCALAR_COMPACT defined before this
- * header, fc_mul and fc_dot2/3/4 call one out-of-line copy each (scalar.c)
- * with the shift at run time. Bit-identical results, a fraction of the code,
- * some cycles more per product: the ATmega image builds its outer-loop
- * modules so (position, pad motion, landing), as its flash is what runs out. */
+/* Where fc_mul and fc_dot2/3/4 are formed: inline, or (1) by one
+ * out-of-line copy each (scalar.c, the shift at run time): the same bits, a
+ * fraction of the code, some cycles more a product. (port:
+ * FC_FX_OUTLINE_PRODUCTS) */
+#ifndef FC_FX_OUTLINE_PRODUCTS
+#define FC_FX_OUTLINE_PRODUCTS 0
+#endif
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift);
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift);
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -471,10 +450,10 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift);
 
-/* The bodies of fc_mul and fc_dot2, callable inline even in a compact unit:
- * where a site runs so often that the call, its register saves and the
- * run-time shift matter more than the flash of the inlined product: pad
- * motion's covariance update (two sites, 28 times a range sample).
+/* The bodies of fc_mul and fc_dot2, inline on the ATmega too: for a site
+ * that runs so often that the call, its register saves and the run-time
+ * shift matter more than the flash of the inlined product (pad motion's
+ * covariance update: two sites, 28 times a range sample).
  * The same values as fc_mul / fc_dot2 (atmega.scalar_equivalence: the
  * outlined products against these). */
 FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
@@ -494,7 +473,7 @@ FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift
 /* a * b >> shift, rounded, saturated. */
 FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_mul_outline(ar, a, b, shift);
 #endif
     return fc_mul_inline(ar, a, b, shift);
@@ -533,7 +512,7 @@ FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_rea
 FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
 #endif
     return fc_dot2_inline(ar, a0, b0, a1, b1, shift);
@@ -542,7 +521,7 @@ FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
 #endif
     if (shift > 0 && shift < 32) {
@@ -562,7 +541,7 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
 FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
                               fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
 {
-#if defined(FC_SCALAR_COMPACT)
+#if FC_FX_OUTLINE_PRODUCTS
     return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 #endif
     if (shift > 0 && shift < 32) {
@@ -591,15 +570,11 @@ FC_FX_INLINE fc_acc fc_acc_zero(void)
     return 0;
 }
 
+/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64 */
 FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
-#if defined(__AVR__)
-    fc_fx_wide product = fc_fx_mul_wide(a, b);
-    FC_AVR_ASR64(product.low, product.high, FC_ACC_GUARD_BITS);
+    const fc_fx_wide product = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
     return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), product));
-#else
-    return acc + (((int64_t)a * b) >> FC_ACC_GUARD_BITS);
-#endif
 }
 
 FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
@@ -617,19 +592,8 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
     if (shift > 0 && shift < 32) {
         /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^shift) + bit shift-1
          * of a: rounded to nearest in 32 bits, and never beyond the range */
-#if defined(__AVR__)
-        if (__builtin_constant_p(shift)) {
-            /* the same value with the shift by whole bytes and a few bits
-             * (fc_fx_extract; a C shift by a constant is a loop at -Os):
-             * h = floor(a / 2^(shift-1)), then floor(h / 2) + bit 0 of h */
-            const uint32_t sign = a < 0 ? UINT32_MAX : 0u;
-            const int32_t half = shift == 1 ? a : (int32_t)fc_fx_extract((uint32_t)a, sign, shift - 1);
-            return (half >> 1) + (half & 1);
-        }
-#endif
-        /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
-         * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
-        return (a >> shift) + ((a >> (shift - 1)) & 1);
+        const int32_t half = fc_fx_asr32(a, shift - 1); /* floor(a / 2^(shift-1)) */
+        return (half >> 1) + (half & 1);
     }
     if (shift < 0 && shift > -32) {
         /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */
@@ -638,12 +602,7 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
             ar->saturated = 1u;
             return a > 0 ? FC_REAL_MAX : FC_REAL_MIN;
         }
-#if defined(__AVR__)
-        if (__builtin_constant_p(shift)) {
-            return (fc_real)fc_fx_extract(0u, (uint32_t)a, 32 + shift); /* a 2^-shift, by bytes */
-        }
-#endif
-        return (fc_real)((uint32_t)a << (-shift));
+        return fc_fx_shl32(a, -shift);
     }
     return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, shift));
 }
@@ -788,7 +747,7 @@ static inline fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, 
     return a0 * b0 + a1 * b1 + a2 * b2;
 }
 
-/* (the fixed backend's products inlined in compact units: here fc_mul and fc_dot2) */
+/* (the fixed backend's products inlined on the ATmega too: here fc_mul and fc_dot2) */
 static inline fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
     return fc_mul(ar, a, b, shift);
@@ -1011,8 +970,9 @@ static inline fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 /* (c, s) = (a, b) / sqrt(a^2 + b^2) for UNIT16 a and b, given their n_sq =
  * fc_dot2_16(a, a, b, b) (UNIT16_SQ) of at least 2^-14; c and s UNIT16. Fixed:
  * 1/sqrt from fc_rsqrt's table and one Newton step, in 16 x 16-bit products
- * (no 64-bit one): c and s within 1.02 UNIT16 LSB of the exact ratio
- * (test_scalar.test_unit2_16: worst 1.011 over 762,064 pairs). Float:
+ * (no 64-bit one): c and s within 1.33 UNIT16 LSB of the exact ratio
+ * (half an LSB of rounding and the table's and the step's relative error,
+ * derived in test_scalar.test_unit2_16). Float:
  * fc_rsqrt and two products. */
 #if FC_NUMERIC_FIXED
 void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out);

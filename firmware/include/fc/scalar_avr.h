@@ -1,12 +1,14 @@
 /*
- * fc/scalar_avr.h - the ATmega's products for the fixed backend (included by
- * fc/scalar.h only when __AVR__ is defined; nothing else includes it).
+ * fc/scalar_avr.h - the ATmega's port of the fixed backend: included by
+ * fc/scalar.h (fixed, __AVR__ only; nothing else includes it), it replaces
+ * the few primitives marked "port:" there with forms avr-gcc compiles well.
  *
  * avr-gcc 5.4 computes (int64_t)a * b by __mulsidi3 and shifts, adds and
- * compares int64_t through libgcc loops. Here the 64-bit intermediate of a
- * product never is a C int64_t: it is the pair of 32-bit halves of
- * fc_fx_wide, and the two steps that need more than 32-bit C are written out
- * in AVR assembly:
+ * compares int64_t through libgcc loops; a 32-bit shift by a constant that is
+ * not a multiple of 8 is a loop at -Os. So the 64-bit intermediate of a
+ * product is never a C int64_t here: it is the pair of 32-bit halves of
+ * fc_fx_wide, and the steps that need more than 32-bit C are written out in
+ * AVR assembly:
  *
  *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
  *                    schoolbook method (MUL, 2 cycles each), summed by
@@ -19,8 +21,8 @@
  * (two's complement, modulo 2^64):
  *   a b = A B - 2^32 (a < 0 ? B : 0) - 2^32 (b < 0 ? A : 0)
  * with A, B the operands read as unsigned, so only the high half is corrected.
- * platform/atmega/sim/avr_scalar_test.c checks these against the portable C
- * of fc/scalar.h in simavr.
+ * platform/atmega/scalar_test checks the port against the portable C of
+ * fc/scalar.h in simavr (atmega.scalar_equivalence).
  */
 #ifndef FC_SCALAR_AVR_H
 #define FC_SCALAR_AVR_H
@@ -201,5 +203,110 @@ static inline __attribute__((always_inline)) uint32_t fc_avr_word(uint32_t low, 
         return high;
     }
 }
+
+
+/* ---- the port: the primitives of fc/scalar.h it replaces ------------------
+ * Included by fc/scalar.h after its fc_fx_wide, each definition the same bits
+ * as the portable one it replaces (atmega.scalar_equivalence). */
+
+/* fc_fx_mul_wide: the unsigned product of the bit patterns, then the high
+ * half corrected for the signs (above); fc_fx_umul_wide: the product itself */
+#define FC_PORT_MUL_WIDE
+FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
+{
+    fc_fx_wide product;
+    fc_avr_mul_u32((uint32_t)a, (uint32_t)b, &product.low, &product.high);
+    if (a < 0) {
+        product.high -= (uint32_t)b;
+    }
+    if (b < 0) {
+        product.high -= (uint32_t)a;
+    }
+    return product;
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
+{
+    fc_fx_wide product;
+    fc_avr_mul_u32(a, b, &product.low, &product.high);
+    return product;
+}
+
+/* fc_fx_extract: a C shift by a constant that is not a multiple of 8 is a
+ * loop at -Os, so whole bytes by moves, then the 0..7 bits left of 40 bits,
+ * the shorter way; a run-time shift by bytes, then an ASR/ROR loop */
+#define FC_PORT_EXTRACT
+FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
+{
+    if (__builtin_constant_p(shift)) {
+        const int bytes = shift / 8, bits = shift % 8;
+        if (bits <= 4) {
+            uint32_t word = fc_avr_word(low, high, bytes);
+            uint8_t top = fc_avr_byte(low, high, bytes + 4);
+            FC_AVR_SHR40(word, top, bits);
+            return word;
+        }
+        uint32_t word = fc_avr_word(low, high, bytes + 1);
+        uint8_t bottom = fc_avr_byte(low, high, bytes);
+        FC_AVR_SHL40(word, bottom, 8 - bits);
+        return word;
+    }
+    /* a run-time shift: whole bytes, then the 0..7 bits by an ASR/ROR loop */
+    const int bytes = shift / 8;
+    if (bytes == 1) {
+        low = (low >> 8) | (high << 24);
+        high >>= 8;
+    } else if (bytes == 2) {
+        low = (low >> 16) | (high << 16);
+        high >>= 16;
+    } else if (bytes == 3) {
+        low = (low >> 24) | (high << 8);
+        high >>= 24;
+    }
+    FC_AVR_ASR64(low, high, shift % 8);
+    return low;
+}
+
+/* fc_fx_asr32, fc_fx_shl32: a constant shift by bytes and a few bits
+ * (fc_fx_extract), not by a C shift, a loop at -Os */
+#define FC_PORT_SHIFT32
+FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
+{
+    if (__builtin_constant_p(n) && n > 0) {
+        const uint32_t sign = a < 0 ? UINT32_MAX : 0u;
+        return (int32_t)fc_fx_extract((uint32_t)a, sign, n);
+    }
+    return a >> n;
+}
+
+FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
+{
+    if (__builtin_constant_p(n) && n > 0) {
+        return (int32_t)fc_fx_extract(0u, (uint32_t)a, 32 - n);
+    }
+    return (int32_t)((uint32_t)a << n);
+}
+
+/* fc_fx_asr_wide: by ASR/ROR, unrolled for a compile-time constant and a
+ * counted loop for a run-time one */
+#define FC_PORT_ASR_WIDE
+FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
+{
+    FC_AVR_ASR64(value.low, value.high, bits);
+    return value;
+}
+
+/* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
+ * does not hold another inlined multiply and narrowing per such site */
+#define FC_FX_FAR_INLINE 0
+
+/* fc_mul and fc_dotN out of line (fc/scalar.h, FC_FX_OUTLINE_PRODUCTS):
+ * inlined at every site they overflow the flash, and the inner loop's
+ * frequent products are the 16-bit ones (fc_mul16, ...), inline everywhere.
+ * The equivalence test defines FC_SCALAR_INLINE_PRODUCTS before fc/scalar.h
+ * to form them inline and compare. */
+#if !defined(FC_SCALAR_INLINE_PRODUCTS)
+#define FC_FX_OUTLINE_PRODUCTS 1
+#endif
 
 #endif /* FC_SCALAR_AVR_H */

@@ -9,22 +9,25 @@
  * a run-time shift (a shift passed to a function that is not inlined).
  * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
  * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert
- * (fc_mul and fc_dot2 of this non-compact unit are fc_mul_inline and
- * fc_dot2_inline, the products compact units inline at their hot sites);
+ * (inlined in this unit, FC_SCALAR_INLINE_PRODUCTS, as at the hot sites
+ * that call fc_mul_inline and fc_dot2_inline);
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
  * (a table's chord made exact by steps) against the digit-by-digit square
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
  * 16) against the rounded value saturated at +-INT16_MAX, and
- * fc_hypot3_within against that root compared; the out-of-line products of
- * the compact units (fc_fx_mul_outline, fc_fx_dot2/3/4_outline: a run-time
- * shift narrowed by bytes and bits) against the int64_t form.
+ * fc_hypot3_within against that root compared; the out-of-line products
+ * that every other unit calls on the ATmega (fc_fx_mul_outline,
+ * fc_fx_dot2/3/4_outline: a run-time shift narrowed by bytes and bits)
+ * against the int64_t form.
  *
  * No I/O: the counts are in scalar_test_cases / scalar_test_failures and the
  * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
  * sleep with interrupts off (ends the simavr run). Read by scalar_test_host.c.
  */
+/* the products formed inline here, to compare with the out-of-line ones */
+#define FC_SCALAR_INLINE_PRODUCTS
 #include <avr/interrupt.h>
 #include <avr/sleep.h>
 #include <stdint.h>
@@ -335,7 +338,7 @@ static __attribute__((noinline)) void case_runtime(const int32_t *a, const int32
     r.saturated = 0u;
     want = ref_dot(&r, a, b, 4, shift);
     check(OP_DOT4_RUNTIME, (uint8_t)shift, dot4, d4.saturated, want, r.saturated);
-    /* the compact units' out-of-line products (scalar.c) */
+    /* the out-of-line products (scalar.c) */
     fc_arith o = {0u};
     r.saturated = 0u;
     int32_t got = fc_fx_mul_outline(&o, a[0], b[0], shift);
