@@ -137,7 +137,7 @@ for run in "${presets[@]}" "${presets[@]/%/-cf}" atmega-f450 atmega-fixed-f450; 
     read -r text data bss < <(avr-size -B bench.elf | awk 'NR == 2 { print $1, $2, $3 }')
     ;;
   cf2*)
-    # what flies: the preset's library, one translation unit (firmware/unity/fc_library.c)
+    # what flies: the preset's library, one translation unit (firmware/amalgamation/fc_library.c)
     m4f_run "$root/build/$p/firmware/libfc.a" "$run" fc_controller_step
     awk -v p="$run" '$1 == "STACK" { print p, "peak", $2 }' run.txt >>"$results"
     # the same image timing each step with DWT->CYCCNT, for a Crazyflie (not run here: CYCCNT reads 0 in QEMU)
@@ -196,7 +196,7 @@ awk -v mods="$mods" -v w="$1" -v title="$2" -v sizes="${3:-0}" '
     printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", m " mean", sprintf("%d", mean["atmega" w, m]), sprintf("%d", mean["atmega-fixed" w, m]), "", sprintf("%d", mean["cf2" w, m]), sprintf("%d", mean["cf2-fixed" w, m]), "", sprintf("%d", mean["cf2" w "~est", m]), sprintf("%d", mean["cf2-fixed" w "~est", m])
     printf "(mean over the 16 calls, the load per step: each part of the outer group runs in one minor frame of every 5 steps)\n"
     printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", "  M4F, sources one by one", "", "", "", rng("cf2" w "+sep", m), rng("cf2-fixed" w "+sep", m), "", rng("cf2" w "+sep~est", m), rng("cf2-fixed" w "+sep~est", m)
-    printf "(M4F: fc_controller_step of the library that flies, one translation unit (firmware/unity/fc_library.c), which\n"
+    printf "(M4F: fc_controller_step of the library that flies, one translation unit (firmware/amalgamation/fc_library.c), which\n"
     printf "inlines the modules; the module rows and the row above are the same sources compiled one by one, the modules calls)\n"
     printf "%-31s|%16s |%16s |%6s |%14s |%14s |%6s |%14s |%14s\n", "  est, LDR/STR at 2 cyc", "", "", "", "", "", "", rng("cf2" w "~est2", m), rng("cf2-fixed" w "~est2", m)
     printf "(fc_controller_step estimated with every LDR/STR at 2 cycles, no pipelining: the upper side of the load/store\n"

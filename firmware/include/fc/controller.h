@@ -245,7 +245,7 @@ typedef struct fc_controller {
      * first, then the outer group's (position loop, pad model) and the
      * allocation, the largest. The order is for the Cortex-M4F: a VLDR/VSTR
      * reaches 1020 bytes from its base register, and in the one translation
-     * unit (unity/fc_library.c) the step addresses the modules' fields from
+     * unit (amalgamation/fc_library.c) the step addresses the modules' fields from
      * ctl, so a field placed further off costs an address computation at
      * each access; among the per-step modules, the order the bench's step
      * (tools/bench.sh) took the fewest cycles with. */

@@ -1,7 +1,7 @@
 /*
- * fc_library.c - the whole library as one translation unit, for the
- * Cortex-M4F builds (the cf2 presets, firmware/CMakeLists.txt, and the
- * Crazyflie app's Kbuild, platform/crazyflie/fclib/Kbuild).
+ * fc_library.c - the library's amalgamation: every source as one translation
+ * unit, for the Cortex-M4F builds (the cf2 presets, firmware/CMakeLists.txt,
+ * and the Crazyflie app's Kbuild, platform/crazyflie/fclib/Kbuild).
  *
  * Built from its sources one by one, each module's step is a call from
  * fc_controller_step, with the inputs and outputs passed through memory and
