@@ -205,6 +205,56 @@ static void eta_observer_zoh(fc_arith *ar, fc_real rate_per_s, fc_real dt_s, fc_
     *in_gain_s = fc_div(ar, fc_sub(ar, FC_INT(1, UNIT), *pole), rate_per_s, FC_DIV_SHIFT(UNIT, GAIN, DT));
 }
 
+/* The constants of the feed-forward bound and of the adaptation's proportional
+ * part. Extreme but valid parameters push some intermediates past their
+ * formats; each is capped where it no longer changes the law (products in a
+ * scratch fc_arith: fixed saturates at the format's end, float does not, and
+ * the cap gives both the same value), so that both backends accept the same
+ * tunings with the same constants. */
+static void adaptation_and_feed_forward_constants(fc_altitude_control *c)
+{
+    fc_arith *ar = &c->ar;
+    fc_arith scratch = {0u};
+    const fc_altitude_control_params *p = &c->p;
+    /* z_r'' fed forward: what the thrust gives level for every Theta inside its
+     * bounds, [thrust_min kp_max - g, thrust_max kp_min - g] (kp = 1/Theta),
+     * capped at 400 m/s^2 (ACCEL holds 512) and widened to hold 0 so that it never
+     * biases a steady flight */
+    const fc_real accel_cap = FC_INT(400, ACCEL);
+    const fc_real thrust_up = fc_min(fc_mul(&scratch, p->thrust_max_n, c->kp_min_per_kg, FC_SHIFT(FORCE, RATIO, ACCEL)),
+                                     accel_cap);
+    const fc_real thrust_down = fc_min(
+        fc_mul(&scratch, p->thrust_min_n, c->kp_max_per_kg, FC_SHIFT(FORCE, RATIO, ACCEL)), accel_cap);
+    c->ref_accel_max_mps2 = fc_max(fc_sub(ar, thrust_up, p->gravity_mps2), FC_INT(0, ACCEL));
+    c->ref_accel_min_mps2 = fc_min(fc_sub(ar, thrust_down, p->gravity_mps2), FC_INT(0, ACCEL));
+    /* damping of the adaptive mode: gamma_p = 2 zeta sqrt(gamma Theta0) / g (header,
+     * "Adaptation in discrete time"), capped like the gains (GAIN holds 32768) */
+    const fc_real gain_cap = FC_INT(30000, GAIN);
+    const fc_real gamma_theta0 = fc_min(fc_mul(&scratch, p->gamma, p->theta0_kg, FC_SHIFT(GAIN, MASS, GAIN)), gain_cap);
+    const fc_real two_zeta_sqrt = fc_mul(ar, FC_C(2.0f * FC_ALT_THETA_DAMPING, RATIO),
+                                         fc_sqrt(ar, gamma_theta0, FC_GAIN_FRAC), FC_SHIFT(RATIO, GAIN, GAIN));
+    c->gamma_p = fc_min(fc_div(&scratch, two_zeta_sqrt, p->gravity_mps2, FC_DIV_SHIFT(GAIN, ACCEL, GAIN)), gain_cap);
+    /* its low-pass: tau_p = 1/(4 w_theta), w_theta = g sqrt(gamma/Theta0), a lag of
+     * atan(1/4) at the mode: dt/tau_p = 4 g sqrt(gamma/Theta0) dt, capped at 100
+     * (e^-100 is 0 in both backends; RATIO holds 128) */
+    const fc_real gamma_over_theta0 =
+        fc_min(fc_div(&scratch, p->gamma, p->theta0_kg, FC_DIV_SHIFT(GAIN, MASS, GAIN)), gain_cap);
+    const fc_real mode_rate_per_s = fc_mul(ar, p->gravity_mps2, fc_sqrt(ar, gamma_over_theta0, FC_GAIN_FRAC),
+                                           FC_SHIFT(ACCEL, GAIN, GAIN)); /* <= 100 x 174, inside GAIN */
+    const fc_real mode_rate_dt =
+        fc_min(fc_mul(&scratch, mode_rate_per_s, p->dt_s, FC_SHIFT(GAIN, DT, RATIO)), FC_INT(25, RATIO));
+    const fc_real dt_over_tau_p = fc_mul(ar, FC_INT(4, RATIO), mode_rate_dt, FC_SHIFT(RATIO, RATIO, RATIO));
+    c->damping_lp_gain = fc_sub(ar, FC_INT(1, UNIT), fc_exp_neg(ar, dt_over_tau_p));
+    /* the bound of sigma phi in the proportional part: (Theta_max - Theta_min)/gamma_p
+     * (<= 100 kg), no more than 10^4 so that gamma_p times it stays inside MASS for a
+     * tiny gamma_p */
+    c->sigma_phi_max = FC_INT(10000, SIGMA_PHI);
+    if (c->gamma_p >= FC_C(0.01f, GAIN)) {
+        c->sigma_phi_max = fc_div(ar, fc_sub(ar, c->theta_max_kg, c->theta_min_kg), c->gamma_p,
+                                  FC_DIV_SHIFT(MASS, GAIN, SIGMA_PHI));
+    }
+}
+
 static void compute_discretisation(fc_altitude_control *c)
 {
     fc_arith *ar = &c->ar;
@@ -233,8 +283,15 @@ static void compute_discretisation(fc_altitude_control *c)
     c->kp_max_per_kg = fc_div(ar, p->ground_gain_max, p->mass_min_kg, FC_DIV_SHIFT(RATIO, MASS, RATIO));
     c->theta_min_kg = fc_div(ar, p->mass_min_kg, p->ground_gain_max, FC_DIV_SHIFT(MASS, RATIO, MASS));
     c->theta_max_kg = p->mass_max_kg;
+    c->kp_min_per_kg = fc_div(ar, FC_INT(1, MASS), c->theta_max_kg, FC_DIV_SHIFT(MASS, MASS, RATIO));
     c->kp_max_over_kappa =
         fc_div(ar, c->kp_max_per_kg, p->kappa_m_per_kg, FC_DIV_SHIFT(RATIO, GAIN, RATIO));
+    /* c_eta = max |1 - kp/kappa_m| over [kp_min, kp_max], the coefficient of eta1
+     * in d_eq2 (4.37); (4.38) bounds it by 1 + kp_max/kappa_m */
+    const fc_real kp_min_over_kappa =
+        fc_div(ar, c->kp_min_per_kg, p->kappa_m_per_kg, FC_DIV_SHIFT(RATIO, GAIN, RATIO));
+    c->eta1_coeff = fc_max(fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), kp_min_over_kappa)),
+                           fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), c->kp_max_over_kappa)));
     c->inv_kappa_kg = fc_div(ar, FC_INT(1, GAIN), p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
     c->a_m_over_kappa = fc_div(ar, p->a_m_per_s, p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
     /* norm observer (4.40): pole kp_min/(kappa_m tau_av) = 1/(kappa_m m_max tau_av);
@@ -263,6 +320,7 @@ static void compute_discretisation(fc_altitude_control *c)
                    FC_DIV_SHIFT(GAIN, RATIO, GAIN));
     }
     c->gamma_dt = fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    adaptation_and_feed_forward_constants(c);
     c->l0_sq = fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
     c->inv_boundary_layer = fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN));
     c->inv_thrust_authority =
@@ -291,10 +349,12 @@ void fc_altitude_control_reset(fc_altitude_control *c)
     c->u0_av_n = FC_INT(0, FORCE);
     c->sigma_bar_mps = FC_INT(0, VEL);
     c->omega5_n = FC_INT(0, FORCE);
+    c->last_omega4_n = FC_INT(0, FORCE);
     c->omega_eta_fast_mps = FC_INT(0, VEL);
     c->omega_eta_slow_mps = FC_INT(0, VEL);
     c->lead_state_m = FC_INT(0, LENGTH);
     c->theta_kg = c->p.theta0_kg;
+    c->sigma_phi_lp = FC_INT(0, SIGMA_PHI);
     c->u0_n = FC_INT(0, FORCE);
     c->stw_v_n = FC_INT(0, FORCE);
     c->pid_int_z_m = FC_INT(0, LENGTH);
@@ -335,7 +395,8 @@ typedef struct tracking_signals {
     fc_real e_m;          /* LENGTH */
     fc_real e_dot_mps;    /* VEL: measured, or estimated from the lead filter */
     fc_real sigma_mps;    /* VEL: sigma (relative degree one) or sigma_hat (two) */
-    fc_real phi_mps2;     /* ACCEL: g + z_r'' - l0 e' */
+    fc_real phi_mps2;     /* ACCEL: g + z_r'' - l0 e', z_r'' inside what the thrust gives */
+    fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
 static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input *in)
@@ -362,33 +423,49 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
         t.e_dot_mps = fc_sub(ar, t.sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
     }
     const fc_real l0_e_dot = fc_mul(ar, p->l0_per_s, t.e_dot_mps, FC_SHIFT(GAIN, VEL, ACCEL));
-    t.phi_mps2 = fc_sub(ar, fc_add(ar, p->gravity_mps2, in->reference.az_mps2), l0_e_dot); /* (4.83) */
+    /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
+    const fc_real az_ff = fc_clamp(in->reference.az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
+    t.phi_mps2 = fc_sub(ar, fc_add(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
+    t.az_ff_mps2 = az_ff;
     return t;
 }
 
-/* w4 of (4.42), with w1 of (4.43) written as |-g - z_r'' + l0 e'|. */
+/* max |kp u_nom - psi| over kp in [kp_min, kp_max]: the expression is linear in
+ * kp, so its largest magnitude is at one end of the range. The tight form of
+ * (4.42)'s kp_max |u_nom| + |psi|, which adds two terms that u_nom ~ Theta psi
+ * makes cancel. */
+static fc_real plant_gain_bound_mps2(fc_altitude_control *c, fc_real u_nom_n, fc_real psi_mps2)
+{
+    fc_arith *ar = &c->ar;
+    const fc_real at_max = fc_sub(ar, fc_mul(ar, c->kp_max_per_kg, u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi_mps2);
+    const fc_real at_min = fc_sub(ar, fc_mul(ar, c->kp_min_per_kg, u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi_mps2);
+    return fc_max(fc_abs(ar, at_max), fc_abs(ar, at_min));
+}
+
+/* w4 of (4.42): |kp U_d + a_m sigma| / kappa_m <= (w3 + a_m |sigma|) / kappa_m,
+ * w3 = max over kp of |kp u_nom - phi|, phi = g + z_r'' - l0 e' (w1 of (4.43) is |phi|),
+ * with all of z_r'' (U_d of (4.17)). */
 static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
                         fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
-    const fc_real l0_e_dot = fc_mul(ar, c->p.l0_per_s, t->e_dot_mps, FC_SHIFT(GAIN, VEL, ACCEL));
-    const fc_real omega1 = fc_abs(ar, fc_sub(ar, l0_e_dot, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2)));
-    const fc_real from_u_nom = fc_mul(ar, c->kp_max_over_kappa, fc_abs(ar, u_nom_n), FC_SHIFT(RATIO, FORCE, FORCE));
-    const fc_real from_omega1 = fc_mul(ar, c->inv_kappa_kg, omega1, FC_SHIFT(MASS, ACCEL, FORCE));
+    /* the part of z_r'' not fed forward is disturbance too: phi with all of it */
+    const fc_real phi_full = fc_add(ar, t->phi_mps2, fc_sub(ar, in->reference.az_mps2, t->az_ff_mps2));
+    const fc_real omega3 = plant_gain_bound_mps2(c, u_nom_n, phi_full);
+    const fc_real from_omega3 = fc_mul(ar, c->inv_kappa_kg, omega3, FC_SHIFT(MASS, ACCEL, FORCE));
     const fc_real from_sigma = fc_mul(ar, c->a_m_over_kappa, fc_abs(ar, t->sigma_mps), FC_SHIFT(MASS, VEL, FORCE));
-    return fc_add(ar, fc_add(ar, from_u_nom, from_omega1), from_sigma);
+    return fc_add(ar, from_omega3, from_sigma);
 }
 
-/* The bound of |kp D| driving the eta norm observer (4.3.2):
- * kp_max |u_nom| + |-g - z_r'' - l0^2 e|. */
+/* The bound of |kp D| driving the eta norm observer (4.3.2), D of (4.62):
+ * max over kp of |kp u_nom - (g + z_r'' + l0^2 e)|. */
 static fc_real eta_input_bound_mps2(fc_altitude_control *c, const fc_altitude_control_input *in,
                                     const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
     const fc_real l0_sq_e = fc_mul(ar, c->l0_sq, t->e_m, FC_SHIFT(GAIN, LENGTH, ACCEL));
-    const fc_real omega1 =
-        fc_abs(ar, fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e));
-    return fc_add(ar, fc_mul(ar, c->kp_max_per_kg, fc_abs(ar, u_nom_n), FC_SHIFT(RATIO, FORCE, ACCEL)), omega1);
+    const fc_real psi = fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e);
+    return plant_gain_bound_mps2(c, u_nom_n, psi);
 }
 
 /* The modulation rho of the relay, and the advance of its observers. */
@@ -398,16 +475,23 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
     *observer_bound = FC_INT(0, FORCE);
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
+    if (p->modulation == FC_SSC_MODULATION_CONSTANT) {
+        return p->rho_n;
+    }
     const fc_real k0_term = fc_mul(ar, p->k0_ns_per_m, fc_abs(ar, sigma_tilde_mps), FC_SHIFT(GAIN, VEL, FORCE));
-    const fc_real one_plus_ratio = fc_add(ar, FC_INT(1, RATIO), c->kp_max_over_kappa);
     switch (p->modulation) {
     case FC_SSC_MODULATION_NORM_OBSERVER:
         if (p->velocity_measured) {
             /* (4.40)-(4.41) */
             const fc_real omega4 = omega4_n(c, in, t, u_nom_n);
-            /* (4.38): |d_eq2| <= (1 + kp_max/kappa_m) w5 + w4 */
-            *observer_bound =
-                fc_add(ar, fc_mul(ar, one_plus_ratio, c->omega5_n, FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
+            /* the held relay covers the step ahead: w4's change over the last step
+             * bounds what the discretisation adds (header) */
+            const fc_real hold_term = fc_abs(ar, fc_sub(ar, omega4, c->last_omega4_n));
+            c->last_omega4_n = omega4;
+            /* (4.38) with d_eq2 = -(1 - kp/kappa_m) eta1 - ...: |d_eq2| <= c_eta w5 + w4 */
+            *observer_bound = fc_add(
+                ar, fc_add(ar, fc_mul(ar, c->eta1_coeff, c->omega5_n, FC_SHIFT(RATIO, FORCE, FORCE)), omega4),
+                hold_term);
             const fc_real rho = fc_add(ar, *observer_bound, fc_add(ar, p->delta_n, k0_term));
             c->omega5_n = fc_add(ar, fc_mul(ar, c->obs_pole, c->omega5_n, FC_SHIFT(UNIT, FORCE, FORCE)),
                                  fc_mul(ar, c->obs_gain, omega4, FC_SHIFT(RATIO, FORCE, FORCE)));
@@ -427,10 +511,10 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
         *observer_bound = rho_bar;
         return fc_add(ar, rho_bar, fc_add(ar, p->delta_n, k0_term));
     case FC_SSC_MODULATION_EXTRA: {
-        /* (4.54): rho = (1 + kp_max/kappa_m) |u0_av| + w4 + delta */
+        /* (4.54): rho = c_eta |u0_av| + w4 + delta, c_eta as in (4.38) above */
         const fc_real omega4 = omega4_n(c, in, t, u_nom_n);
         *observer_bound =
-            fc_add(ar, fc_mul(ar, one_plus_ratio, fc_abs(ar, c->u0_av_n), FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
+            fc_add(ar, fc_mul(ar, c->eta1_coeff, fc_abs(ar, c->u0_av_n), FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
         return fc_add(ar, *observer_bound, p->delta_n);
     }
     case FC_SSC_MODULATION_CONSTANT:
@@ -448,14 +532,21 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     const fc_real sigma_tilde = fc_sub(ar, t->sigma_mps, c->sigma_bar_mps); /* (4.4) */
     fc_real observer_bound;
     const fc_real rho = modulation_n(c, in, t, u_nom_n, sigma_tilde, &observer_bound);
-    const fc_real u0 = fc_mul(ar, rho, fc_sign_unit(sigma_tilde), FC_SHIFT(FORCE, UNIT, FORCE)); /* (4.8) */
+    /* (4.8), rho sgn(sigma_tilde) as a choice of sign: the same value as the
+     * product, without a multiplication */
+    fc_real u0 = FC_INT(0, FORCE);
+    if (sigma_tilde > FC_INT(0, VEL)) {
+        u0 = rho;
+    } else if (sigma_tilde < FC_INT(0, VEL)) {
+        u0 = fc_neg(ar, rho);
+    }
     const fc_real u = fc_sub(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
     /* exact ZOH of (4.5) and (4.7) with u0 held over the step (see the header) */
     const fc_real relay_minus_average = fc_sub(ar, u0, c->u0_av_n);
     c->sigma_bar_mps = fc_add(ar, fc_mul(ar, c->pred_pole, c->sigma_bar_mps, FC_SHIFT(UNIT, VEL, VEL)),
                               fc_mul(ar, c->pred_gain, relay_minus_average, FC_SHIFT(RATIO, FORCE, VEL)));
-    c->u0_av_n = fc_add(ar, fc_mul(ar, c->avg_pole, c->u0_av_n, FC_SHIFT(UNIT, FORCE, FORCE)),
-                        fc_mul(ar, c->avg_gain, u0, FC_SHIFT(UNIT, FORCE, FORCE)));
+    /* a u0_av + (1 - a) u0 written with one product */
+    c->u0_av_n = fc_add(ar, c->u0_av_n, fc_mul(ar, c->avg_gain, relay_minus_average, FC_SHIFT(UNIT, FORCE, FORCE)));
     c->u0_n = u0;
     out->sigma_tilde_mps = sigma_tilde;
     out->rho_n = rho;
@@ -520,13 +611,27 @@ static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     return fc_sub(ar, feed_forward, velocity_term);
 }
 
-/* Theta' = -gamma sigma phi (4.83), projected onto [Theta_min, Theta_max]. */
-static void adapt_theta(fc_altitude_control *c, const tracking_signals *t)
+/* The Theta of this step's u_nom (see the header, "Adaptation in discrete time"):
+ * Theta_I advanced first by (4.83), Theta_I <- Theta_I - gamma dt sigma phi,
+ * projected onto [Theta_min, Theta_max] and frozen unless learn; then
+ * Theta = Theta_I - gamma_p [sigma phi]_lp, projected too. */
+static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *t, bool learn)
 {
     fc_arith *ar = &c->ar;
     const fc_real sigma_phi = fc_mul(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
-    const fc_real step_kg = fc_mul(ar, c->gamma_dt, sigma_phi, FC_SHIFT(RATIO, SIGMA_PHI, MASS));
-    c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
+    if (learn) {
+        const fc_real step_kg = fc_mul(ar, c->gamma_dt, sigma_phi, FC_SHIFT(RATIO, SIGMA_PHI, MASS));
+        c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
+    }
+    /* the proportional part from sigma phi low-passed over tau_p (ZOH, one product:
+     * s <- s + (1 - f)(sigma phi - s)): one glitched sample moves it by (1 - f) of its jump */
+    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul(ar, c->damping_lp_gain, fc_sub(ar, sigma_phi, c->sigma_phi_lp),
+                                                       FC_SHIFT(UNIT, SIGMA_PHI, SIGMA_PHI)));
+    /* bounded so that the product stays inside MASS: beyond (Theta_max - Theta_min) / gamma_p
+     * the projection below clips it anyway */
+    const fc_real sigma_phi_bounded = fc_clamp(c->sigma_phi_lp, fc_neg(ar, c->sigma_phi_max), c->sigma_phi_max);
+    const fc_real damping_kg = fc_mul(ar, c->gamma_p, sigma_phi_bounded, FC_SHIFT(GAIN, SIGMA_PHI, MASS));
+    return fc_clamp(fc_sub(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
 }
 
 /* A body thrust in N as the normalised thrust the allocation takes. */
@@ -593,8 +698,6 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     out->rho_n = FC_INT(0, FORCE);
     out->observer_bound_n = FC_INT(0, FORCE);
 
-    const tracking_signals t = tracking(c, in);
-    const fc_real u_nom = fc_mul(ar, c->theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)); /* Theta phi */
     /* the thrust that can be delivered, as a vertical force at the current tilt */
     const fc_real tilt_cos = fc_clamp(in->tilt_cos, p->tilt_cos_min, FC_INT(1, RATIO));
     const fc_real u_max = fc_mul(ar, p->thrust_max_n, tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
@@ -605,6 +708,15 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
                                  (in->allocation_saturation & FC_SAT_THRUST_LOW) != 0u;
     /* Theta and the integrators learn only from a free thrust and inputs not held */
     const bool integrate = !was_clamped_high && !was_clamped_low && !c->hold;
+
+    const tracking_signals t = tracking(c, in);
+    fc_real theta_kg = c->theta_kg;
+    if (p->law == FC_ALT_LAW_SSC && p->adaptive) {
+        theta_kg = adapted_theta_kg(c, &t, integrate);
+    }
+    /* Theta phi (4.4), inside the vertical force the thrust can deliver: beyond it
+     * z_r'' asks for an acceleration the airframe cannot make (the start of (3.6)) */
+    const fc_real u_nom = fc_clamp(fc_mul(ar, theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)), u_min, u_max);
 
     fc_real u;
     switch (p->law) {
@@ -619,15 +731,17 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         u = super_twisting_vertical_force(c, &t, u_nom, integrate);
         break;
     case FC_ALT_LAW_SSC:
-    default:
+    default: {
         u = ssc_vertical_force(c, in, &t, u_nom, out);
         /* anti-windup: the averaging filter's state stays inside the band the
-         * actuator can deliver next step, u_nom - u0_av in [u_min, u_max] */
-        c->u0_av_n = fc_clamp(c->u0_av_n, fc_sub(ar, u_nom, u_max), fc_sub(ar, u_nom, u_min));
-        if (p->adaptive && integrate) {
-            adapt_theta(c, &t);
-        }
+         * actuator can deliver next step, u_nom - u0_av in [u_min, u_max], and
+         * inside what (4.7) makes of a relay of amplitude rho, |u0_av| <= rho
+         * (the two overlap: u_nom is in [u_min, u_max]) */
+        const fc_real band_low = fc_max(fc_sub(ar, u_nom, u_max), fc_neg(ar, out->rho_n));
+        const fc_real band_high = fc_min(fc_sub(ar, u_nom, u_min), out->rho_n);
+        c->u0_av_n = fc_clamp(c->u0_av_n, band_low, band_high);
         break;
+    }
     }
     /* tilt compensation: F = u / k_h, then the actuator's range */
     const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));

@@ -24,6 +24,9 @@ typedef struct seed44_metrics {
     double control_tv_per_s;       /* sum |u[k+1] - u[k]| / run length */
     double theta_rel_error;        /* |Theta - Theta*| / Theta* at the end */
     double theta_end_kg, theta_star_end_kg;
+    double theta_swing_kg;         /* half the peak-to-peak of Theta over the last 10 s */
+    double min_gear_clearance_m;   /* gear above the pad, whole run (contact off: below 0 is through it) */
+    double max_u0_av_over_rho;     /* max |u0_av| / rho over the run: (4.7) keeps it <= 1 */
     int nan_outputs;
 } seed44_metrics;
 
@@ -76,6 +79,8 @@ static bool seed44_run(const fc_altitude_control_params *params, double rate_hz,
     double sum_sq = 0.0, previous_u = 0.0, tv = 0.0;
     long window = 0;
     *m = (seed44_metrics){0};
+    m->min_gear_clearance_m = 1e9;
+    double theta_low = 1e9, theta_high = -1e9;
     double t = 0.0;
     for (long k = 0; k < steps; k++) {
         t = k * dt;
@@ -109,6 +114,16 @@ static bool seed44_run(const fc_altitude_control_params *params, double rate_hz,
             m->mass_step_peak_error_m = fabs(e);
         }
         m->theta_end_kg = (double)fc_to_float(out.theta_kg, FC_MASS_FRAC);
+        if (t >= duration_s - 10.0) {
+            theta_low = fmin(theta_low, m->theta_end_kg);
+            theta_high = fmax(theta_high, m->theta_end_kg);
+        }
+        m->min_gear_clearance_m = fmin(m->min_gear_clearance_m, s.z - seed44_pad_z(t) - SEED44_GEAR_HEIGHT_M);
+        const double rho = (double)fc_to_float(out.rho_n, FC_FORCE_FRAC);
+        if (rho > 0.0) {
+            const double u0_av = (double)fc_to_float(out.u0_av_n, FC_FORCE_FRAC);
+            m->max_u0_av_over_rho = fmax(m->max_u0_av_over_rho, fabs(u0_av) / rho);
+        }
         const double mass_target = t >= 30.0 ? 3.5 : 4.0;
         for (int i = 0; i < substeps; i++) {
             const double ti = t + i * h;
@@ -121,6 +136,7 @@ static bool seed44_run(const fc_altitude_control_params *params, double rate_hz,
             s.m += h / 6 * (k1.m + 2 * k2.m + 2 * k3.m + k4.m);
         }
     }
+    m->theta_swing_kg = (theta_high - theta_low) / 2.0;
     m->rms_error_m = window > 0 ? sqrt(sum_sq / (double)window) : 0.0;
     m->control_tv_per_s = tv / duration_s;
     m->theta_star_end_kg = s.m / seed44_ground_gain(s.z - seed44_pad_z(t));

@@ -18,10 +18,26 @@
  * Modulation rho:
  *   CONSTANT        rho fixed (the dissertation's simulation: rho = 50)
  *   NORM_OBSERVER   (4.40)-(4.43): tau_av w5' = -(kp_min/kappa_m) w5 + w4,
- *                   rho = (1 + kp_max/kappa_m) w5 + w4 + delta + k0 |sigma_tilde|
+ *                   rho = c_eta w5 + w4 + |w4[k] - w4[k-1]| + delta + k0 |sigma_tilde|.
+ *                   The bounds are the tight forms of (4.38) and (4.42), computed from
+ *                   the parameters at init: the dissertation's triangle inequalities add
+ *                   terms that cancel (u_nom ~ Theta phi against phi), which made rho
+ *                   about four times the disturbance it bounds.
+ *                   - w4 = (w3 + a_m |sigma|)/kappa_m with w3 = max |kp u_nom - phi| over
+ *                     kp in [kp_min, kp_max]: kp U_d = kp u_nom - phi is linear in kp, so
+ *                     the largest magnitude is at an end (the dissertation: kp_max |u_nom| + |phi|).
+ *                   - d_eq2 (4.37) = -(1 - kp/kappa_m) eta1 - (kp U_d + a_m sigma)/kappa_m, so
+ *                     |d_eq2| <= c_eta w5 + w4 with c_eta = max |1 - kp/kappa_m| over the kp
+ *                     range (the dissertation: 1 + kp_max/kappa_m).
+ *                   - the term the discretisation adds: the relay is held over the step
+ *                     while d_eq2 moves on; w4 is the part of the bound that moves within
+ *                     a step (w5 is a lag of tau_av kappa_m/kp_min), and its change over the
+ *                     last step, |w4[k] - w4[k-1]|, bounds its change over the next one for
+ *                     signals smooth at the step (modulo vanishing terms, as (4.34)).
  *                   relative degree two: the eta norm observer of 4.3.2 instead:
  *                   d_eq3 = eta1 + eta2/kappa_m + a_m eta3/kappa_m (4.81) is the output of
- *                   the eta-dynamics driven by kp D, |kp D| <= kp_max |u_nom| + |g + z_r'' + l0^2 e|;
+ *                   the eta-dynamics driven by kp D, |kp D| <= max |kp u_nom - (g + z_r'' + l0^2 e)|
+ *                   over kp in [kp_min, kp_max] (the tight form, as w3 above);
  *                   its impulse response h(t) from kp D to d_eq3 is majorised over the
  *                   kp range by two exponentials, |h(t)| <= c_f e^(-l_f t) + c_s e^(-l_s t):
  *                   the fast term is the lead filter's direct path, c_f = h(0) = 1/(tau_f kappa_m),
@@ -32,15 +48,61 @@
  *                   the kp range (Remark 9): tau_f l0 < 1, tau_av kappa_m l0 < kp_min and
  *                   tau_av kappa_m l0 (1 - tau_f l0) + tau_f kp_min (a_m + l0) < kp_min;
  *                   init rejects a tuning that breaks them.
- *   EXTRA           (4.54)-(4.56): rho = (1 + kp_max/kappa_m) |u0_av| + w4 + delta
- * Nominal control (4.4): u_nom = Theta phi, phi = g + z_r'' - l0 e'; Theta fixed at
- * Theta0, or adapted by the gradient law Theta' = -gamma sigma phi (4.83), projected
- * onto [Theta_min, Theta_max] = [1/kp_max, 1/kp_min] (4.15).
+ *   EXTRA           (4.54)-(4.56): rho = c_eta |u0_av| + w4 + delta (c_eta, w4 as above)
+ * Nominal control (4.4): u_nom = Theta phi, phi = g + z_r'' - l0 e'. The start of (3.6)
+ * asks for z_r'' = z_r_init/tau_zr^2 and z_r' = -z_r_init/tau_zr, more than the thrust
+ * gives: fed forward as it is, z_r'' holds the thrust at its maximum while the reference
+ * drops away, and the vehicle then falls onto it faster than it can brake. So the z_r''
+ * in phi is held inside what the thrust gives level for every Theta inside its bounds,
+ * [thrust_min/Theta_min - g, thrust_max/Theta_max - g] (widened to hold 0), and u_nom
+ * inside the vertical force the thrust delivers, [u_min, u_max]. Theta fixed at
+ * Theta0, or adapted by (4.83) in the discrete form below, projected onto
+ * [Theta_min, Theta_max] = [1/kp_max, 1/kp_min] (4.15).
+ *
+ * Adaptation in discrete time. With u = Theta phi - u0_av, (3.4) and (4.2) give
+ *   Theta* sigma' = (Theta - Theta*) phi - u0_av,
+ * and the dissertation's V = Theta* sigma^2/2 + (Theta - Theta*)^2/(2 gamma) has, under
+ * (4.83), V' = -sigma u0_av: the adaptation is lossless, every bit of damping of the
+ * pair (sigma, Theta) comes from the SSC's u0_av. The pair is an oscillator at
+ * w_theta = |phi| sqrt(gamma/Theta*), about g sqrt(gamma/Theta*). At a fixed step two
+ * things take that damping away: the explicit update (u_nom from the Theta before the
+ * update) makes V grow by a factor of about 1 + (w_theta dt)^2 a step, and the discrete
+ * relay has a quasi-sliding band (sigma_bar moves by about kappa_m rho dt a step) inside
+ * which it chatters symmetrically, so u0_av carries nothing of the mode and cannot damp
+ * it: a limit cycle whose size is the band's, twice as large at half the rate. The law:
+ *   Theta_I <- proj(Theta_I - gamma dt sigma phi)     first, frozen while clamped or held
+ *   Theta    = proj(Theta_I - gamma_p [sigma phi]_lp) this step's u_nom = Theta phi
+ * with [.]_lp a first-order low-pass of time constant tau_p = 1/(4 w_theta) (w_theta at
+ * Theta0 and phi = g):
+ * - update order: u_nom is formed with the Theta_I just updated, the semi-implicit
+ *   (symplectic) Euler step of the lossless pair, which keeps its energy instead of
+ *   growing it;
+ * - a proportional part (the PI adaptive law): with Theta_I in V,
+ *   V' = -sigma u0_av - gamma_p phi^2 sigma^2 <= -sigma u0_av, so the dissertation's
+ *   argument holds term by term with a damping that does not depend on the relay's
+ *   band or on dt. gamma_p = 2 zeta sqrt(gamma Theta0)/g (zeta = FC_ALT_THETA_DAMPING)
+ *   puts the mode's damping ratio at zeta for Theta* = Theta0 and phi = g, between
+ *   zeta sqrt(Theta0/Theta_max) and zeta sqrt(Theta0/Theta_min) inside the bounds; its
+ *   discrete factor gamma_p phi^2 dt/Theta* stays far below 1 at 250 Hz;
+ * - projection of both onto [Theta_min, Theta_max]: V does not grow under it (Theta* is
+ *   inside); Theta_I is what is learnt and what is frozen; gamma_p [sigma phi]_lp
+ *   remembers sigma over tau_p only and learns nothing;
+ * - the low-pass keeps one glitched sample of z or z' (SPEC "Plausibility") from
+ *   reaching u_nom with the full gain gamma_p phi^2: it passes (1 - e^(-dt/tau_p)) of the
+ *   jump; at the mode it lags by atan(1/4), so the damping is cos(atan(1/4)) of the above.
+ * The alternatives, against the same V: a normalised gradient gamma/(1 + mu phi^2) only
+ * rescales gamma (phi stays near g) and moves w_theta, without damping; an implicit
+ * gradient (sigma of the next step) damps by O(dt), less the faster the loop runs; a
+ * dead zone as wide as the relay's band stops the cycle but freezes Theta wherever the
+ * cycle left it; sigma-modification pulls Theta back to Theta0 (a bias of the order of
+ * the payload change) and damps the mode only when it is large. The proportional part
+ * passes sigma's noise into u_nom with the gain gamma_p phi^2.
  *
  * Anti-windup (part of the law): the thrust command is clamped to
  * [thrust_min, thrust_max]; while clamped the adaptation is frozen and the
  * averaging filter's state is held inside the band that the clamped actuator can
- * deliver, u0_av in [u_nom - u_max, u_nom - u_min].
+ * deliver, u0_av in [u_nom - u_max, u_nom - u_min], and inside what (4.7) makes of a
+ * relay of amplitude rho, |u0_av| <= rho (the two bands overlap: u_nom is in [u_min, u_max]).
  *
  * Tilt compensation: the vertical force u is delivered by a body thrust
  * F = u / k_h with k_h = cos(roll) cos(pitch) from the measured attitude, bounded
@@ -54,12 +116,13 @@
  *               when a_m = 1/tau_av)
  *   w5       <- p w5 + (1 - p) (kappa_m / kp_min) w4,  p = e^(-kp_min dt/(kappa_m tau_av))
  *   x_f      <- f x_f + (1 - f) e,                     f = e^(-dt/tau_f)
- *   Theta    <- Theta - gamma dt sigma phi             (integrator: Euler is its ZOH)
+ *   Theta_I  <- Theta_I - gamma dt sigma phi           (integrator: Euler is its ZOH; before u_nom)
  * With a discrete relay the ideal sliding mode becomes a quasi-sliding band of
  * about rho dt / tau_av in u0_av: a modulation only as large as needed keeps
  * the control ripple small.
  *
- * Baselines (u_nom = Theta0 phi in all of them, same clamp and tilt compensation):
+ * Baselines (the same clamp and tilt compensation; in the sliding-mode ones u_nom = Theta0 phi
+ * with z_r'' bounded as above):
  *   PID            the Crazyflie's structure: position PID -> velocity setpoint,
  *                  velocity PID -> thrust, with feed-forward of z_r' and z_r''.
  *                  Tuning rule: velocity loop kp_v = 2 zeta w_v Theta0, ki_v = w_v^2 Theta0 / 4,
@@ -79,6 +142,10 @@
 
 /* sigma times phi, in m^2/s^3, for the adaptation law: [-32768, 32768), 1.5e-5 */
 #define FC_SIGMA_PHI_FRAC 16
+
+/* Damping ratio of the adaptive mode (sigma, Theta) with the proportional part
+ * of the adaptation ("Adaptation in discrete time" above). */
+#define FC_ALT_THETA_DAMPING 0.7f
 
 typedef enum fc_altitude_law {
     FC_ALT_LAW_SSC = 0,
@@ -158,7 +225,7 @@ typedef struct fc_altitude_control_output {
     fc_real rho_n;               /* FORCE: modulation in use */
     fc_real u0_av_n;             /* FORCE */
     fc_real u_nom_n;             /* FORCE */
-    fc_real theta_kg;            /* MASS */
+    fc_real theta_kg;            /* MASS: Theta_I, the adapted parameter (Theta0 when not adaptive) */
     fc_real observer_bound_n;    /* FORCE: the norm observer's bound of the equivalent
                                   * disturbance, rho - delta - k0 |sigma_tilde| (0 if none) */
     bool clamped;                /* the thrust command was clamped */
@@ -186,9 +253,16 @@ typedef struct fc_altitude_control {
     fc_real inv_kappa_kg;        /* MASS: 1 / kappa_m */
     fc_real a_m_over_kappa;      /* MASS: a_m / kappa_m, kg/s */
     fc_real kp_max_per_kg;       /* RATIO: k_g_max / m_min (k_h <= 1) */
+    fc_real kp_min_per_kg;       /* RATIO: 1 / Theta_max */
+    fc_real eta1_coeff;          /* RATIO: c_eta = max |1 - kp/kappa_m| over the kp range */
     fc_real theta_min_kg;        /* MASS: 1 / kp_max */
     fc_real theta_max_kg;        /* MASS: 1 / kp_min = m_max / (k_g_min k_h_min) */
     fc_real gamma_dt;            /* RATIO: gamma dt */
+    fc_real ref_accel_max_mps2;  /* ACCEL: z_r'' fed forward up to max(thrust_max/Theta_max - g, 0) */
+    fc_real ref_accel_min_mps2;  /* ACCEL: and down to min(thrust_min/Theta_min - g, 0) */
+    fc_real gamma_p;             /* GAIN: proportional adaptation gain, kg s^3/m^2 */
+    fc_real sigma_phi_max;       /* SIGMA_PHI: (Theta_max - Theta_min) / gamma_p */
+    fc_real damping_lp_gain;     /* UNIT: 1 - e^(-dt/tau_p), the proportional part's low-pass */
     fc_real l0_sq;               /* GAIN: l0^2 */
     fc_real inv_boundary_layer;  /* GAIN: 1/phi_bl, s/m */
     fc_real inv_thrust_authority; /* PER_FORCE: 1 / thrust_authority_n */
@@ -196,10 +270,12 @@ typedef struct fc_altitude_control {
     fc_real u0_av_n;             /* FORCE */
     fc_real sigma_bar_mps;       /* VEL */
     fc_real omega5_n;            /* FORCE: norm observer (4.40) */
+    fc_real last_omega4_n;       /* FORCE: w4 of the last step */
     fc_real omega_eta_fast_mps;  /* VEL: eta norm observer states (integrals of |kp D|) */
     fc_real omega_eta_slow_mps;  /* VEL */
     fc_real lead_state_m;        /* LENGTH: x_f of (4.18) */
-    fc_real theta_kg;            /* MASS */
+    fc_real theta_kg;            /* MASS: Theta_I, the integral part of the adaptation */
+    fc_real sigma_phi_lp;        /* SIGMA_PHI: sigma phi low-passed for the proportional part */
     fc_real u0_n;                /* FORCE: the relay output held over the step */
     fc_real stw_v_n;             /* FORCE: super-twisting integral */
     fc_real pid_int_z_m;         /* LENGTH x s: position integral, as LENGTH */
