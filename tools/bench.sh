@@ -33,7 +33,12 @@ done
 
 out=$root/build/bench
 mkdir -p "$out"
-warn=(-Wall -Wextra -Werror -Wdouble-promotion -Wshadow -Wundef)
+# the library's flags, defined once (firmware/flags.mk)
+flags_of() { sed -n "s/^$1 := //p" "$root/firmware/flags.mk"; }
+read -ra warn <<< "$(flags_of FC_WARNINGS)"
+read -ra library_warn <<< "$(flags_of FC_LIBRARY_WARNINGS)"
+read -ra m4f_flags <<< "$(flags_of FC_M4F_CPU)"
+read -ra m4f_optimise <<< "$(flags_of FC_M4F_OPTIMISE)"
 common=(-Os -DNDEBUG -std=gnu11 "${warn[@]}" -I"$root/firmware/include" -I"$root/platform/atmega/bench"
         -ffunction-sections -fdata-sections -fstack-usage)
 # the modules timed on their own: the hexa runs the filter; the Crazyflie flies
@@ -49,7 +54,6 @@ cc -std=gnu11 -O2 "${warn[@]}" -shared -fPIC "$root/platform/cortex-m4-bench/ins
 
 fixed_of() { case $1 in *-fixed) echo 1 ;; *) echo 0 ;; esac; }
 
-m4f_flags=(-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -fno-math-errno)
 # m4f_link ELF LIBRARY [FLAG...]: the M4F bench image of this run ($fx, $cf) on LIBRARY
 m4f_link() {
   local elf=$1 lib=$2
@@ -63,8 +67,8 @@ m4f_link() {
 m4f_library() {
   local objs=()
   for c in "$root"/firmware/src/*.c; do
-    arm-none-eabi-gcc "${m4f_flags[@]}" -O3 -fno-tree-loop-distribute-patterns -DNDEBUG -std=gnu11 "${warn[@]}" \
-      -Wconversion -Wsign-conversion -ffunction-sections -fdata-sections -I"$root/firmware/include" \
+    arm-none-eabi-gcc "${m4f_flags[@]}" "${m4f_optimise[@]}" -DNDEBUG -std=gnu11 "${warn[@]}" \
+      "${library_warn[@]}" -ffunction-sections -fdata-sections -I"$root/firmware/include" \
       -DFC_NUMERIC_FIXED="$1" -c "$c" -o "$(basename "$c" .c).o"
     objs+=("$(basename "$c" .c).o")
   done
