@@ -105,6 +105,10 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_RATIO_FRAC);
     override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_RATIO_FRAC);
     override(&p.horizontal.tilt_max_rad, cfg->tilt_max_rad, FC_ANGLE_FRAC);
+    override(&p.altitude.pid_kp_z_per_s, cfg->pid_kp_z_per_s, FC_GAIN_FRAC);
+    override(&p.altitude.pid_ki_z_per_s2, cfg->pid_ki_z_per_s2, FC_GAIN_FRAC);
+    override(&p.altitude.pid_kp_v_n_per_mps, cfg->pid_kp_v_n_per_mps, FC_GAIN_FRAC);
+    override(&p.altitude.pid_ki_v_n_per_m, cfg->pid_ki_v_n_per_m, FC_GAIN_FRAC);
     override(&p.landing.hold_height_m, cfg->landing_hold_height_m, FC_LENGTH_FRAC);
     override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
     override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
@@ -311,6 +315,12 @@ static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t
     }
     if (cfg->target_image == NULL) {
         snprintf(err, err_len, "a PIL run needs the ATmega image (fc-sil --pil-image FILE)");
+        return NULL;
+    }
+    /* the wire carries no pid gains: the image would fly its defaults */
+    if (!isnan(cfg->pid_kp_z_per_s) || !isnan(cfg->pid_ki_z_per_s2) || !isnan(cfg->pid_kp_v_n_per_mps) ||
+        !isnan(cfg->pid_ki_v_n_per_m)) {
+        snprintf(err, err_len, "the PIL wire does not carry the pid gains ([controller] pid_*)");
         return NULL;
     }
     uint32_t airframe = (uint32_t)cfg->airframe, variant = (uint32_t)cfg->variant;

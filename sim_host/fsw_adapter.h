@@ -47,6 +47,10 @@ typedef struct fsw_config {
     /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
     double rho_scale, gamma_scale, kappa_m_scale;
     double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
+    /* the pid law's gains (fc/altitude_control.h, "Baselines"); with both
+     * integral gains 0 it is a PD with gravity feed-forward: the dissertation's
+     * PD of section 4.5. Not carried by the PIL wire (pil_create refuses them). */
+    double pid_kp_z_per_s, pid_ki_z_per_s2, pid_kp_v_n_per_mps, pid_ki_v_n_per_m;
     /* the landing mission */
     double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
     /* processor in the loop (fsw_pil_backend): the ATmega image that runs the step */

@@ -494,6 +494,119 @@ static void dissertation_figures(FILE *gp, const run_record *plain, const run_re
     fprintf(gp, "set autoscale y\nunset multiplot\n");
 }
 
+/* ---- section 4.5's experiments (Figures 4.4-4.7): the PD run beside the SSC ones */
+
+/* The pid law with both integral gains 0 is the dissertation's PD (fsw_adapter.h). */
+static const char *law_label(const run_record *r)
+{
+    const fsw_config *f = &r->sc->fsw;
+    if (strcmp(sim_variant_names[r->variant], "pid") == 0) {
+        return (f->pid_ki_z_per_s2 == 0.0 && f->pid_ki_v_n_per_m == 0.0) ? "PD" : "PID";
+    }
+    return sim_variant_names[r->variant];
+}
+
+#define EXPERIMENT_COLUMNS_MAX 4
+
+/* The runs of one backend drawn side by side: the pid (PD) run first, then
+ * every SSC variant in the order given. Returns how many; 0 without a PD and
+ * an SSC run. */
+static int experiment_columns(const run_record *records, int count, const char *backend,
+                              const run_record *cols[EXPERIMENT_COLUMNS_MAX])
+{
+    int n = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < count && n < EXPERIMENT_COLUMNS_MAX; i++) {
+            const run_record *r = &records[i];
+            const char *v = sim_variant_names[r->variant];
+            const bool wanted = pass == 0 ? strcmp(v, "pid") == 0 : strncmp(v, "ssc", 3) == 0;
+            if (r->trace.data != NULL && wanted && strcmp(r->backend, backend) == 0) {
+                cols[n++] = r;
+            }
+        }
+        if (pass == 0 && n == 0) {
+            return 0;
+        }
+    }
+    return n >= 2 ? n : 0;
+}
+
+/* One of Figures 4.4-4.7 in a backend: the dissertation's panels as rows, one
+ * column per law. Heights in m for the F450, in cm for the Crazyflie (as the
+ * dissertation's figures). */
+static void experiment_figure(FILE *gp, const run_record *const *cols, int ncols)
+{
+    const scenario *sc = cols[0]->sc;
+    const char *b = cols[0]->backend;
+    static const char *const what[] = {"", "F450: heading tracking and ground effect",
+                                       "Crazyflie: ground effect", "Crazyflie: tracking",
+                                       "Crazyflie: landing on an oscillating platform"};
+    static const char *const number[] = {"", "4.4", "4.5", "4.6", "4.7"};
+    const int f = (int)sc->figure;
+    const int rows = (sc->figure == FIGURE_4_4 || sc->figure == FIGURE_4_5) ? 3 : 2;
+    const double len = sc->figure == FIGURE_4_4 ? 1.0 : 100.0; /* m -> the figure's unit */
+    const char *unit = sc->figure == FIGURE_4_4 ? "m" : "cm";
+    fprintf(gp, "\n# ---- the dissertation's Figure %s (%s backend)\n", number[f], b);
+    fprintf(gp, "set output 'fig%s-%s.png'\n", number[f], b);
+    fprintf(gp, "set terminal pngcairo size %d,%d enhanced font 'DejaVu Sans,10'\n", 600 * ncols + 200, 330 * rows);
+    fprintf(gp,
+            "set multiplot layout %d,%d columnsfirst title 'Figure %s: %s (%s, %s backend; SIL, not the "
+            "experiment)' font ',14'\n",
+            rows, ncols, number[f], what[f], sc->name, b);
+    fprintf(gp, "set xlabel 't [s]'\n");
+    for (int c = 0; c < ncols; c++) {
+        char dat[256];
+        data_name(cols[c], dat, sizeof dat);
+        const char *law = law_label(cols[c]);
+        switch (sc->figure) {
+        case FIGURE_4_4:
+            fprintf(gp, "set ylabel 'heading [deg]'\nset title '(a) heading {/Symbol y} and {/Symbol y}_r, %s'\n",
+                    law);
+            fprintf(gp,
+                    "plot '%s' u %d:%d w l lw 1.5 lc rgb '#d62728' t '{/Symbol y}_r', '' u %d:%d w l lw 1.5 lc rgb "
+                    "'#1f77b4' t '{/Symbol y}'\n",
+                    dat, COL(t_s), COL(yaw_r_deg), COL(t_s), COL(yaw_deg));
+            fprintf(gp, "set ylabel 'height [m]'\nset title '(b) altitude z and ground level, %s'\n", law);
+            fprintf(gp,
+                    "plot '%s' u %d:%d w l lw 1.5 lc rgb '#1f77b4' t 'z', '' u %d:%d w l lw 2 lc rgb '#d62728' t "
+                    "'ground'\n",
+                    dat, COL(t_s), COL(z_m), COL(t_s), COL(pad_z_m));
+            fprintf(gp, "set ylabel 'F_z k_h [N]'\nset title '(c) k_h u = F_z k_h (3.4), %s'\n", law);
+            fprintf(gp, "plot '%s' u %d:($%d*$%d) w l lc rgb '#1f77b4' t 'F_z k_h', '' u %d:($%d*$%d) smooth bezier "
+                        "lw 2 lc rgb '#d62728' t 'trend'\n",
+                    dat, COL(t_s), COL(thrust_cmd_n), COL(k_h), COL(t_s), COL(thrust_cmd_n), COL(k_h));
+            break;
+        case FIGURE_4_5:
+            fprintf(gp, "set ylabel 'z_r [%s]'\nset title '(a) desired altitude, %s'\n", unit, law);
+            fprintf(gp, "plot '%s' u %d:($%d*%g) w l lw 1.5 lc rgb '#d62728' t 'z_r'\n", dat, COL(t_s), COL(z_r_m),
+                    len);
+            fprintf(gp, "set ylabel 'F_z [N]'\nset title '(b) control effort, %s'\n", law);
+            fprintf(gp, "plot '%s' u %d:%d w l lc rgb '#1f77b4' t 'F_z', '' u %d:%d smooth bezier lw 2 lc rgb "
+                        "'#d62728' t 'average (trend)'\n",
+                    dat, COL(t_s), COL(thrust_cmd_n), COL(t_s), COL(thrust_cmd_n));
+            fprintf(gp, "set ylabel 'e [%s]'\nset title '(c) tracking error e = z - z_r, %s'\n", unit, law);
+            fprintf(gp, "plot '%s' u %d:($%d*%g) w l lc rgb '#1f77b4' t 'e'\n", dat, COL(t_s), COL(error_m), len);
+            break;
+        case FIGURE_4_6:
+        case FIGURE_4_7:
+            fprintf(gp, "set ylabel 'altitude [%s]'\nset title '(a) z_r%s and z, %s'\n", unit,
+                    sc->figure == FIGURE_4_7 ? ", pad z_d" : "", law);
+            fprintf(gp, "plot '%s' u %d:($%d*%g) w l lw 1.5 lc rgb '#d62728' t 'z_r', '' u %d:($%d*%g) w l lw 1.5 "
+                        "lc rgb '#1f77b4' t 'z'",
+                    dat, COL(t_s), COL(z_r_m), len, COL(t_s), COL(z_m), len);
+            if (sc->figure == FIGURE_4_7) {
+                fprintf(gp, ", '' u %d:($%d*%g) w l lw 2 lc rgb '#2ca02c' t 'pad z_d'", COL(t_s), COL(pad_z_m), len);
+            }
+            fprintf(gp, "\nset ylabel 'F_z [N]'\nset title '(b) control effort, %s'\n", law);
+            fprintf(gp, "plot '%s' u %d:%d w l lc rgb '#1f77b4' t 'F_z'\n", dat, COL(t_s), COL(thrust_cmd_n));
+            break;
+        default:
+            break;
+        }
+    }
+    fprintf(gp, "unset multiplot\nset terminal pngcairo size 1400,1000 enhanced font 'DejaVu Sans,10'\n");
+}
+
 static bool ensure_dir(const char *dir, char *err, size_t err_len)
 {
     struct stat st;
@@ -563,7 +676,9 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
     int figures = 0;
     for (int i = 0; i < count; i++) {
         const run_record *p = &records[i];
-        if (p->trace.data == NULL || strcmp(sim_variant_names[p->variant], "ssc") != 0) {
+        /* a scenario of section 4.5 draws its own figure instead */
+        if (p->trace.data == NULL || p->sc->figure != FIGURE_NONE ||
+            strcmp(sim_variant_names[p->variant], "ssc") != 0) {
             continue;
         }
         for (int j = 0; j < count; j++) {
@@ -574,6 +689,23 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
                 figures++;
                 break;
             }
+        }
+    }
+    /* section 4.5's figure, once per backend that has a PD and an SSC run */
+    int experiments = 0;
+    for (int i = 0; i < count; i++) {
+        if (records[i].sc->figure == FIGURE_NONE || records[i].trace.data == NULL) {
+            continue;
+        }
+        bool seen = false;
+        for (int j = 0; j < i; j++) {
+            seen = seen || strcmp(records[j].backend, records[i].backend) == 0;
+        }
+        const run_record *cols[EXPERIMENT_COLUMNS_MAX];
+        const int ncols = seen ? 0 : experiment_columns(records, count, records[i].backend, cols);
+        if (ncols > 0) {
+            experiment_figure(gp, cols, ncols);
+            experiments++;
         }
     }
     if (fclose(gp) != 0) {
@@ -604,8 +736,9 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
         return false;
     }
     if (!quiet) {
-        fprintf(stderr, "fc-sil: figures in %s (%d summar%s%s)\n", dir, with_trace, with_trace == 1 ? "y" : "ies",
-                figures > 0 ? ", Figures 4.2 and 4.3" : "");
+        fprintf(stderr, "fc-sil: figures in %s (%d summar%s%s%s)\n", dir, with_trace, with_trace == 1 ? "y" : "ies",
+                figures > 0 ? ", Figures 4.2 and 4.3" : "",
+                experiments > 0 ? ", the dissertation's section 4.5 figure" : "");
     }
     return true;
 }

@@ -62,6 +62,7 @@ void fsw_config_defaults(fsw_config *c)
     c->rho_n = c->gamma = c->tau_av_s = c->l0_per_s = c->a_m_per_s = c->kappa_m_per_kg = (double)NAN;
     c->rho_scale = c->gamma_scale = c->kappa_m_scale = (double)NAN;
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
+    c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
     c->target_image = NULL;
 }
 
@@ -87,7 +88,8 @@ typedef struct raw {
     int airframe, variant, attitude_external;
     double rate_hz, nominal_mass_kg, z_r_tau_s, z_r_init_m, z_r_bias_m, thrust_min_n, thrust_max_n, ground_gain_max,
         rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg, hkp, hkd, tilt_max_deg, rho_scale, gamma_scale,
-        kappa_m_scale;
+        kappa_m_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v;
+    int figure;
     /* [vehicle] */
     double mass_kg, gravity_mps2, drag, rotor_count, arm_m, rotor_z_m, thrust_max_n_rotor, torque_ratio_m,
         thrust_exponent, torque_exponent, speed_min, motor_tau_s, first_spin;
@@ -124,7 +126,7 @@ typedef struct raw {
     /* landing overrides */
     double land_hold_m, land_tau_s, land_accel_max, land_conf_start;
     double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, end_after_motors_off_s, sp_x, sp_y,
-        sp_yaw_deg;
+        sp_yaw_deg, yaw_amplitude_deg, yaw_frequency_hz;
     int landing, disarm_on_contact;
     /* sensors */
     imu_params imu;
@@ -156,6 +158,7 @@ static const char *const fault_names[] = {"none",       "hold-command",  "range-
                                           "torque",     "pad-amplitude", "pad-period",    "position-lost",
                                           "imu-lost",   NULL};
 static const char *const range_finder_names[] = {"auto", "on", "off", NULL};
+static const char *const figure_names[] = {"none", "4.4", "4.5", "4.6", "4.7", NULL};
 static const char *variant_names_z[FSW_VARIANT_COUNT + 1];
 
 #define OPEN_LO 1  /* the lower bound is excluded */
@@ -181,6 +184,7 @@ static const key_def keys[] = {
     {"scenario", "duration_s", K_DOUBLE, R(duration_s), 0.0, 36000.0, NULL, OPEN_LO},
     {"scenario", "plant_rate_hz", K_DOUBLE, R(plant_rate_hz), 100.0, 200000.0, NULL, 0},
     {"scenario", "seed", K_INT, R(seed), 0.0, 4294967295.0, NULL, 0},
+    {"scenario", "figure", K_ENUM, R(figure), 0, 0, figure_names, 0},
 
     {"controller", "airframe", K_ENUM, R(airframe), 0, 0, airframe_names, 0},
     {"controller", "variant", K_ENUM, R(variant), 0, 0, variant_names_z, 0},
@@ -205,6 +209,10 @@ static const key_def keys[] = {
     {"controller", "horizontal_kp_per_s2", K_DOUBLE, R(hkp), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "horizontal_kd_per_s", K_DOUBLE, R(hkd), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "tilt_max_deg", K_DOUBLE, R(tilt_max_deg), 0.0, 68.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "pid_kp_z_per_s", K_DOUBLE, R(pid_kp_z), 0.0, 1000.0, NULL, OPTIONAL},
+    {"controller", "pid_ki_z_per_s2", K_DOUBLE, R(pid_ki_z), 0.0, 1000.0, NULL, OPTIONAL},
+    {"controller", "pid_kp_v_n_per_mps", K_DOUBLE, R(pid_kp_v), 0.0, 1000.0, NULL, OPTIONAL},
+    {"controller", "pid_ki_v_n_per_m", K_DOUBLE, R(pid_ki_v), 0.0, 1000.0, NULL, OPTIONAL},
 
     {"vehicle", "mass_kg", K_DOUBLE, R(mass_kg), 0.0, 1000.0, NULL, OPEN_LO},
     {"vehicle", "inertia_kgm2", K_VEC3, R(inertia), 0.0, 1000.0, NULL, OPEN_LO},
@@ -297,6 +305,8 @@ static const key_def keys[] = {
     {"mission", "setpoint_x_m", K_DOUBLE, R(sp_x), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_y_m", K_DOUBLE, R(sp_y), -1000.0, 1000.0, NULL, 0},
     {"mission", "setpoint_yaw_deg", K_DOUBLE, R(sp_yaw_deg), -180.0, 180.0, NULL, 0},
+    {"mission", "yaw_amplitude_deg", K_DOUBLE, R(yaw_amplitude_deg), 0.0, 90.0, NULL, 0},
+    {"mission", "yaw_frequency_hz", K_DOUBLE, R(yaw_frequency_hz), 0.0, 10.0, NULL, 0},
 
     {"sensors", "noise_scale", K_DOUBLE, R(noise_scale), 0.0, 100.0, NULL, 0},
 
@@ -394,6 +404,7 @@ static void raw_defaults(raw *r)
     r->thrust_min_n = r->thrust_max_n = r->ground_gain_max = (double)NAN;
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
     r->hkp = r->hkd = r->tilt_max_deg = (double)NAN;
+    r->pid_kp_z = r->pid_ki_z = r->pid_kp_v = r->pid_ki_v = (double)NAN;
     r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = (double)NAN;
     r->wind.gust_tau_s = 2.0;
     r->fault_start_s = r->fault_duration_s = (double)NAN; /* from the first DESCEND; the kind's duration */
@@ -893,6 +904,7 @@ static bool build(parse_ctx *c, scenario *sc)
     const raw *r = c->r;
     memset(sc, 0, sizeof *sc);
     snprintf(sc->name, sizeof sc->name, "%s", r->name);
+    sc->figure = (scenario_figure)r->figure;
     snprintf(sc->description, sizeof sc->description, "%s", r->description);
     sc->duration_s = r->duration_s;
     sc->plant_rate_hz = r->plant_rate_hz;
@@ -929,6 +941,10 @@ static bool build(parse_ctx *c, scenario *sc)
     f->horizontal_kp_per_s2 = r->hkp;
     f->horizontal_kd_per_s = r->hkd;
     f->tilt_max_rad = isnan(r->tilt_max_deg) ? (double)NAN : r->tilt_max_deg * DEG;
+    f->pid_kp_z_per_s = r->pid_kp_z;
+    f->pid_ki_z_per_s2 = r->pid_ki_z;
+    f->pid_kp_v_n_per_mps = r->pid_kp_v;
+    f->pid_ki_v_n_per_m = r->pid_ki_v;
     f->landing_hold_height_m = r->land_hold_m;
     f->landing_descent_tau_s = r->land_tau_s;
     f->landing_pad_accel_max_mps2 = r->land_accel_max;
@@ -1111,6 +1127,8 @@ static bool build(parse_ctx *c, scenario *sc)
     m->setpoint_x_m = r->sp_x;
     m->setpoint_y_m = r->sp_y;
     m->setpoint_yaw_rad = r->sp_yaw_deg * DEG;
+    m->yaw_amplitude_rad = r->yaw_amplitude_deg * DEG;
+    m->yaw_frequency_hz = r->yaw_frequency_hz;
     if (m->disarm_on_contact && !p->contact) {
         return fail_key(c, "mission", "disarm_on_contact", "needs [contact] enabled = true");
     }
@@ -1426,4 +1444,10 @@ void scenario_perturb(scenario *sc, uint64_t seed)
     }
     perturb_failsafe_family(sc, &r);
     sc->seed = seed;
+}
+
+double scenario_yaw_setpoint_rad(const mission_params *m, double t_s)
+{
+    const double since_start_s = t_s > m->track_start_s ? t_s - m->track_start_s : 0.0;
+    return m->setpoint_yaw_rad + m->yaw_amplitude_rad * sin(2.0 * PI * m->yaw_frequency_hz * since_start_s);
 }

@@ -114,6 +114,10 @@ typedef struct mission_params {
     double end_after_landed_s;    /* a landing run ends this long after LANDED (motors off); NaN: runs its duration */
     double end_after_motors_off_s; /* any run ends this long after the firmware stopped its motors while armed (NaN: no) */
     double setpoint_x_m, setpoint_y_m, setpoint_yaw_rad;
+    /* the heading reference of Figure 4.4: psi_r(t) = setpoint_yaw_rad +
+     * yaw_amplitude_rad sin(2 pi yaw_frequency_hz (t - track_start_s)) from the
+     * command's start (0 amplitude: a constant heading) */
+    double yaw_amplitude_rad, yaw_frequency_hz;
 } mission_params;
 
 typedef struct initial_params {
@@ -132,6 +136,16 @@ typedef struct metric_params {
     bool error_until_contact;     /* the error window ends at the first contact (landing runs) */
 } metric_params;
 
+/* The dissertation's figure a scenario reproduces ([scenario] figure), drawn
+ * by --plot from its PD and SSC runs (output.c). */
+typedef enum scenario_figure {
+    FIGURE_NONE = 0,
+    FIGURE_4_4, /* F450: heading tracking, altitude over the ground, F_z k_h */
+    FIGURE_4_5, /* Crazyflie: descent into ground effect */
+    FIGURE_4_6, /* Crazyflie: tracking z_r */
+    FIGURE_4_7  /* Crazyflie: landing on an oscillating platform */
+} scenario_figure;
+
 typedef struct scenario {
     char name[SCENARIO_NAME_MAX];
     char description[SCENARIO_TEXT_MAX];
@@ -139,6 +153,7 @@ typedef struct scenario {
     double duration_s;
     double plant_rate_hz;
     uint64_t seed;
+    scenario_figure figure;       /* [scenario] figure */
     /* flight software */
     fsw_config fsw;               /* variant: the scenario's default controller */
     double controller_rate_hz;
@@ -175,6 +190,9 @@ bool scenario_resolve(const char *name_or_path, const char *argv0, char *path, s
 
 /* Lists the shipped scenario names on out (one a line). */
 void scenario_list(const char *argv0, void (*emit)(const char *name, void *user), void *user);
+
+/* psi_r at time t (rad): the mission's heading reference. */
+double scenario_yaw_setpoint_rad(const mission_params *m, double t_s);
 
 /* Applies the Monte-Carlo perturbations of sc->montecarlo drawn from seed. */
 void scenario_perturb(scenario *sc, uint64_t seed);

@@ -484,7 +484,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.pad_az_mps2 = pad.az_mps2;
         in.position_setpoint_m[0] = mission->setpoint_x_m;
         in.position_setpoint_m[1] = mission->setpoint_y_m;
-        in.yaw_setpoint_rad = mission->setpoint_yaw_rad;
+        in.yaw_setpoint_rad = scenario_yaw_setpoint_rad(mission, t);
         const int armed_command = !land ? FSW_COMMAND_TRACK_PAD
                                   : (sc->fault.kind == FAULT_HOLD_COMMAND && fault_active) ? FSW_COMMAND_HOLD
                                                                                            : FSW_COMMAND_LAND;
@@ -677,6 +677,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_att_int_z_rad_s] = out.attitude_integral_rad_s[2];
             row[SIM_COL_pos_int_x_mps2] = out.position_integral_mps2[0];
             row[SIM_COL_pos_int_y_mps2] = out.position_integral_mps2[1];
+            row[SIM_COL_yaw_r_deg] = scenario_yaw_setpoint_rad(mission, t) * RAD2DEG;
+            row[SIM_COL_k_h] = k_h;
             trace->rows++;
         }
 

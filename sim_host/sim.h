@@ -63,7 +63,8 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(motors_on) X(status) X(landing_state) X(fsw_gear_height_m) X(fsw_pad_z_m) X(fsw_pad_vz_mps) X(pad_confidence) X(fsw_pad_period_s) \
     X(moment_x_nm) X(moment_y_nm) X(moment_z_nm) X(saturation) X(att_err_x_rad) X(att_err_y_rad) X(att_err_z_rad) \
     X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)             \
-    X(fsw_vz_est_mps) X(fsw_hover_thrust_n) X(fsw_accel_bias_mps2) X(land_state) X(failsafe_cause)
+    X(fsw_vz_est_mps) X(fsw_hover_thrust_n) X(fsw_accel_bias_mps2) X(land_state) X(failsafe_cause) \
+    X(yaw_r_deg) X(k_h)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,
