@@ -69,7 +69,7 @@ static void scale(fc_real *field, double factor, int frac)
 
 /* The firmware's parameters for cfg: its defaults, then the overrides. A
  * field overridden here must also be in the PIL wire's listing
- * (platform/atmega/pil/pil_wire.c), which carries it to the ATmega image. */
+ * (tools/pil/pil_wire.c), which carries it to the ATmega image. */
 static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, char *err, size_t err_len)
 {
     if (cfg->airframe < 0 || cfg->airframe >= (int)FC_AIRFRAME_COUNT || cfg->variant < 0 ||

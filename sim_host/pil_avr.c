@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "sim_support.h" /* platform/atmega/sim: ELF symbols, the core */
+#include "sim_support.h" /* tools/simavr: ELF symbols, the core */
 
 /* AVR data symbols carry this offset in the ELF (the RAM's address space). */
 #define AVR_DATA_OFFSET 0x800000u

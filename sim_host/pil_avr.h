@@ -2,7 +2,7 @@
  * pil_avr.h - the ATmega2560 side of a processor-in-the-loop run: an image
  * built from platform/atmega/pil/pil_main.c, run in simavr (libsimavr), and
  * stopped at each call of its pil_exchange() to swap the mailboxes'
- * words (platform/atmega/pil/pil_wire.h says what the words are). Knows
+ * words (tools/pil/pil_wire.h says what the words are). Knows
  * nothing of the firmware's types: words in, words out, and the cycles the
  * image spent in each call of fc_controller_step.
  */

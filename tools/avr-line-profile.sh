@@ -28,10 +28,10 @@ cmake --build "$out/build" -j2 --target fc >/dev/null
 
 warn=(-Wall -Wextra -Werror -Wdouble-promotion -Wshadow -Wundef)
 avr-gcc -mmcu=atmega2560 -DF_CPU=16000000UL -maccumulate-args -Os -g -DNDEBUG -std=gnu11 "${warn[@]}" \
-  -I"$root/firmware/include" -I"$root/platform/atmega/bench" -ffunction-sections -fdata-sections \
+  -I"$root/firmware/include" -I"$root/tools/bench" -ffunction-sections -fdata-sections \
   -DFC_NUMERIC_FIXED="$fx" -DBENCH_WORKLOAD_CRAZYFLIE="$cf" \
   -o "$out/bench.elf" "$root/platform/atmega/bench/bench_avr.c" "$out/build/firmware/libfc.a" -lm -Wl,--gc-sections
-cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/platform/atmega/bench/bench_host.c" \
+cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/tools/simavr/bench_host.c" \
    -o "$out/avr_bench" -lsimavr -lelf
 "$out/avr_bench" --elf "$out/bench.elf" --time fc_controller_step --profile fc_controller_step \
   --pc-cycles "$out/pc-cycles.txt" >"$out/run.txt"

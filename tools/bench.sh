@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # The timing benchmark (issue 7): builds the atmega, atmega-fixed, cf2 and
 # cf2-fixed presets, builds one bench image per preset on the same fixed input
-# vectors (platform/atmega/bench/bench_run.h: init, warm-up, 2 rounds x 8
+# vectors (tools/bench/bench_run.h: init, warm-up, 2 rounds x 8
 # vectors, armed), measures, and prints one table:
 #   ATmega2560: exact cycles per call from simavr (atmega2560, 16 MHz), each
 #               function timed from outside by symbol address and return
-#               address (platform/atmega/bench/bench_host.c);
+#               address (tools/simavr/bench_host.c);
 #   Cortex-M4F: executed instructions per call in QEMU (netduinoplus2 =
 #               STM32F405), counted by a TCG plugin the same way
 #               (platform/cortex-m4-bench/insn_count.c); not cycles.
@@ -39,7 +39,7 @@ read -ra warn <<< "$(flags_of FC_WARNINGS)"
 read -ra library_warn <<< "$(flags_of FC_LIBRARY_WARNINGS)"
 read -ra m4f_flags <<< "$(flags_of FC_M4F_CPU)"
 read -ra m4f_optimise <<< "$(flags_of FC_M4F_OPTIMISE)"
-common=(-Os -DNDEBUG -std=gnu11 "${warn[@]}" -I"$root/firmware/include" -I"$root/platform/atmega/bench"
+common=(-Os -DNDEBUG -std=gnu11 "${warn[@]}" -I"$root/firmware/include" -I"$root/tools/bench"
         -ffunction-sections -fdata-sections -fstack-usage)
 # the modules timed on their own: the hexa runs the filter; the Crazyflie flies
 # on the platform's attitude (as its app does), so its filter only forms the rate
@@ -48,7 +48,7 @@ modules=(fc_attitude_estimator_step fc_attitude_control_step fc_allocation_step
 modules_cf=(fc_attitude_estimator_rate_step "${modules[@]:1}")
 
 # ---- host tools: the simavr runner and the QEMU plugin ----
-cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/platform/atmega/bench/bench_host.c" \
+cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/tools/simavr/bench_host.c" \
    -o "$out/avr_bench" -lsimavr -lelf
 cc -std=gnu11 -O2 "${warn[@]}" -shared -fPIC "$root/platform/cortex-m4-bench/insn_count.c" -o "$out/insn_count.so"
 

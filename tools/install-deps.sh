@@ -10,7 +10,7 @@ packages=(
   libinih-dev libcjson-dev gnuplot-nox  # sim_host: scenario files, JSON metrics, figures
   gcc-arm-none-eabi libnewlib-arm-none-eabi   # Crazyflie 2.x (Cortex-M4F)
   gcc-avr avr-libc binutils-avr         # ATmega2560
-  simavr libsimavr-dev libelf-dev       # ATmega2560 loop test in simavr (platform/atmega/sim)
+  simavr libsimavr-dev libelf-dev       # ATmega2560 loop test in simavr (tools/simavr)
   clang libclang-rt-14-dev              # libFuzzer harnesses (tests/fuzz, presets fuzz, fuzz-fixed)
   qemu-system-arm                       # Cortex-M4F benchmark in QEMU (tools/bench.sh)
   cppcheck python3 clang-tidy-14        # tools/static-analysis.sh (cppcheck + MISRA addon, clang-tidy); python3

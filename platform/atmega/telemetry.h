@@ -2,7 +2,7 @@
  * telemetry.h - the ATmega image's telemetry frame on USART0.
  *
  * Shared by the image (main.c) and the simavr test on the host
- * (sim/avr_loop_test.c), which parses frames by the byte offsets below: no
+ * (tools/simavr/avr_loop_test.c), which parses frames by the byte offsets below: no
  * packed structs, so the layout is the same on both sides. Multi-byte fields
  * are little-endian (AVR's own order).
  *

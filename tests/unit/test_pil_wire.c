@@ -1,5 +1,5 @@
 /*
- * Tests of the processor-in-the-loop wire (platform/atmega/pil/pil_wire.h),
+ * Tests of the processor-in-the-loop wire (tools/pil/pil_wire.h),
  * both backends: each listing fills exactly its mailbox, and a controller
  * built from the parameters that crossed the wire and stepped on inputs that
  * crossed it gives, word for word, the outputs of the controller it came from.

@@ -11,7 +11,7 @@
 
 #include "sim_avr.h"
 #include "sim_elf.h"
-#include "../sim/sim_support.h"
+#include "sim_support.h"
 
 static uint32_t read_u32(const avr_t *avr, uint32_t addr)
 {

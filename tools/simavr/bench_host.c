@@ -42,7 +42,7 @@
 
 #include "sim_avr.h"
 #include "sim_elf.h"
-#include "../sim/sim_support.h"
+#include "sim_support.h"
 
 #define MAX_TIMED 16
 #define MAX_CALLS_LISTED 64
