@@ -219,6 +219,7 @@ static fc_controller_inputs inputs_of(const fsw_inputs *in)
     fin.range_fresh = in->range_fresh != 0;
     fin.position_setpoint_m = vec_to_fc(in->position_setpoint_m, FC_LENGTH_FRAC);
     fin.yaw_setpoint_rad = TO_FC(in->yaw_setpoint_rad, ANGLE);
+    fin.yaw_rate_setpoint_radps = TO_FC(in->yaw_rate_setpoint_radps, RATE);
     fin.command = (in->command >= 0 && in->command < (int)FC_COMMAND_COUNT) ? (fc_controller_command)in->command
                                                                            : FC_COMMAND_DISARM;
     return fin;

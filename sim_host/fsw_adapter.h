@@ -71,6 +71,7 @@ typedef struct fsw_inputs {
     int range_fresh;         /* a new range sample this step */
     double position_setpoint_m[3];
     double yaw_setpoint_rad;
+    double yaw_rate_setpoint_radps; /* its rate, fed forward */
     int command;             /* FSW_COMMAND_* */
 } fsw_inputs;
 

@@ -1451,3 +1451,12 @@ double scenario_yaw_setpoint_rad(const mission_params *m, double t_s)
     const double since_start_s = t_s > m->track_start_s ? t_s - m->track_start_s : 0.0;
     return m->setpoint_yaw_rad + m->yaw_amplitude_rad * sin(2.0 * PI * m->yaw_frequency_hz * since_start_s);
 }
+
+double scenario_yaw_rate_setpoint_radps(const mission_params *m, double t_s)
+{
+    if (t_s <= m->track_start_s) {
+        return 0.0;
+    }
+    const double w = 2.0 * PI * m->yaw_frequency_hz;
+    return m->yaw_amplitude_rad * w * cos(w * (t_s - m->track_start_s));
+}

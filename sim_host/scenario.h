@@ -191,8 +191,9 @@ bool scenario_resolve(const char *name_or_path, const char *argv0, char *path, s
 /* Lists the shipped scenario names on out (one a line). */
 void scenario_list(const char *argv0, void (*emit)(const char *name, void *user), void *user);
 
-/* psi_r at time t (rad): the mission's heading reference. */
+/* psi_r at time t (rad): the mission's heading reference, and its rate (rad/s). */
 double scenario_yaw_setpoint_rad(const mission_params *m, double t_s);
+double scenario_yaw_rate_setpoint_radps(const mission_params *m, double t_s);
 
 /* Applies the Monte-Carlo perturbations of sc->montecarlo drawn from seed. */
 void scenario_perturb(scenario *sc, uint64_t seed);

@@ -485,6 +485,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.position_setpoint_m[0] = mission->setpoint_x_m;
         in.position_setpoint_m[1] = mission->setpoint_y_m;
         in.yaw_setpoint_rad = scenario_yaw_setpoint_rad(mission, t);
+        in.yaw_rate_setpoint_radps = scenario_yaw_rate_setpoint_radps(mission, t);
         const int armed_command = !land ? FSW_COMMAND_TRACK_PAD
                                   : (sc->fault.kind == FAULT_HOLD_COMMAND && fault_active) ? FSW_COMMAND_HOLD
                                                                                            : FSW_COMMAND_LAND;

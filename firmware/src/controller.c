@@ -418,6 +418,18 @@ typedef struct step_context {
     bool range_fresh;
 } step_context;
 
+/* The body rate of the heading's turn, yaw_rate_setpoint about the world's up
+ * axis seen in the body (R(q)^T (0, 0, r)), fed forward to the attitude law;
+ * zero, and no rotation computed, without a rate. */
+static fc_vec3 yaw_rate_feedforward(fc_controller *ctl, const step_context *c)
+{
+    const fc_real rate = c->in.yaw_rate_setpoint_radps;
+    if (rate == FC_INT(0, RATE)) {
+        return fc_vec3_zero();
+    }
+    return fc_quat_rotate_inv(&ctl->ar, c->attitude, fc_vec3_make(FC_INT(0, RATE), FC_INT(0, RATE), rate));
+}
+
 /* Attitude and rate: the filter (or the platform's estimate), the IMU's state. */
 static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, step_context *c,
                             fc_controller_telemetry *tm)
@@ -455,7 +467,7 @@ static fc_step_status take_command(fc_controller *ctl, fc_controller_command req
 static fc_step_status gate_inputs(fc_controller *ctl, const fc_controller_inputs *in, step_context *c)
 {
     const fc_gated_inputs raw = {in->position_m, in->velocity_mps, in->pad, in->position_setpoint_m,
-                                 in->yaw_setpoint_rad};
+                                 in->yaw_setpoint_rad, in->yaw_rate_setpoint_radps};
     c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->armed, &c->in);
     return c->inputs_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT;
 }
@@ -743,7 +755,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     fc_vec3_16 moment = fc_vec3_16_zero();
     if (c.rate_known) {
         const fc_attitude_control_input attitude_in = {c.attitude, tm->attitude_setpoint, c.rate_radps,
-                                                       fc_vec3_zero(), ctl->last_saturation};
+                                                       yaw_rate_feedforward(ctl, &c), ctl->last_saturation};
         fc_attitude_control_output attitude_out;
         tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
         status |= passed_on(tm->attitude_status);

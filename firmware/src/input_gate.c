@@ -166,7 +166,8 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     const fc_real step_s = fc_convert(ar, g->p.dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     g->since_accepted_s = fc_min(fc_add(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
     const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
-                             fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE));
+                             fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
+                             fc_within(in->yaw_rate_setpoint_radps, FC_INT(100, RATE));
     const bool absolute_ok = commands_ok && plausible(g, in, use_pad);
     if (!use_pad) {
         g->pad_accepted = false; /* a stale pad is no reference for the next one */
@@ -191,6 +192,9 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
         } else {
             limit_setpoints(g, in, out);
         }
+        /* the rate fed forward no faster than the setpoint may turn */
+        const fc_real yaw_rate_max = g->p.yaw_rate_max_radps;
+        out->yaw_rate_setpoint_radps = fc_clamp(in->yaw_rate_setpoint_radps, fc_neg(ar, yaw_rate_max), yaw_rate_max);
         g->accepted = *out;
         g->since_accepted_s = FC_INT(0, TIME);
         g->have_accepted = true;

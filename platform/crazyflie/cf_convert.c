@@ -432,6 +432,20 @@ void cf_range_step(cf_session *ss, float range_mm, const cf_tuning *t)
     ss->range_fresh = true;
 }
 
+/* The heading setpoint's rate, fed forward by the library (yaw in velocity
+ * mode only): a rate that is no number is none, and one beyond what the
+ * library's input gate lets through (100 rad/s) is cut to it, so that the
+ * sample is not refused for it. */
+static float yaw_rate_feedforward_radps(const cf_sample *s)
+{
+    if (s->sp_mode_yaw != CF_MODE_VELOCITY) {
+        return 0.0f;
+    }
+    const float rate = finite_or(cf_rad_from_deg(s->sp_yaw_rate_dps), 0.0f);
+    const float limit = 100.0f;
+    return rate > limit ? limit : (rate < -limit ? -limit : rate);
+}
+
 void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tuning *t,
                            fc_controller_command command, fc_controller_inputs *in)
 {
@@ -448,6 +462,7 @@ void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tu
     in->pad = cf_track_trajectory(ss, t);
     in->position_setpoint_m = fc_vec3_make(F(ss->sp_x_m, LENGTH), F(ss->sp_y_m, LENGTH), FC_INT(0, LENGTH));
     in->yaw_setpoint_rad = F(ss->sp_yaw_rad, ANGLE);
+    in->yaw_rate_setpoint_radps = F(yaw_rate_feedforward_radps(s), RATE);
     in->range_m = F(ss->range_m, LENGTH);
     in->range_fresh = ss->range_fresh;
     in->command = command;

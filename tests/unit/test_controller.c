@@ -287,6 +287,33 @@ static void test_pad_model_in_its_minor_frame(void **state)
     }
 }
 
+/* The yaw setpoint's rate is fed forward to the attitude law (as a turn about
+ * the world's up axis, seen in the body): level and still, tracking the pad,
+ * a rate of +1 rad/s asks for a positive yaw moment at every step (the
+ * damping term's kd (r_ff - r)); the same vehicle without it asks for none. */
+static void test_yaw_rate_feedforward(void **state)
+{
+    (void)state;
+    static fc_controller without, with;
+    fc_controller_params p;
+    init_at_500_hz(&without, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
+    init_at_500_hz(&with, &p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC);
+    fc_controller_inputs in = level_at_rest(0.5);
+    align_disarmed(&without, in);
+    align_disarmed(&with, in);
+    fc_controller_inputs in_ff = in;
+    in_ff.yaw_rate_setpoint_radps = F(1.0, RATE);
+    fc_controller_outputs out, out_ff;
+    for (int k = 0; k < 10; k++) {
+        (void)fc_controller_step(&without, &in, &out);
+        (void)fc_controller_step(&with, &in_ff, &out_ff);
+        assert_true(out.motors_on && out_ff.motors_on);
+        const double yaw_nm = D(out.moment_nm.z, MOMENT), yaw_ff_nm = D(out_ff.moment_nm.z, MOMENT);
+        assert_true(fabs(yaw_nm) < 1e-7);
+        assert_true(yaw_ff_nm > 1e-6);
+    }
+}
+
 /* The heading input reaches the filter: after the alignment a heading of
  * 0.4 rad turns the estimate to it (the controller flies on it); a bad one is
  * reported as bad input by the estimator and the step, and ignored. */
@@ -368,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_outer_group_divider),
         cmocka_unit_test(test_position_loop_once_a_major_frame),
         cmocka_unit_test(test_pad_model_in_its_minor_frame),
+        cmocka_unit_test(test_yaw_rate_feedforward),
         cmocka_unit_test(test_heading_input_reaches_the_filter),
         cmocka_unit_test(test_external_attitude_skips_the_filter),
     };

@@ -34,6 +34,12 @@
 #define PAD_ACCEL 10.0
 #define PAD_JERK 50.0
 #define REANCHOR_S 1.0
+/* a yaw rate that is no command: NaN in float, beyond the 100 rad/s accepted in fixed */
+#if FC_NUMERIC_FIXED
+#define NAN_OR_BEYOND_RATE 120.0
+#else
+#define NAN_OR_BEYOND_RATE NAN
+#endif
 
 typedef struct fixture {
     fc_input_gate g;
@@ -439,6 +445,29 @@ static void test_yaw_rate_limit_short_way(void **state)
     check_yaw_turn(0.5, -0.5, -1.0);
 }
 
+/* The yaw setpoint's rate (fed forward by the controller) passes as it is
+ * within yaw_rate_max and is clamped to it beyond; a rate beyond 100 rad/s
+ * (or NaN) is no command: the sample is rejected and the last rate kept. */
+static void test_yaw_rate_feedforward(void **state)
+{
+    (void)state;
+    const double cases[][2] = {{0.0, 0.0}, {1.5, 1.5}, {-1.5, -1.5}, {5.0, YAW_RATE}, {-50.0, -YAW_RATE}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        fixture f;
+        fixture_init(&f);
+        f.in.yaw_rate_setpoint_radps = F(cases[k][0], RATE);
+        assert_true(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+        assert_true(fabs(D(f.out.yaw_rate_setpoint_radps, RATE) - cases[k][1]) < 1e-6);
+    }
+    fixture f;
+    fixture_init(&f);
+    f.in.yaw_rate_setpoint_radps = F(1.0, RATE);
+    assert_true(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+    f.in.yaw_rate_setpoint_radps = F(NAN_OR_BEYOND_RATE, RATE);
+    assert_false(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+    assert_true(fabs(D(f.out.yaw_rate_setpoint_radps, RATE) - 1.0) < 1e-6);
+}
+
 /* The pad's feed-forward: z_d' moves at most pad_accel_max dt = 10/512 m/s
  * and z_d'' at most pad_jerk_max dt = 50/512 m/s^2 a step towards the sample
  * (z_d passes unchanged). Tolerance: one rounding of the product and of the
@@ -531,6 +560,7 @@ int main(void)
         cmocka_unit_test(test_commands_unchanged_first_and_when_off),
         cmocka_unit_test(test_setpoint_rate_limit),
         cmocka_unit_test(test_yaw_rate_limit_short_way),
+        cmocka_unit_test(test_yaw_rate_feedforward),
         cmocka_unit_test(test_pad_feedforward_rate_limits),
         cmocka_unit_test(test_params_rejected),
     };

@@ -139,6 +139,7 @@ bool pil_wire_inputs(pil_wire *w, fc_controller_inputs *in)
     vec3(w, &in->position_setpoint_m);
     real(w, &in->yaw_setpoint_rad);
     in->command = (fc_controller_command)enum_word(w, (uint32_t)in->command);
+    real(w, &in->yaw_rate_setpoint_radps);
     return complete(w);
 }
 

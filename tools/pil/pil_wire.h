@@ -24,7 +24,7 @@
 #include "fc/controller.h"
 
 #define PIL_PARAM_WORDS 27u
-#define PIL_INPUT_WORDS 28u
+#define PIL_INPUT_WORDS 29u
 #define PIL_OUTPUT_WORDS (FC_MAX_ROTORS + 66u)
 
 /* A mailbox being written (to the wire) or read (from it), one word at a time. */

@@ -161,6 +161,9 @@ typedef struct fc_controller_inputs {
     fc_vec3 position_setpoint_m;        /* LENGTH: x, y held over the pad (the pad's centre; z unused) */
     fc_real yaw_setpoint_rad;           /* ANGLE */
     fc_controller_command command;
+    fc_real yaw_rate_setpoint_radps;    /* RATE: the rate of yaw_setpoint_rad (0: none), fed
+                                         * forward to the attitude law as a turn about the
+                                         * world's up axis; clamped to the gate's yaw_rate_max */
 } fc_controller_inputs;
 
 typedef struct fc_controller_telemetry {

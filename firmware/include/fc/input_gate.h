@@ -55,6 +55,7 @@ typedef struct fc_gated_inputs {
     fc_vertical_trajectory pad;   /* the pad's trajectory (checked when use_pad) */
     fc_vec3 position_setpoint_m;  /* LENGTH */
     fc_real yaw_setpoint_rad;     /* ANGLE */
+    fc_real yaw_rate_setpoint_radps; /* RATE: its rate, fed forward; clamped to +-yaw_rate_max */
 } fc_gated_inputs;
 
 typedef struct fc_input_gate {
