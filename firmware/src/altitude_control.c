@@ -539,6 +539,8 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
         u0 = rho;
     } else if (sigma_tilde < FC_INT(0, VEL)) {
         u0 = fc_neg(ar, rho);
+    } else {
+        /* on the surface sigma_tilde = 0: no relay action */
     }
     const fc_real u = fc_sub(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
     /* exact ZOH of (4.5) and (4.7) with u0 held over the step (see the header) */

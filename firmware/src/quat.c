@@ -322,6 +322,7 @@ fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_r
 /* The Newton step takes |p|^2 within 2^-10 of 1: it leaves |p|^2 off by
  * 3/4 (|p|^2 - 1)^2 <= 7e-7, which the next step removes with its own. */
 #define NEWTON_WINDOW_LOG2 10
+_Static_assert(NEWTON_WINDOW_LOG2 == 10, "the float window below is written out as 2^-10");
 /* q (x) [0, w] of q in UNIT16 and w in RATE16 is RATE as it stands */
 _Static_assert(FC_UNIT16_FRAC + FC_RATE16_FRAC == FC_RATE_FRAC, "q16 w16 is not RATE");
 
@@ -362,7 +363,7 @@ static bool half_length_error(fc_quat p, fc_quat16 *high, fc_real16 *error)
     const fc_real half = 0.5f * (fc_quat_norm_sq(&none, p) - 1.0f);
     *high = p;
     *error = half;
-    return fc_within(half, FC_C(0.5f / (float)(1 << NEWTON_WINDOW_LOG2), UNIT));
+    return fc_within(half, FC_C(0.5f / 1024.0f, UNIT)); /* 2^-NEWTON_WINDOW_LOG2 / 2 */
 }
 #endif
 

@@ -321,7 +321,8 @@ static void yaw_setpoint_step(cf_session *ss, const cf_sample *s, float dt_s)
 /* z: toward the commanded height at most CF_COMMAND_Z_SPEED_MAX_MPS, with its feed-forward. */
 static void vertical_setpoint_step(cf_session *ss, const cf_sample *s, float dt_s)
 {
-    float target_m = ss->cmd_z_m, vz_mps = 0.0f, az_mps2 = 0.0f;
+    float target_m;
+    float vz_mps = 0.0f, az_mps2 = 0.0f;
     if (s->sp_mode_z == CF_MODE_ABS) {
         target_m = finite_or(s->sp_pos_m[2], ss->cmd_z_m);
         vz_mps = finite_or(s->sp_vel_mps[2], 0.0f);
