@@ -88,11 +88,7 @@ typedef struct call {
  * when the PC reaches the return address with the stack pointer back above it. */
 typedef struct timed_fn {
     const char *name;
-    uint32_t addr;
-    bool in_call;
-    uint64_t start;
-    uint32_t ret;
-    uint16_t sp;
+    sim_call_timer timer;
     call *calls;
     unsigned ncalls;
 } timed_fn;
@@ -104,23 +100,11 @@ static void timed_track(avr_t *avr, uint16_t sp)
 {
     for (unsigned k = 0; k < g_ntimed; k++) {
         timed_fn *t = &g_timed[k];
-        if (!t->in_call && avr->pc == t->addr) {
-            /* the CALL pushed the return address (words), high byte lowest */
-            uint32_t ret = 0;
-            for (int i = 1; i <= avr->address_size; i++) {
-                ret = (ret << 8) | avr->data[sp + i];
-            }
-            t->in_call = true;
-            t->start = avr->cycle;
-            t->ret = ret * 2u;
-            t->sp = sp;
-        } else if (t->in_call && avr->pc == t->ret && sp == t->sp + avr->address_size) {
-            t->in_call = false;
-            if (t->ncalls < MAX_CALLS) {
-                t->calls[t->ncalls].start = t->start;
-                t->calls[t->ncalls].cycles = (uint32_t)(avr->cycle - t->start);
-                t->ncalls++;
-            }
+        const int64_t cycles = sim_call_timer_at(&t->timer, avr, avr->pc, sp, true);
+        if (cycles >= 0 && t->ncalls < MAX_CALLS) {
+            t->calls[t->ncalls].start = t->timer.start;
+            t->calls[t->ncalls].cycles = (uint32_t)cycles;
+            t->ncalls++;
         }
     }
 }
@@ -528,7 +512,7 @@ int main(int argc, char **argv)
     for (unsigned k = 0; k <= ntime_names; k++) {
         timed_fn *t = &g_timed[g_ntimed];
         t->name = k == 0 ? symbol : time_names[k - 1];
-        if (!elf_symbol(elf_path, t->name, &t->addr)) {
+        if (!elf_symbol(elf_path, t->name, &t->timer.addr)) {
             fprintf(stderr, "no symbol %s in %s%s\n", t->name, elf_path, k == 0 ? "" : " (skipped)");
             if (k == 0) {
                 return 2;
@@ -603,7 +587,7 @@ int main(int argc, char **argv)
             arm_sent = true;
             arm_cycle = avr->cycle;
         }
-        if (profile > 0 && step->in_call && arm_sent) {
+        if (profile > 0 && step->timer.in_call && arm_sent) {
             const uint32_t pc = avr->pc;
             const uint64_t before = avr->cycle;
             state = avr_run(avr);

@@ -119,11 +119,7 @@ static prof_fn *prof_find(uint32_t pc)
 
 typedef struct timed_fn {
     const char *name;
-    uint32_t addr;
-    bool in_call;
-    uint64_t start;
-    uint32_t ret;
-    uint16_t sp;
+    sim_call_timer timer;
     uint32_t min, max;
     uint64_t sum;
     unsigned n;
@@ -259,7 +255,7 @@ int main(int argc, char **argv)
         timed_fn *t = &g_timed[g_ntimed];
         t->name = names[k];
         t->min = UINT32_MAX;
-        if (!elf_symbol(elf_path, t->name, &t->addr)) {
+        if (!elf_symbol(elf_path, t->name, &t->timer.addr)) {
             fprintf(stderr, "no symbol %s in %s\n", t->name, elf_path);
             return 2;
         }
@@ -304,18 +300,9 @@ int main(int argc, char **argv)
         }
         for (unsigned k = 0; k < g_ntimed; k++) {
             timed_fn *t = &g_timed[k];
-            if (!t->in_call && pc == t->addr && phase == 1) {
-                uint32_t ret = 0;
-                for (int i = 1; i <= avr->address_size; i++) {
-                    ret = (ret << 8) | avr->data[sp + i];
-                }
-                t->in_call = true;
-                t->start = avr->cycle;
-                t->ret = ret * 2u;
-                t->sp = sp;
-            } else if (t->in_call && pc == t->ret && sp == t->sp + avr->address_size) {
-                const uint32_t c = (uint32_t)(avr->cycle - t->start);
-                t->in_call = false;
+            const int64_t cycles = sim_call_timer_at(&t->timer, avr, pc, sp, phase == 1);
+            if (cycles >= 0) {
+                const uint32_t c = (uint32_t)cycles;
                 t->min = c < t->min ? c : t->min;
                 t->max = c > t->max ? c : t->max;
                 t->sum += c;
@@ -326,7 +313,7 @@ int main(int argc, char **argv)
             }
         }
         const uint64_t before = avr->cycle;
-        const bool profiling = profiled != NULL && profiled->in_call;
+        const bool profiling = profiled != NULL && profiled->timer.in_call;
         /* the instruction about to run (read before avr_run moves the PC), for the profile only */
         const uint16_t opcode = profiling ? (uint16_t)(avr->flash[pc] | (avr->flash[pc + 1] << 8)) : 0u;
         state = avr_run(avr);

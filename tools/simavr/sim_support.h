@@ -166,4 +166,39 @@ static inline avr_t *sim_start(elf_firmware_t *fw)
     return avr;
 }
 
+/* A function timed from outside by its addresses: a call runs from the PC
+ * reaching its entry to the PC reaching the return address the CALL pushed,
+ * with the stack pointer back to where it was at the entry (so a recursive
+ * or nested return elsewhere does not end it). */
+typedef struct sim_call_timer {
+    uint32_t addr;  /* the entry, byte address */
+    bool in_call;
+    uint64_t start; /* the cycle of the entry */
+    uint32_t ret;   /* the return address, byte address */
+    uint16_t sp;    /* the stack pointer at the entry */
+} sim_call_timer;
+
+/* t at the instruction at pc (stack pointer sp) about to run: a call starts
+ * (if may_start) or ends there. Returns the cycles of a call that ends at
+ * this instruction, or -1. */
+static inline int64_t sim_call_timer_at(sim_call_timer *t, const avr_t *avr, uint32_t pc, uint16_t sp,
+                                        bool may_start)
+{
+    if (!t->in_call && pc == t->addr && may_start) {
+        /* the CALL pushed the return address (words), high byte lowest */
+        uint32_t ret = 0;
+        for (int i = 1; i <= avr->address_size; i++) {
+            ret = (ret << 8) | avr->data[sp + i];
+        }
+        t->in_call = true;
+        t->start = avr->cycle;
+        t->ret = ret * 2u;
+        t->sp = sp;
+    } else if (t->in_call && pc == t->ret && sp == t->sp + avr->address_size) {
+        t->in_call = false;
+        return (int64_t)(avr->cycle - t->start);
+    }
+    return -1;
+}
+
 #endif /* FC_ATMEGA_SIM_SUPPORT_H */
