@@ -36,5 +36,5 @@ cc -std=gnu11 -O2 "${warn[@]}" -isystem /usr/include/simavr "$root/tools/simavr/
 "$out/avr_bench" --elf "$out/bench.elf" --time fc_controller_step --profile fc_controller_step \
   --pc-cycles "$out/pc-cycles.txt" >"$out/run.txt"
 grep -E '^(CYCLES|DIGEST)' "$out/run.txt"
-grep '^CALLER' "$out/run.txt" | head -n 20
+grep '^CALLER' "$out/run.txt" | awk 'NR <= 20'
 python3 "$root/tools/line-profile.py" --elf "$out/bench.elf" --pc-cycles "$out/pc-cycles.txt" --top "$top"

@@ -98,7 +98,7 @@ m4f_run() {
 # largest frame among the library's and the bench image's .su files: "bytes function"
 largest_frame() { # preset run
   find "$root/build/$1/firmware" "$out/$2" -name '*.su' -print0 | xargs -0 cat |
-    awk -F'\t' '{ n = split($1, a, ":"); print $2, a[n] }' | sort -rn | head -1
+    awk -F'\t' '{ n = split($1, a, ":"); print $2, a[n] }' | sort -rn | awk 'NR == 1'
 }
 
 results=$out/results.txt

@@ -41,8 +41,10 @@ stack() {
     local not_static
     not_static=$(awk -F'\t' '$3 != "static"' $files)
     echo "functions: $(cat $files | wc -l)"
-    awk -F'\t' '{ n = split($1, p, ":"); print $2 "\t" p[n] }' $files | sort -rn | head -5 |
-        awk -v t="$target" -F'\t' 'NR == 1 { printf "largest stack frame (%s): %s bytes in %s\n", t, $1, $2 } NR > 1 { printf "  next: %s bytes in %s\n", $1, $2 }'
+    # The last awk reads all of sort's output (no `head`): under pipefail, a
+    # reader that exits early can kill sort with SIGPIPE and fail the check.
+    awk -F'\t' '{ n = split($1, p, ":"); print $2 "\t" p[n] }' $files | sort -rn |
+        awk -v t="$target" -F'\t' 'NR == 1 { printf "largest stack frame (%s): %s bytes in %s\n", t, $1, $2 } NR > 1 && NR <= 5 { printf "  next: %s bytes in %s\n", $1, $2 }'
     if [ -n "$not_static" ]; then
         echo "NOT STATIC:"; echo "$not_static"
         return 1
