@@ -10,19 +10,23 @@
  * quaternion form under (2.1), q' = 1/2 q (x) [0, w_body], integrated by the
  * exponential map.
  *
- * Formats of the step's intermediates (fixed backend):
- *   a          ACCEL  |a_i| <= accel_range <= 256, |a| <= 444 < 512
- *   1/|a|      RATIO  |a| >= 0.01 m/s2 where it is formed, so <= 100 < 128
- *   v_a, v_hat UNIT   unit vectors
- *   e, w e     UNIT   |e| = sin(tilt error) <= 1
- *   Kp w e     RATE   <= 20 rad/s
+ * Formats of the step's intermediates (fixed backend). The correction runs
+ * in 16-bit values and 16 x 16-bit products (fc/scalar.h); the rate, the
+ * bias and the attitude it corrects keep 32 bits:
+ *   a          ACCEL    |a_i| <= accel_range <= 256, |a| <= 444 < 512
+ *   v_a, v_hat UNIT16   unit vectors: a / |a| (fc_vec3_direction16, which
+ *                       also gives |a| for the trust) and the third row of
+ *                       R(q) from q rounded to UNIT16
+ *   e, w e     UNIT16   |e| = sin(tilt error) <= 1, each rounded once
+ *   weight     RATIO    in [0, 1], UNIT16 where it scales e
+ *   Kp         RATE16   <= 20 rad/s; Kp w e exact in RATE (Q14 + Q10 = Q24)
  *   gyro - b + Kp w e  RATE  <= 100 + 0.8 + 20 < 128 (with the heading's Kp w_h e_h
  *              the init bounds gyro_range + bias_limit + 2 Kp by 127); times dt <= 2.6 rad per
  *              component (ANGLE, < 8) inside fc_quat_integrate_body_rate
- *   b, Ki dt   UNIT   Q30 holding rad/s: |b| <= 0.8, Ki dt = w_c (w_c dt) <= 1, so
- *              |b - Ki dt w e| <= 1.8 < 2 (the heading's step is taken after the
- *              clamp: the same bound)
- *   weight     RATIO  in [0, 1]
+ *   Ki dt      Q(ki_dt16_frac), 16 bits: w_c (w_c dt) <= 1 in the finest of
+ *              four formats that holds it (a slow crossover's keeps 11 bits)
+ *   b          UNIT   Q30 holding rad/s: |b| <= 0.8, so |b - Ki dt w e| <= 1.8 < 2
+ *              (the heading's step is taken after the clamp: the same bound)
  *   alignment  ACCEL x UNIT products summed in fc_acc (64 bits in fixed), mean in ACCEL
  */
 #include "fc/attitude_estimator.h"
@@ -31,13 +35,31 @@
 
 #include "attitude_heading.h"
 
-#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
-
-/* Below this length the accelerometer's direction is not formed (1/|a| would
- * leave RATIO); with the trust band below g the weight is 0 there anyway. */
+/* Below this length the accelerometer's direction is not trusted (a
+ * vector of a few LSB has hardly a direction); with the trust band below g
+ * the weight is 0 there anyway. */
 #define MIN_DIRECTION_NORM_MPS2 FC_C(0.01f, ACCEL)
 
 /* ---- defaults and init ------------------------------------------------ */
+
+/* Ki dt (UNIT, in (0, 1]) in 16 bits, in the finest of Q26, Q22, Q18 and
+ * Q14 that holds it: at least 11 significant bits whatever the crossover
+ * (w_c = 0.1 rad/s at 500 Hz makes it 2e-5: 1342 LSB of Q26). Four formats,
+ * so that the bias step's shift is one of four constants (bias_step). In
+ * float the format is a label and the value is kept whole. */
+static void set_ki_dt16(fc_attitude_estimator *est, fc_real ki_dt)
+{
+    static const uint8_t fracs[] = {26u, 22u, 18u, FC_UNIT16_FRAC};
+    fc_arith probe = {0u};
+    for (size_t i = 0u; i < sizeof fracs / sizeof fracs[0]; i++) {
+        probe.saturated = 0u;
+        est->ki_dt16 = fc_narrow16(&probe, ki_dt, FC_UNIT_FRAC, (int)fracs[i]);
+        est->ki_dt16_frac = fracs[i];
+        if (probe.saturated == 0u) {
+            return; /* Ki dt <= 1 fits Q14 at the latest */
+        }
+    }
+}
 
 void fc_attitude_estimator_coast(fc_attitude_estimator *est, bool coast)
 {
@@ -135,8 +157,9 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     }
     est->ready = false;
     reset_state(est);
-    est->kp_radps = FC_INT(0, RATE);
-    est->ki_dt_fine = FC_INT(0, UNIT);
+    est->kp16_radps = FC_INT16(0, RATE16);
+    est->ki_dt16 = 0;
+    est->ki_dt16_frac = FC_UNIT16_FRAC;
     est->inv_band_s2pm = FC_INT(0, RATIO);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
@@ -181,8 +204,8 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     }
 
     est->p = *p;
-    est->kp_radps = kp;
-    est->ki_dt_fine = ki_dt;
+    est->kp16_radps = fc_narrow16(&ar, kp, FC_RATE_FRAC, FC_RATE16_FRAC); /* Kp <= 20 < 32 */
+    set_ki_dt16(est, ki_dt);
     est->inv_band_s2pm = inv_band;
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
@@ -237,21 +260,20 @@ static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
 }
 
 /* A valid accelerometer sample: inside its range, and a direction (its
- * length above zero). Its length (ACCEL) when norm_mps2 is given; without it
- * (the rate step) a direction is a vector that is not zero, which is the
- * same test without the root (but in float for a vector whose squares
- * underflow, |a| < 1e-19 m/s^2). */
-static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_real *norm_mps2)
+ * length above zero). Its direction (UNIT16) and length (ACCEL) when asked
+ * (the full step); without them (the rate step) a direction is a vector
+ * that is not zero, which is the same test without the root (but in float
+ * for a vector whose squares underflow, |a| < 1e-19 m/s^2). */
+static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_vec3_16 *direction, fc_real *norm_mps2)
 {
     if (!fc_vec3_within(accel, est->p.accel_range_mps2)) {
         return false;
     }
-    if (norm_mps2 == NULL) {
+    if (norm_mps2 == NULL || direction == NULL) {
         return accel.x != FC_INT(0, ACCEL) || accel.y != FC_INT(0, ACCEL) || accel.z != FC_INT(0, ACCEL);
     }
-    /* the one square root of the step */
-    *norm_mps2 = fc_vec3_norm(&est->ar, accel, FC_ACCEL_FRAC);
-    return fc_is_finite(*norm_mps2) && *norm_mps2 > FC_INT(0, ACCEL);
+    /* the one root of the step */
+    return fc_vec3_direction16(&est->ar, accel, direction, norm_mps2);
 }
 
 /* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
@@ -268,14 +290,21 @@ static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
 }
 
 /* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third
- * row of the rotation matrix of q. */
-static fc_vec3 estimated_up_body(fc_arith *ar, fc_quat q)
+ * row of the rotation matrix of q, from q rounded to UNIT16 (products exact
+ * in UNIT16_SQ, each component rounded once; |.| <= 1 + 2^-12: no
+ * saturation). The filter keeps q of unit length, so fc_quat16_normalize
+ * only rounds it. */
+static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat attitude)
 {
-    const fc_real half_x = fc_dot2(ar, q.x, q.z, fc_neg(ar, q.w), q.y, UNIT_X_UNIT); /* xz - wy */
-    const fc_real half_y = fc_dot2(ar, q.y, q.z, q.w, q.x, UNIT_X_UNIT);             /* yz + wx */
-    const fc_real half_xx_yy = fc_dot2(ar, q.x, q.x, q.y, q.y, UNIT_X_UNIT);         /* x^2 + y^2 */
-    return fc_vec3_make(fc_add(ar, half_x, half_x), fc_add(ar, half_y, half_y),
-                        fc_sub(ar, FC_INT(1, UNIT), fc_add(ar, half_xx_yy, half_xx_yy)));
+    bool unit = false;
+    const fc_quat16 q = fc_quat16_normalize(ar, attitude, &unit);
+    const fc_real half_x = fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y);  /* xz - wy */
+    const fc_real half_y = fc_dot2_16(q.y, q.z, q.w, q.x);            /* yz + wx */
+    const fc_real half_xx_yy = fc_dot2_16(q.x, q.x, q.y, q.y);        /* x^2 + y^2 */
+    const fc_real one = FC_INT(1, UNIT16_SQ);
+    const fc_vec3 up = fc_vec3_make(fc_add(ar, half_x, half_x), fc_add(ar, half_y, half_y),
+                                    fc_sub(ar, one, fc_add(ar, half_xx_yy, half_xx_yy)));
+    return fc_vec3_narrow16(ar, up, FC_UNIT16_SQ_FRAC, FC_UNIT16_FRAC);
 }
 
 /* Alignment: accumulate a / N; after N valid samples, roll and pitch of the
@@ -323,8 +352,44 @@ static fc_quat integrate(fc_attitude_estimator *est, fc_vec3 rate_radps)
     return ok ? next : est->attitude;
 }
 
-/* One corrected integration step; returns the weight used (RATIO). */
-static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3 accel_mps2,
+/* Kp we is exactly a RATE value: the product's FRAC is RATE's */
+_Static_assert(FC_UNIT16_FRAC + FC_RATE16_FRAC == FC_RATE_FRAC, "UNIT16 x RATE16 is not RATE");
+
+/* Ki dt we_i (UNIT16 x Q(ki_dt16_frac)) rounded to the bias's Q30: a
+ * constant shift for each of the four formats set_ki_dt16 chooses from */
+static fc_real bias_step(fc_arith *ar, const fc_attitude_estimator *est, fc_real16 we_i)
+{
+    const fc_real product = fc_mul16(we_i, est->ki_dt16);
+    switch (est->ki_dt16_frac) {
+    case 26u:
+        return fc_convert(ar, product, FC_UNIT16_FRAC + 26, FC_UNIT_FRAC);
+    case 22u:
+        return fc_convert(ar, product, FC_UNIT16_FRAC + 22, FC_UNIT_FRAC);
+    case 18u:
+        return fc_convert(ar, product, FC_UNIT16_FRAC + 18, FC_UNIT_FRAC);
+    default:
+        return fc_convert(ar, product, FC_UNIT16_FRAC + FC_UNIT16_FRAC, FC_UNIT_FRAC);
+    }
+}
+
+/* The PI action (attitude_heading.h) in 16 x 16-bit products: Kp we exact
+ * in RATE, Ki dt we rounded to the bias's Q30 (bias_step). One copy for the
+ * tilt's and the heading's errors. */
+void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_vec3_16 we)
+{
+    fc_arith *ar = &est->ar;
+    const fc_real16 kp = est->kp16_radps;
+    const fc_vec3 proportional = fc_vec3_make(fc_mul16(we.x, kp), fc_mul16(we.y, kp), fc_mul16(we.z, kp));
+    *rate_radps = fc_vec3_add(ar, *rate_radps, proportional);
+    const fc_vec3 bias_step_radps =
+        fc_vec3_make(bias_step(ar, est, we.x), bias_step(ar, est, we.y), bias_step(ar, est, we.z));
+    est->gyro_bias_fine =
+        fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step_radps), est->gyro_bias_limit_fine);
+}
+
+/* One corrected integration step, with the accelerometer's direction
+ * (UNIT16) and length (ACCEL) when accel_ok; returns the weight used (RATIO). */
+static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3_16 up_measured,
                                      fc_real norm_mps2)
 {
     fc_arith *ar = &est->ar;
@@ -334,15 +399,12 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         weight = accel_trust(est, norm_mps2);
     }
     if (weight > FC_INT(0, RATIO)) {
-        /* v_a = a / |a|: one reciprocal, three products */
-        const fc_real inv_norm =
-            fc_div(ar, FC_INT(1, UNIT), norm_mps2, FC_DIV_SHIFT(UNIT, ACCEL, RATIO));
-        const fc_vec3 up_measured =
-            fc_vec3_scale(ar, accel_mps2, inv_norm, FC_SHIFT(ACCEL, RATIO, UNIT));
-        const fc_vec3 up_estimated = estimated_up_body(ar, est->attitude);
+        const fc_vec3_16 up_estimated = estimated_up_body(ar, est->attitude);
         /* e = v_a x v_hat; the PI action of w e, weighted by the trust */
-        const fc_vec3 e = fc_vec3_cross(ar, up_measured, up_estimated, UNIT_X_UNIT);
-        fc_attitude_correct_by(est, &rate, fc_vec3_scale(ar, e, weight, FC_SHIFT(UNIT, RATIO, UNIT)));
+        const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+        const fc_vec3_16 e = fc_vec3_16_cross(ar, up_measured, up_estimated, sq, to);
+        const fc_real16 weight16 = fc_narrow16(ar, weight, FC_RATIO_FRAC, FC_UNIT16_FRAC);
+        fc_attitude_correct_by(est, &rate, fc_vec3_16_scale(ar, e, weight16, sq, to));
     }
     if (est->heading_steps_left > 0u) {
         /* the same actions for the heading's w_h e_h (attitude_heading.c) */
@@ -378,12 +440,13 @@ static void write_safe_output(fc_attitude_estimate *out)
  * reports whether it is valid). */
 typedef struct sample_check {
     bool gyro_ok, accel_ok;
-    fc_real norm_mps2; /* ACCEL, 0 unless accel_ok */
+    fc_vec3_16 up_measured; /* UNIT16: a / |a|, 0 unless accel_ok (full step) */
+    fc_real norm_mps2;      /* ACCEL: |a|, 0 unless accel_ok (full step) */
 } sample_check;
 
 static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu, bool with_length)
 {
-    sample_check c = {false, false, FC_INT(0, ACCEL)};
+    sample_check c = {false, false, fc_vec3_16_zero(), FC_INT(0, ACCEL)};
     if (imu == NULL) {
         return c;
     }
@@ -392,7 +455,8 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
         const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
         est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);
     }
-    c.accel_ok = accel_valid(est, imu->accel_mps2, with_length ? &c.norm_mps2 : NULL);
+    c.accel_ok = accel_valid(est, imu->accel_mps2, with_length ? &c.up_measured : NULL,
+                             with_length ? &c.norm_mps2 : NULL);
     return c;
 }
 
@@ -447,7 +511,8 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
             align(est, imu->accel_mps2);
         }
     } else if (sample.gyro_ok) {
-        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, imu->accel_mps2, sample.norm_mps2);
+        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, sample.up_measured,
+                                       sample.norm_mps2);
         if (!(weight > FC_INT(0, RATIO))) {
             status |= FC_STEP_DEGRADED; /* gyro only */
         }

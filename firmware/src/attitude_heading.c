@@ -83,5 +83,6 @@ void fc_attitude_heading_correct(fc_attitude_estimator *est, fc_vec3 *rate_radps
                                   FC_SHIFT(UNIT, RATIO, UNIT));
     /* Kp w_h e_h <= 20 rad/s (the init's rate bound); |b| <= 0.8 and Ki dt <= 1
      * keep the bias step in UNIT */
-    fc_attitude_correct_by(est, rate_radps, fc_vec3_scale(ar, up_estimated, weight, UNIT_X_UNIT));
+    const fc_vec3 we = fc_vec3_scale(ar, up_estimated, weight, UNIT_X_UNIT);
+    fc_attitude_correct_by(est, rate_radps, fc_vec3_narrow16(ar, we, FC_UNIT_FRAC, FC_UNIT16_FRAC));
 }

@@ -682,19 +682,10 @@ static void unit2_scaled(fc_arith *ar, fc_real16 v, uint16_t y_q15, int k, fc_re
     *out = fc_narrow16(ar, v_y, FC_UNIT16_FRAC + UNIT2_Y_FRAC, FC_UNIT16_FRAC);
 }
 
-void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out)
+/* y = 1/sqrt(m) in Q15 for m in [1/4, 1) given in Q28 ([2^26, 2^28)): the
+ * chord and the Newton step above; y in (1, 2], 2 itself held as 2^16 - 1. */
+static uint16_t rsqrt_newton_q15(uint32_t m)
 {
-    /* m = n_sq 4^k in [1/4, 1): Q28 in [2^26, 2^28) */
-    uint32_t m = n_sq > 0 ? (uint32_t)n_sq : 1u;
-    int k = 0;
-    if (m >= (uint32_t)1u << UNIT2_M_FRAC) {
-        m >>= 2;
-        k = -1;
-    }
-    while (m < (uint32_t)1u << (UNIT2_M_FRAC - 2)) {
-        m <<= 2;
-        k++;
-    }
     /* first guess: fc_rsqrt's chord (m in Q30 below 2^30), then Q15 */
     const uint32_t y0_wide = fc_fx_extract(rsqrt_chord_q30(m << (30 - UNIT2_M_FRAC)), 0u, 30 - UNIT2_Y_FRAC);
     const uint16_t y0 = y0_wide > UINT16_MAX ? UINT16_MAX : (uint16_t)y0_wide;
@@ -714,9 +705,119 @@ void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16
     const int32_t y = (int32_t)y0 + (int32_t)fc_fx_extract((uint32_t)half_step_q38,
                                                             half_step_q38 < 0 ? UINT32_MAX : 0u,
                                                             UNIT2_D16_FRAC + 1);
-    const uint16_t y_q15 = y > UINT16_MAX ? UINT16_MAX : (uint16_t)y;
+    return y > UINT16_MAX ? UINT16_MAX : (uint16_t)y;
+}
+
+void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16 *c_out, fc_real16 *s_out)
+{
+    /* m = n_sq 4^k in [1/4, 1): Q28 in [2^26, 2^28) */
+    uint32_t m = n_sq > 0 ? (uint32_t)n_sq : 1u;
+    int k = 0;
+    if (m >= (uint32_t)1u << UNIT2_M_FRAC) {
+        m >>= 2;
+        k = -1;
+    }
+    while (m < (uint32_t)1u << (UNIT2_M_FRAC - 2)) {
+        m <<= 2;
+        k++;
+    }
+    const uint16_t y_q15 = rsqrt_newton_q15(m);
     unit2_scaled(ar, a, y_q15, k, c_out);
     unit2_scaled(ar, b, y_q15, k, s_out);
+}
+
+/*
+ * The direction and the length of (a, b, c), in 16-bit products:
+ *   v = M 2^e      each component rounded to a 16-bit M_i, the largest
+ *                  |M_i| in [2^14, 2^15) (e <= 0 where v is that small or
+ *                  smaller: M exact, shifted left)
+ *   S = sum M_i^2  below 3 2^30: exact in 32 bits unsigned; |M| = sqrt(S)
+ *                  in [2^14, 2^15 sqrt 3)
+ *   1/|M|          S/2^30 = m 4^k, m in [1/4, 1) and k = 0 or -1, and 1/sqrt(m)
+ *                  by rsqrt_newton_q15 (Q15 within 2.5e-6 relative, and the
+ *                  roundings of its 16-bit operands)
+ *   d_i = M_i / |M| the products M_i y (Q30), halved for k = -1, rounded to
+ *                  UNIT16
+ *   |v| = |M| 2^e  |M| the root of S rounded to an integer (isqrt_u32),
+ *                  saturated where |v| leaves the format
+ * The rounding of M moves the direction by at most (sqrt 3 / 2) 2^-14 (0.87
+ * UNIT16 LSB), to which y's error and the output's rounding add what they
+ * add in fc_unit2_16 (test_scalar.test_direction16 derives the bound).
+ */
+#define DIRECTION_M_BITS 15 /* bits of the largest |M_i| */
+
+static fc_real16 direction_component(fc_arith *ar, int16_t m_i, uint16_t y_q15, bool halve)
+{
+    int32_t m_y = (int32_t)m_i * (int32_t)y_q15; /* Q15 x Q15 = Q30, |.| <= 2^30 */
+    if (halve) {
+        m_y = (int32_t)fc_fx_extract((uint32_t)m_y, m_y < 0 ? UINT32_MAX : 0u, 1); /* a floor */
+    }
+    return fc_narrow16(ar, m_y, 30, FC_UNIT16_FRAC);
+}
+
+/* |x| of an fc_real (symmetric: never INT32_MIN) */
+static uint32_t magnitude_u32(fc_real x)
+{
+    return x < 0 ? (uint32_t)-x : (uint32_t)x;
+}
+
+/* x / 2^e rounded to nearest (e >= 1; a rounding up to 2^15 held at
+ * 2^15 - 1), or x 2^-e exactly (e <= 0: |x| 2^-e stays below 2^15 by the
+ * choice of e) */
+static int16_t direction_mantissa(fc_real x, int e)
+{
+    if (e <= 0) {
+        return (int16_t)fc_fx_shl32(x, -e);
+    }
+    const int32_t half = fc_fx_asr32(x, e - 1); /* floor(x / 2^(e-1)) */
+    const int32_t rounded = (half >> 1) + (half & 1);
+    if (rounded > INT16_MAX) {
+        return INT16_MAX;
+    }
+    return (int16_t)rounded;
+}
+
+bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 direction[3], fc_real *length)
+{
+    direction[0] = 0;
+    direction[1] = 0;
+    direction[2] = 0;
+    *length = 0;
+    uint32_t largest = magnitude_u32(a);
+    const uint32_t mag_b = magnitude_u32(b), mag_c = magnitude_u32(c);
+    largest = mag_b > largest ? mag_b : largest;
+    largest = mag_c > largest ? mag_c : largest;
+    if (largest == 0u) {
+        return false;
+    }
+    /* the largest |M_i| in [2^14, 2^15) */
+    const int e = bit_length_u32(largest) - DIRECTION_M_BITS;
+    const int16_t m[3] = {direction_mantissa(a, e), direction_mantissa(b, e), direction_mantissa(c, e)};
+    const uint32_t s = (uint32_t)((int32_t)m[0] * m[0]) + (uint32_t)((int32_t)m[1] * m[1]) +
+                       (uint32_t)((int32_t)m[2] * m[2]);
+    /* S / 2^30 = m 4^k with m in [1/4, 1): k = -1 for S >= 2^30; m in Q28 */
+    const bool halve = s >= (uint32_t)1u << 30;
+    const uint32_t m_q28 = halve ? s >> 4 : s >> 2;
+    const uint16_t y_q15 = rsqrt_newton_q15(m_q28);
+    direction[0] = direction_component(ar, m[0], y_q15, halve);
+    direction[1] = direction_component(ar, m[1], y_q15, halve);
+    direction[2] = direction_component(ar, m[2], y_q15, halve);
+
+    uint32_t remainder;
+    const uint32_t root = isqrt_u32(s, &remainder);
+    const uint32_t rounded = remainder > root ? root + 1u : root; /* (above fc_sqrt_unit16) */
+    if (e <= 0) {
+        /* rounded to nearest, below 2^16 */
+        *length = (fc_real)shr_u32(rounded + (shl_u32(1u, -e) >> 1), -e);
+        return true;
+    }
+    if (rounded > shr_u32((uint32_t)INT32_MAX, e)) {
+        ar->saturated = 1u;
+        *length = FC_REAL_MAX;
+        return true;
+    }
+    *length = (fc_real)shl_u32(rounded, e);
+    return true;
 }
 
 /* sin and cos of r in [-pi/4, pi/4], r and results in Q30 (Taylor to r^9 and r^10,

@@ -13,6 +13,7 @@
 #include <float.h>
 #include <cmocka.h>
 #include "fc/attitude_estimator.h"
+#include "test_support.h"
 
 #if FC_NUMERIC_FIXED
 #define BACKEND "fixed"
@@ -24,8 +25,12 @@
 /* integration over 1 s: one LSB of ANGLE per step (rate * dt is rounded to
  * ANGLE each step) over 500 steps, 1.9e-6 rad */
 #define INTEGRATION_TOL_RAD (500.0 / (double)(1 << FC_ANGLE_FRAC))
-/* the trust weight against the exact one for the unquantised |a|: 16 LSB of RATIO */
-#define WEIGHT_TOL (16.0 / (double)(1 << FC_RATIO_FRAC))
+/* the trust weight against the exact one for the unquantised |a|: 16 LSB of
+ * RATIO plus what the length's error moves it, |a| 1.37 2^-14 / band
+ * (fc_direction16: the 16-bit mantissas' roundings, sqrt(3)/2, and the
+ * root's, 1/2, over |M| >= 2^14) */
+#define WEIGHT_TOL_FOR(norm_mps2, band_mps2) \
+    (16.0 / (double)(1 << FC_RATIO_FRAC) + (norm_mps2) * 1.37 / 16384.0 / (band_mps2))
 /* a rate or a bias read back: 2 LSB of RATE */
 #define RATE_TOL (2.0 / (double)(1 << FC_RATE_FRAC))
 #else
@@ -38,7 +43,7 @@
  * roundings mostly cancel (5.5 ulps of 1 measured); 32 ulps */
 #define INTEGRATION_TOL_RAD (32.0 * (double)FLT_EPSILON)
 /* the trust weight: 8 ulps of 1 */
-#define WEIGHT_TOL (8.0 * (double)FLT_EPSILON)
+#define WEIGHT_TOL_FOR(norm_mps2, band_mps2) (8.0 * (double)FLT_EPSILON)
 /* a rate or a bias read back (values up to 1 rad/s): 4 ulps of 1 */
 #define RATE_TOL (4.0 * (double)FLT_EPSILON)
 #endif
@@ -201,9 +206,14 @@ static void test_default_params_init(void **state)
     fc_attitude_estimator est;
     const fc_attitude_estimator_params p = default_params();
     assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
-    /* Kp = 2 zeta w_c = 1.414, Ki dt = w_c^2 dt = 0.002 */
-    assert_true(fabs(from_fc(est.kp_radps, FC_RATE_FRAC) - 1.41421356) < 1e-6);
-    assert_true(fabs(from_fc(est.ki_dt_fine, FC_UNIT_FRAC) - 0.002) < 1e-8);
+    /* Kp = 2 zeta w_c = 1.414 in RATE16 (half an LSB, 2^-11), Ki dt = w_c^2
+     * dt = 0.002 in the finest of Q26, Q22, Q18, Q14 that holds it (Q22:
+     * 0.002 2^22 = 8389 < 2^15; Q26 would not), half an LSB 2^-23 */
+    assert_true(fabs(ts_val16(est.kp16_radps, FC_RATE16_FRAC) - 1.41421356) <= ldexp(1.0, -11) + 1e-7);
+#if FC_NUMERIC_FIXED
+    assert_int_equal(est.ki_dt16_frac, 22);
+#endif
+    assert_true(fabs(ts_val16(est.ki_dt16, est.ki_dt16_frac) - 0.002) <= ldexp(1.0, -23) + 1e-9);
 }
 
 typedef void (*param_mutation)(fc_attitude_estimator_params *p);
@@ -559,8 +569,8 @@ static void test_reduced_trust_at_1_5_g(void **state)
     print_message("[%s] trust: |a| = g weight %.4f, moved %.3f deg in 0.5 s; |a| = 1.5 g weight "
                   "%.4f, moved %.3f deg\n",
                   BACKEND, w1, moved1, w15, moved15);
-    assert_true(fabs(w1 - 1.0) < WEIGHT_TOL);
-    assert_true(fabs(w15 - 1.0 / 3.0) < WEIGHT_TOL);
+    assert_true(fabs(w1 - 1.0) < WEIGHT_TOL_FOR(G_MPS2, 0.75 * 9.81));
+    assert_true(fabs(w15 - 1.0 / 3.0) < WEIGHT_TOL_FOR(1.5 * G_MPS2, 0.75 * 9.81));
     assert_true(moved15 < 0.5 * moved1);
     assert_true(moved15 > 0.1 * moved1);
     /* both move toward the measured roll */
@@ -600,13 +610,14 @@ static void test_no_trust_outside_band(void **state)
         fc_attitude_estimator_step(&est, &si, &out);
         const double w = from_fc(out.accel_weight, FC_RATIO_FRAC);
         const double expected = fmax(0.0, 1.0 - (norm - G_MPS2) / 2.0);
-        assert_true(fabs(w - expected) < WEIGHT_TOL);
+        assert_true(fabs(w - expected) < WEIGHT_TOL_FOR(norm, 2.0));
         assert_true(w <= previous);
         previous = w;
         /* and symmetric below g */
         const fc_imu_sample sb = sample(0, 0, 0, 0, 0, 2 * G_MPS2 - norm);
         fc_attitude_estimator_step(&est, &sb, &out);
-        assert_true(fabs(from_fc(out.accel_weight, FC_RATIO_FRAC) - expected) < WEIGHT_TOL);
+        assert_true(fabs(from_fc(out.accel_weight, FC_RATIO_FRAC) - expected) <
+                    WEIGHT_TOL_FOR(2 * G_MPS2 - norm, 2.0));
     }
 }
 

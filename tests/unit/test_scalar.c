@@ -1184,6 +1184,99 @@ static void test_unit2_16(void **state)
     assert_true(worst <= unit2_16_bound_lsb());
 }
 
+/* fc_direction16: the direction of v within, in UNIT16 LSB,
+ *   fixed: half an LSB of the output's rounding, the mantissas' roundings
+ *     (|M - v 2^-e| <= sqrt(3)/2 moves M / |M| by at most 2 |M - u| /
+ *     (|M| + |u|) <= (sqrt(3)/2) 2^-14 (the inner-product Dunkl-Williams
+ *     bound), and y's relative error (unit2_16_bound_lsb's, without its
+ *     half LSB), plus 2^-15 for the k = -1 floor;
+ *   float: five roundings (the squares' sum, the root, the reciprocal, the
+ *     product) within gamma_5;
+ * and the length within 1.37 2^e raw LSB (fixed: sqrt(3)/2 of the
+ * mantissas and 1/2 of the root, times 2^e; at least 1 LSB of the final
+ * shift for e <= 0), float gamma_4 of itself. */
+static double direction16_bound_lsb(void)
+{
+#if FC_NUMERIC_FIXED
+    return unit2_16_bound_lsb() + sqrt(3.0) / 2.0 * (1.0 + ldexp(1.0, -13));
+#else
+    const double u = ldexp(1.0, -24);
+    return ldexp(5.0 * u / (1.0 - 5.0 * u), 14);
+#endif
+}
+
+static void direction16_check(double x, double y, double z, double *worst_lsb, double *worst_length)
+{
+    fc_arith ar = {0};
+    fc_real16 d[3] = {0, 0, 0};
+    fc_real length = 0;
+#if FC_NUMERIC_FIXED
+    const fc_real v[3] = {(fc_real)x, (fc_real)y, (fc_real)z};
+#else
+    const fc_real v[3] = {(fc_real)x, (fc_real)y, (fc_real)z};
+#endif
+    const double vx = (double)v[0], vy = (double)v[1], vz = (double)v[2];
+    const double n = sqrt(vx * vx + vy * vy + vz * vz);
+    const bool ok = fc_direction16(&ar, v[0], v[1], v[2], d, &length);
+    assert_true(ok);
+    assert_int_equal(ar.saturated, 0);
+    const double want[3] = {vx / n, vy / n, vz / n};
+    for (int i = 0; i < 3; i++) {
+        const double got = FC_NUMERIC_FIXED ? (double)d[i] : (double)d[i] * 16384.0;
+        const double err = fabs(got - 16384.0 * want[i]);
+        *worst_lsb = err > *worst_lsb ? err : *worst_lsb;
+    }
+#if FC_NUMERIC_FIXED
+    /* in raw LSB, relative to its bound */
+    const int e = (int)floor(log2(fmax(fmax(fabs(vx), fabs(vy)), fabs(vz)))) + 1 - 15;
+    const double bound = fmax(1.37 * ldexp(1.0, e), 1.0);
+    const double err_length = fabs((double)length - n) / bound;
+#else
+    const double u = ldexp(1.0, -24);
+    const double err_length = fabs((double)length - n) / (n * 4.0 * u / (1.0 - 4.0 * u));
+#endif
+    *worst_length = err_length > *worst_length ? err_length : *worst_length;
+}
+
+static void test_direction16(void **state)
+{
+    (void)state;
+    ts_rng rng = ts_rng_seed(4242u);
+    double worst = 0.0, worst_length = 0.0;
+    unsigned cases = 0u;
+    for (int i = 0; i < 200000; i++) {
+        /* components of random sign and size, the largest from 1 raw LSB (fixed)
+         * to the format's edge / sqrt 3 */
+        const int top = 1 + (int)(ts_rand_u32(&rng) % 30u);
+        double c[3];
+        for (int k = 0; k < 3; k++) {
+            const double mag = (double)(ts_rand_u32(&rng) >> (32 - top));
+            c[k] = (ts_rand_u32(&rng) & 1u) != 0u ? -mag : mag;
+        }
+        if (c[0] == 0.0 && c[1] == 0.0 && c[2] == 0.0) {
+            continue;
+        }
+#if !FC_NUMERIC_FIXED
+        for (int k = 0; k < 3; k++) {
+            c[k] = ldexp(c[k], -top); /* floats of any scale */
+        }
+#endif
+        direction16_check(c[0], c[1], c[2], &worst, &worst_length);
+        cases++;
+    }
+    /* the zero vector: no direction */
+    fc_arith ar = {0};
+    fc_real16 d[3] = {1, 1, 1};
+    fc_real length = 1;
+    assert_false(fc_direction16(&ar, 0, 0, 0, d, &length));
+    assert_true(d[0] == 0 && d[1] == 0 && d[2] == 0 && length == 0);
+    print_message("direction16: %u vectors, direction worst %.4f UNIT16 LSB (bound %.4f), length worst %.3f of "
+                  "its bound\n",
+                  cases, worst, direction16_bound_lsb(), worst_length);
+    assert_true(worst <= direction16_bound_lsb());
+    assert_true(worst_length <= 1.0);
+}
+
 static void test_rsqrt_exact(void **state)
 {
     (void)state;
@@ -1740,6 +1833,7 @@ int main(void)
         cmocka_unit_test(test_rsqrt_q29_accuracy),
         cmocka_unit_test(test_real16),
         cmocka_unit_test(test_unit2_16),
+        cmocka_unit_test(test_direction16),
         cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),

@@ -120,9 +120,10 @@ typedef struct fc_attitude_estimate {
 typedef struct fc_attitude_estimator {
     fc_arith ar;                       /* saturation record of the current step */
     fc_attitude_estimator_params p;    /* the validated parameters (formats as above) */
-    fc_real kp_radps;                  /* RATE: Kp = 2 zeta w_c, rad/s per unit of |e| */
-    fc_real ki_dt_fine;                /* UNIT (Q30 holding rad/s): Ki dt = w_c^2 dt <= 1, the
-                                        * bias step per unit of |e| */
+    fc_real16 kp16_radps;              /* RATE16: Kp = 2 zeta w_c <= 20, rad/s per unit of |e| */
+    fc_real16 ki_dt16;                 /* Q(ki_dt16_frac): Ki dt = w_c^2 dt <= 1, the bias
+                                        * step (rad/s) per unit of |e| */
+    uint8_t ki_dt16_frac;              /* 26, 22, 18 or 14: the finest that holds Ki dt */
     fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
     fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
     fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */

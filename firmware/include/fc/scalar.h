@@ -650,15 +650,18 @@ FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
 }
 
 /* a b and a0 b0 + a1 b1, exact (below 2^31 in magnitude for operands within
- * +-FC_REAL16_MAX), in the format whose FRAC is the sum of the operands'. */
+ * +-FC_REAL16_MAX), in the format whose FRAC is the sum of the operands'.
+ * (port: FC_PORT_MUL16) */
+#ifndef FC_PORT_MUL16
 FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
 {
     return (fc_real)a * b;
 }
+#endif
 
 FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
 {
-    return (fc_real)a0 * b0 + (fc_real)a1 * b1;
+    return fc_mul16(a0, b0) + fc_mul16(a1, b1);
 }
 
 /* a0 b0 + .. + a3 b3 rounded to nearest into the 16-bit format frac_to
@@ -983,6 +986,37 @@ static inline void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n
     const fc_real inv_n = fc_rsqrt(ar, n_sq, FC_UNIT16_SQ_FRAC, FC_RATIO_FRAC);
     *c_out = a * inv_n;
     *s_out = b * inv_n;
+}
+#endif
+
+/* The direction of (a, b, c) in UNIT16, direction[0..2] = (a, b, c) / |.|,
+ * and *length = |.| in the components' format; false (all 0) for the zero
+ * vector, and in float for a length that is not a finite number. Fixed: the
+ * vector scaled by a power of two into 16-bit components, 1/|.| as in
+ * fc_unit2_16 and the length from the integer root of their squares: the
+ * direction within 2.2 UNIT16 LSB of the exact one, the length within
+ * 1.37 2^-14 of itself (test_scalar.test_direction16 derives both bounds).
+ * Float: the root and a reciprocal. */
+#if FC_NUMERIC_FIXED
+bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 direction[3], fc_real *length);
+#else
+static inline bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 direction[3],
+                                  fc_real *length)
+{
+    const fc_real n = fc_hypot3(ar, a, b, c);
+    if (!(n > 0.0f) || !fc_is_finite(n)) {
+        direction[0] = 0.0f;
+        direction[1] = 0.0f;
+        direction[2] = 0.0f;
+        *length = 0.0f;
+        return false;
+    }
+    const fc_real inv_n = 1.0f / n;
+    direction[0] = a * inv_n;
+    direction[1] = b * inv_n;
+    direction[2] = c * inv_n;
+    *length = n;
+    return true;
 }
 #endif
 

@@ -149,6 +149,40 @@ FC_VEC3_INLINE fc_vec3 fc_vec3_widen16(fc_vec3_16 v, int frac_from, int frac_to)
                         fc_widen16(v.z, frac_from, frac_to));
 }
 
+/* The direction of v in UNIT16 and |v| (format of v): fc_direction16. */
+static inline bool fc_vec3_direction16(fc_arith *ar, fc_vec3 v, fc_vec3_16 *direction, fc_real *length)
+{
+    fc_real16 d[3];
+    const bool ok = fc_direction16(ar, v.x, v.y, v.z, d, length);
+    const fc_vec3_16 r = {d[0], d[1], d[2]};
+    *direction = r;
+    return ok;
+}
+
+/* a x b of two 16-bit vectors: each component the difference of two exact
+ * products (format frac_products, the sum of the operands' FRACs), rounded
+ * once into the 16-bit format frac_to. */
+FC_VEC3_INLINE fc_vec3_16 fc_vec3_16_cross(fc_arith *ar, fc_vec3_16 a, fc_vec3_16 b, int frac_products,
+                                           int frac_to)
+{
+    const fc_vec3_16 c = {
+        fc_narrow16(ar, fc_dot2_16(a.y, b.z, fc_neg16(a.z), b.y), frac_products, frac_to),
+        fc_narrow16(ar, fc_dot2_16(a.z, b.x, fc_neg16(a.x), b.z), frac_products, frac_to),
+        fc_narrow16(ar, fc_dot2_16(a.x, b.y, fc_neg16(a.y), b.x), frac_products, frac_to)};
+    return c;
+}
+
+/* s v of 16-bit values: each exact product (format frac_product) rounded
+ * into the 16-bit format frac_to. */
+FC_VEC3_INLINE fc_vec3_16 fc_vec3_16_scale(fc_arith *ar, fc_vec3_16 v, fc_real16 s, int frac_product,
+                                           int frac_to)
+{
+    const fc_vec3_16 r = {fc_narrow16(ar, fc_mul16(v.x, s), frac_product, frac_to),
+                          fc_narrow16(ar, fc_mul16(v.y, s), frac_product, frac_to),
+                          fc_narrow16(ar, fc_mul16(v.z, s), frac_product, frac_to)};
+    return r;
+}
+
 static inline fc_vec3_16 fc_vec3_16_zero(void)
 {
     const fc_vec3_16 z = {FC_INT16(0, NORM16), FC_INT16(0, NORM16), FC_INT16(0, NORM16)};

@@ -17,7 +17,8 @@
  * (a table's chord made exact by steps) against the digit-by-digit square
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
  * 16) against the rounded value saturated at +-INT16_MAX, and
- * fc_hypot3_within against that root compared; the out-of-line products
+ * fc_hypot3_within against that root compared, fc_mul16 (MULS/MULSU
+ * assembly) against the C product of its operands; the out-of-line products
  * that every other unit calls on the ATmega (fc_fx_mul_outline,
  * fc_fx_dot2/3/4_outline: a run-time shift narrowed by bytes and bits)
  * against the int64_t form.
@@ -173,6 +174,7 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_DOT4_OUTLINE 17u
 #define OP_SQRT_UNIT16 18u
 #define OP_NARROW16 19u
+#define OP_MUL16 20u
 
 /* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
 static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
@@ -203,6 +205,23 @@ static void compare_narrow16(int32_t x)
     check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
 }
 
+/* fc_mul16 (the port's MULS/MULSU assembly) against the C product of the
+ * int16_t values widened to int32_t (libgcc's __mulhisi3), for the low
+ * halves of x and y and for the operands at +-INT16_MAX */
+static __attribute__((noinline)) int32_t ref_mul16(int16_t x, int16_t y)
+{
+    return (int32_t)x * (int32_t)y;
+}
+
+static void compare_mul16(int32_t x, int32_t y)
+{
+    const int16_t x16 = (int16_t)x, y16 = (int16_t)y;
+    check(OP_MUL16, 0u, fc_mul16(x16, y16), 0u, ref_mul16(x16, y16), 0u);
+    check(OP_MUL16, 1u, fc_mul16(x16, INT16_MAX), 0u, ref_mul16(x16, INT16_MAX), 0u);
+    check(OP_MUL16, 2u, fc_mul16(-INT16_MAX, y16), 0u, ref_mul16(-INT16_MAX, y16), 0u);
+    check(OP_MUL16, 3u, fc_mul16(INT16_MIN, y16), 0u, ref_mul16(INT16_MIN, y16), 0u);
+}
+
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
     const int shift = (int)(rng_next() % 32u);
@@ -223,6 +242,8 @@ static void compare_functions(const int32_t *a, const int32_t *b)
                                                           : (int32_t)(ref_sqrt((uint64_t)a[1] << 2) << 14);
     check(OP_SQRT_UNIT16, 0u, value, got.saturated, want_unit16, 0u);
     compare_narrow16(a[2]);
+    compare_mul16(a[3], b[3]);
+    compare_mul16(a[3] >> (rng_next() % 16u), b[3] >> (rng_next() % 16u)); /* small ones too */
     compare_narrow16(a[2] >> (rng_next() % 24u)); /* and values near the 16-bit range */
     got.saturated = 0u;
     value = fc_hypot3(&got, a[2], b[2], a[3]);
