@@ -105,6 +105,7 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     override(&p.horizontal.kp_per_s2, cfg->horizontal_kp_per_s2, FC_RATIO_FRAC);
     override(&p.horizontal.kd_per_s, cfg->horizontal_kd_per_s, FC_RATIO_FRAC);
     override(&p.horizontal.tilt_max_rad, cfg->tilt_max_rad, FC_ANGLE_FRAC);
+    override(&p.horizontal.accel_fb_gain_per_s, cfg->accel_fb_gain_per_s, FC_RATIO_FRAC);
     override(&p.altitude.pid_kp_z_per_s, cfg->pid_kp_z_per_s, FC_GAIN_FRAC);
     override(&p.altitude.pid_ki_z_per_s2, cfg->pid_ki_z_per_s2, FC_GAIN_FRAC);
     override(&p.altitude.pid_kp_v_n_per_mps, cfg->pid_kp_v_n_per_mps, FC_GAIN_FRAC);
@@ -148,6 +149,7 @@ static void info_of(const fc_controller_params *params, fsw_info *info)
         info->ref_bias_m = FROM_FC(params->reference.bias_m, LENGTH);
         info->rho_n = FROM_FC(params->altitude.rho_n, FORCE);
         info->gamma = FROM_FC(params->altitude.gamma, GAIN);
+        info->accel_fb_gain_per_s = FROM_FC(params->horizontal.accel_fb_gain_per_s, RATIO);
         info->failsafe_descent_mps = FROM_FC(params->failsafe.descent_mps, VEL);
         info->alignment_steps = (int)params->estimator.alignment_samples;
         info->rotor_count = params->allocation.rotor_count;
@@ -284,6 +286,8 @@ static void outputs_of(fc_step_status status, const fc_controller_outputs *fo, c
     vec_from_fc(internals->attitude_integral_rad_s, FC_ANGLE_FRAC, out->attitude_integral_rad_s);
     out->position_integral_mps2[0] = FROM_FC(internals->position_integral_mps2.x, ACCEL);
     out->position_integral_mps2[1] = FROM_FC(internals->position_integral_mps2.y, ACCEL);
+    out->accel_feedback_mps2[0] = FROM_FC(internals->accel_feedback_mps2.x, ACCEL);
+    out->accel_feedback_mps2[1] = FROM_FC(internals->accel_feedback_mps2.y, ACCEL);
 }
 
 static void adapter_step(void *handle, const fsw_inputs *in, fsw_outputs *out)

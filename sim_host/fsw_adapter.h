@@ -47,6 +47,8 @@ typedef struct fsw_config {
     /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
     double rho_scale, gamma_scale, kappa_m_scale;
     double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
+    /* k_a of the acceleration feedback (2.10); NaN: the preset's, 0: none */
+    double accel_fb_gain_per_s;
     /* the pid law's gains (fc/altitude_control.h, "Baselines"); with both
      * integral gains 0 it is a PD with gravity feed-forward: the dissertation's
      * PD of section 4.5. Not carried by the PIL wire (pil_create refuses them). */
@@ -102,7 +104,7 @@ typedef struct fsw_outputs {
     int land_state, failsafe_cause, arming_blocked_by;
     /* loop internals, for traces: the attitude error (tilt x, y, heading z) and
      * its integral, the horizontal loop's integral (x, y) */
-    double attitude_error_rad[3], attitude_integral_rad_s[3], position_integral_mps2[2];
+    double attitude_error_rad[3], attitude_integral_rad_s[3], position_integral_mps2[2], accel_feedback_mps2[2];
 } fsw_outputs;
 
 /* What the firmware was configured with (for reports and for the plant's
@@ -112,6 +114,7 @@ typedef struct fsw_info {
     double thrust_min_n, thrust_max_n, ground_gain_max;
     double ref_tau_s, ref_offset_init_m, ref_bias_m;
     double rho_n, gamma;
+    double accel_fb_gain_per_s; /* k_a of the acceleration feedback (2.10) */
     double failsafe_descent_mps; /* failsafe.descent_mps: the descent the failsafe should hold */
     int alignment_steps;     /* disarmed steps the attitude filter needs before arming */
     int rotor_count;

@@ -443,9 +443,20 @@ int main(int argc, char **argv)
         return benchmark(&sc, variants, nv, backends, nb, a.runs_given ? a.runs : 5);
     }
 
+    /* figure = accel-feedback: every run flown again with k_a = 0, as the
+     * scenario "NAME-without" (unless the gain is 0 already) */
+    const scenario *flown[2] = {&sc, NULL};
+    int ns = 1;
+    static scenario without;
+    if (sc.figure == FIGURE_ACCEL_FEEDBACK && !(sc.fsw.accel_fb_gain_per_s == 0.0)) {
+        without = sc;
+        without.fsw.accel_fb_gain_per_s = 0.0;
+        snprintf(without.name, sizeof without.name, "%.*s-without", (int)sizeof without.name - 9, sc.name);
+        flown[ns++] = &without;
+    }
     const bool mc = a.runs_given;
     const uint64_t seed = a.seed_given ? (uint64_t)a.seed : sc.seed;
-    const int count = nv * nb;
+    const int count = nv * nb * ns;
     if (count > MAX_RECORDS) {
         fprintf(stderr, "fc-sil: too many runs at once\n");
         return 2;
@@ -465,8 +476,10 @@ int main(int argc, char **argv)
     int filled = 0;
     int status = 0;
     for (int b = 0; b < nb && status == 0; b++) {
-        for (int v = 0; v < nv && status == 0; v++) {
-            if (!run_record_fill(&records[filled], &sc, variants[v], backends[b], mc ? a.runs : 1, mc, seed,
+        for (int k = 0; k < nv * ns && status == 0; k++) {
+            const int v = k / ns;
+            const scenario *one = flown[k % ns];
+            if (!run_record_fill(&records[filled], one, variants[v], backends[b], mc ? a.runs : 1, mc, seed,
                                  want_trace, &prog, err, sizeof err)) {
                 if (a.compare) {
                     /* the table shows which variant could not start, and goes on */
@@ -477,8 +490,8 @@ int main(int argc, char **argv)
                     continue;
                 }
                 progress_end(&prog);
-                fprintf(stderr, "fc-sil: %s, %s, %s: %s\n", sc.name, sim_variant_names[variants[v]], backends[b]->name,
-                        err);
+                fprintf(stderr, "fc-sil: %s, %s, %s: %s\n", one->name, sim_variant_names[variants[v]],
+                        backends[b]->name, err);
                 status = 1;
             }
             filled++;

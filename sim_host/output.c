@@ -196,6 +196,7 @@ static cJSON *record_json(const run_record *r)
     add_number(fw, "z_r_tau_s", fi->ref_tau_s);
     add_number(fw, "z_r_init_m", fi->ref_offset_init_m);
     add_number(fw, "z_r_bias_m", fi->ref_bias_m);
+    add_number(fw, "accel_fb_gain_per_s", fi->accel_fb_gain_per_s);
     add_number(fw, "failsafe_descent_mps", fi->failsafe_descent_mps);
     cJSON_AddNumberToObject(fw, "state_bytes", (double)fi->state_bytes);
     if (r->runs <= 1) {
@@ -301,11 +302,14 @@ void output_csv_path(const char *base, const run_record *r, int count, char *out
     }
     const char *slash = strrchr(base, '/');
     const char *dot = strrchr(base, '.');
+    /* figure = accel-feedback flies each run twice: the second is "-without" */
+    const char *without =
+        (r->sc->figure == FIGURE_ACCEL_FEEDBACK && r->sc->fsw.accel_fb_gain_per_s == 0.0) ? "-without" : "";
     if (dot == NULL || (slash != NULL && dot < slash)) {
-        snprintf(out, out_len, "%s-%s-%s", base, sim_variant_names[r->variant], r->backend);
+        snprintf(out, out_len, "%s-%s-%s%s", base, sim_variant_names[r->variant], r->backend, without);
     } else {
-        snprintf(out, out_len, "%.*s-%s-%s%s", (int)(dot - base), base, sim_variant_names[r->variant], r->backend,
-                 dot);
+        snprintf(out, out_len, "%.*s-%s-%s%s%s", (int)(dot - base), base, sim_variant_names[r->variant], r->backend,
+                 without, dot);
     }
 }
 
@@ -607,6 +611,103 @@ static void experiment_figure(FILE *gp, const run_record *const *cols, int ncols
     fprintf(gp, "unset multiplot\nset terminal pngcairo size 1400,1000 enhanced font 'DejaVu Sans,10'\n");
 }
 
+/* ---- figure = accel-feedback: a run with the acceleration feedback beside the same run without it */
+
+/* The largest |value| of a column over both runs, for one axis range across the columns. */
+static double pair_peak(const run_record *const pair[2], int column)
+{
+    const double a = column_peak(&pair[0]->trace, column), b = column_peak(&pair[1]->trace, column);
+    const double peak = a > b ? a : b;
+    return peak > 1e-9 ? 1.1 * peak : 1e-3;
+}
+
+static void accel_feedback_figure(FILE *gp, const run_record *with, const run_record *without)
+{
+    const run_record *const pair[2] = {with, without};
+    const char *v = sim_variant_names[with->variant];
+    const char *b = with->backend;
+    const double xy = 100.0 * (pair_peak(pair, SIM_COL_x_m) > pair_peak(pair, SIM_COL_y_m)
+                                   ? pair_peak(pair, SIM_COL_x_m)
+                                   : pair_peak(pair, SIM_COL_y_m));
+    const double e = 100.0 * pair_peak(pair, SIM_COL_error_m);
+    const double fb_x = pair_peak(pair, SIM_COL_accel_fb_x_mps2), fb_y = pair_peak(pair, SIM_COL_accel_fb_y_mps2);
+    const double ix = pair_peak(pair, SIM_COL_pos_int_x_mps2), iy = pair_peak(pair, SIM_COL_pos_int_y_mps2);
+    double fb = fb_x > fb_y ? fb_x : fb_y;
+    fb = fb > ix ? fb : ix;
+    fb = fb > iy ? fb : iy;
+    /* the mass on its own axis, its steps inside the panel */
+    const double mass_max = pair_peak(pair, SIM_COL_mass_kg) / 1.1;
+    double mass_min = mass_max;
+    for (int k = 0; k < 2; k++) {
+        for (size_t i = 0; i < pair[k]->trace.rows; i++) {
+            const double m = pair[k]->trace.data[i * SIM_TRACE_COLUMN_COUNT + (size_t)SIM_COL_mass_kg];
+            mass_min = m < mass_min ? m : mass_min;
+        }
+    }
+    const double mass_pad = 0.5 * (mass_max - mass_min) + 0.05 * mass_max;
+    fprintf(gp, "\n# ---- acceleration feedback: %s with and without (%s, %s backend)\n", with->sc->name, v, b);
+    fprintf(gp, "set output 'accel-feedback-%s-%s.png'\n", v, b);
+    fprintf(gp, "set terminal pngcairo size 1400,1000 enhanced font 'DejaVu Sans,10'\n");
+    fprintf(gp,
+            "set multiplot layout 3,2 columnsfirst title 'Acceleration feedback (2.10)-(2.11) through mass steps (%s, "
+            "%s, %s backend)' font ',14'\n",
+            with->sc->name, v, b);
+    fprintf(gp, "set xlabel 't [s]'\n");
+    for (int c = 0; c < 2; c++) {
+        char dat[256];
+        data_name(pair[c], dat, sizeof dat);
+        char label[64];
+        snprintf(label, sizeof label, "k_a = %g /s", pair[c]->result.info.accel_fb_gain_per_s);
+        fprintf(gp, "set yrange [%g:%g]\nset ylabel 'position [cm]'\nset y2label 'mass [kg]'\nset y2tics\n", -xy,
+                xy);
+        fprintf(gp, "set y2range [%g:%g]\n", mass_min - mass_pad, mass_max + mass_pad);
+        fprintf(gp, "set title '(a) horizontal position x, y (setpoint 0), %s'\n", label);
+        fprintf(gp,
+                "plot '%s' u %d:($%d*100) w l lc rgb '#1f77b4' t 'x', '' u %d:($%d*100) w l lc rgb '#ff7f0e' t 'y', "
+                "'' u %d:%d axes x1y2 w l lw 2 lc rgb '#7f7f7f' t 'mass'\n",
+                dat, COL(t_s), COL(x_m), COL(t_s), COL(y_m), COL(t_s), COL(mass_kg));
+        fprintf(gp, "unset y2tics\nset y2label ''\nset autoscale y2\n");
+        fprintf(gp, "set yrange [%g:%g]\nset ylabel 'e [cm]'\nset title '(b) altitude error e = z - z_r, %s'\n", -e,
+                e, label);
+        fprintf(gp, "plot '%s' u %d:($%d*100) w l lc rgb '#1f77b4' t 'e'\n", dat, COL(t_s), COL(error_m));
+        fprintf(gp,
+                "set yrange [%g:%g]\nset ylabel '[m/s^2]'\nset title '(c) feedback term I_a and position integral "
+                "I, %s'\n",
+                -fb, fb, label);
+        fprintf(gp,
+                "plot '%s' u %d:%d w l lw 1.5 lc rgb '#d62728' t 'I_{a,x}', '' u %d:%d w l lw 1.5 lc rgb '#9467bd' t "
+                "'I_{a,y}', '' u %d:%d w l dt 2 lc rgb '#2ca02c' t 'I_x', '' u %d:%d w l dt 2 lc rgb '#17becf' t "
+                "'I_y'\n",
+                dat, COL(t_s), COL(accel_fb_x_mps2), COL(t_s), COL(accel_fb_y_mps2), COL(t_s), COL(pos_int_x_mps2),
+                COL(t_s), COL(pos_int_y_mps2));
+    }
+    fprintf(gp, "unset multiplot\nset autoscale y\n");
+}
+
+/* Each run of an accel-feedback scenario paired with its run without the feedback. */
+static int accel_feedback_figures(FILE *gp, const run_record *records, int count)
+{
+    int n = 0;
+    for (int i = 0; i < count; i++) {
+        const run_record *p = &records[i];
+        if (p->sc->figure != FIGURE_ACCEL_FEEDBACK || p->trace.data == NULL ||
+            !(p->result.info.accel_fb_gain_per_s > 0.0)) {
+            continue;
+        }
+        for (int j = 0; j < count; j++) {
+            const run_record *q = &records[j];
+            if (q->sc->figure == FIGURE_ACCEL_FEEDBACK && q->trace.data != NULL &&
+                q->result.info.accel_fb_gain_per_s == 0.0 && q->variant == p->variant &&
+                strcmp(q->backend, p->backend) == 0) {
+                accel_feedback_figure(gp, p, q);
+                n++;
+                break;
+            }
+        }
+    }
+    return n;
+}
+
 static bool ensure_dir(const char *dir, char *err, size_t err_len)
 {
     struct stat st;
@@ -694,7 +795,8 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
     /* section 4.5's figure, once per backend that has a PD and an SSC run */
     int experiments = 0;
     for (int i = 0; i < count; i++) {
-        if (records[i].sc->figure == FIGURE_NONE || records[i].trace.data == NULL) {
+        if (records[i].sc->figure == FIGURE_NONE || records[i].sc->figure == FIGURE_ACCEL_FEEDBACK ||
+            records[i].trace.data == NULL) {
             continue;
         }
         bool seen = false;
@@ -708,6 +810,7 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
             experiments++;
         }
     }
+    const int accel_figures = accel_feedback_figures(gp, records, count);
     if (fclose(gp) != 0) {
         snprintf(err, err_len, "%s: write failed", path);
         return false;
@@ -736,9 +839,10 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
         return false;
     }
     if (!quiet) {
-        fprintf(stderr, "fc-sil: figures in %s (%d summar%s%s%s)\n", dir, with_trace, with_trace == 1 ? "y" : "ies",
-                figures > 0 ? ", Figures 4.2 and 4.3" : "",
-                experiments > 0 ? ", the dissertation's section 4.5 figure" : "");
+        fprintf(stderr, "fc-sil: figures in %s (%d summar%s%s%s%s)\n", dir, with_trace,
+                with_trace == 1 ? "y" : "ies", figures > 0 ? ", Figures 4.2 and 4.3" : "",
+                experiments > 0 ? ", the dissertation's section 4.5 figure" : "",
+                accel_figures > 0 ? ", accel-feedback-*.png" : "");
     }
     return true;
 }
@@ -815,7 +919,15 @@ static void print_metric_table(const run_record *records, int count, bool compar
     printf("\n");
     for (int i = 0; i < count; i++) {
         const run_record *r = &records[i];
-        printf("%-18s %-6s", sim_variant_names[r->variant], r->backend);
+        if (r->sc->figure == FIGURE_ACCEL_FEEDBACK) {
+            /* the runs with and without the acceleration feedback */
+            char label[64];
+            snprintf(label, sizeof label, "%s k_a=%g", sim_variant_names[r->variant],
+                     r->result.info.accel_fb_gain_per_s);
+            printf("%-18s %-6s", label, r->backend);
+        } else {
+            printf("%-18s %-6s", sim_variant_names[r->variant], r->backend);
+        }
         if (r->failed) {
             printf(" not run: %s\n", r->error);
             continue;

@@ -62,6 +62,7 @@ void fsw_config_defaults(fsw_config *c)
     c->rho_n = c->gamma = c->tau_av_s = c->l0_per_s = c->a_m_per_s = c->kappa_m_per_kg = (double)NAN;
     c->rho_scale = c->gamma_scale = c->kappa_m_scale = (double)NAN;
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
+    c->accel_fb_gain_per_s = (double)NAN;
     c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
     c->target_image = NULL;
 }
@@ -88,7 +89,7 @@ typedef struct raw {
     int airframe, variant, attitude_external;
     double rate_hz, nominal_mass_kg, z_r_tau_s, z_r_init_m, z_r_bias_m, thrust_min_n, thrust_max_n, ground_gain_max,
         rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg, hkp, hkd, tilt_max_deg, rho_scale, gamma_scale,
-        kappa_m_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v;
+        kappa_m_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
     int figure;
     /* [vehicle] */
     double mass_kg, gravity_mps2, drag, rotor_count, arm_m, rotor_z_m, thrust_max_n_rotor, torque_ratio_m,
@@ -158,7 +159,7 @@ static const char *const fault_names[] = {"none",       "hold-command",  "range-
                                           "torque",     "pad-amplitude", "pad-period",    "position-lost",
                                           "imu-lost",   NULL};
 static const char *const range_finder_names[] = {"auto", "on", "off", NULL};
-static const char *const figure_names[] = {"none", "4.4", "4.5", "4.6", "4.7", NULL};
+static const char *const figure_names[] = {"none", "4.4", "4.5", "4.6", "4.7", "accel-feedback", NULL};
 static const char *variant_names_z[FSW_VARIANT_COUNT + 1];
 
 #define OPEN_LO 1  /* the lower bound is excluded */
@@ -209,6 +210,7 @@ static const key_def keys[] = {
     {"controller", "horizontal_kp_per_s2", K_DOUBLE, R(hkp), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "horizontal_kd_per_s", K_DOUBLE, R(hkd), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "tilt_max_deg", K_DOUBLE, R(tilt_max_deg), 0.0, 68.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "accel_fb_gain_per_s", K_DOUBLE, R(accel_fb_gain), 0.0, 10.0, NULL, OPTIONAL},
     {"controller", "pid_kp_z_per_s", K_DOUBLE, R(pid_kp_z), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "pid_ki_z_per_s2", K_DOUBLE, R(pid_ki_z), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "pid_kp_v_n_per_mps", K_DOUBLE, R(pid_kp_v), 0.0, 1000.0, NULL, OPTIONAL},
@@ -403,7 +405,7 @@ static void raw_defaults(raw *r)
     r->nominal_mass_kg = r->z_r_tau_s = r->z_r_init_m = r->z_r_bias_m = (double)NAN;
     r->thrust_min_n = r->thrust_max_n = r->ground_gain_max = (double)NAN;
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
-    r->hkp = r->hkd = r->tilt_max_deg = (double)NAN;
+    r->hkp = r->hkd = r->tilt_max_deg = r->accel_fb_gain = (double)NAN;
     r->pid_kp_z = r->pid_ki_z = r->pid_kp_v = r->pid_ki_v = (double)NAN;
     r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = (double)NAN;
     r->wind.gust_tau_s = 2.0;
@@ -941,6 +943,7 @@ static bool build(parse_ctx *c, scenario *sc)
     f->horizontal_kp_per_s2 = r->hkp;
     f->horizontal_kd_per_s = r->hkd;
     f->tilt_max_rad = isnan(r->tilt_max_deg) ? (double)NAN : r->tilt_max_deg * DEG;
+    f->accel_fb_gain_per_s = r->accel_fb_gain;
     f->pid_kp_z_per_s = r->pid_kp_z;
     f->pid_ki_z_per_s2 = r->pid_ki_z;
     f->pid_kp_v_n_per_mps = r->pid_kp_v;

@@ -143,7 +143,9 @@ typedef enum scenario_figure {
     FIGURE_4_4, /* F450: heading tracking, altitude over the ground, F_z k_h */
     FIGURE_4_5, /* Crazyflie: descent into ground effect */
     FIGURE_4_6, /* Crazyflie: tracking z_r */
-    FIGURE_4_7  /* Crazyflie: landing on an oscillating platform */
+    FIGURE_4_7, /* Crazyflie: landing on an oscillating platform */
+    FIGURE_ACCEL_FEEDBACK /* not the dissertation's: each run flown with and
+                           * without the acceleration feedback (main.c), side by side */
 } scenario_figure;
 
 typedef struct scenario {

@@ -678,6 +678,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_att_int_z_rad_s] = out.attitude_integral_rad_s[2];
             row[SIM_COL_pos_int_x_mps2] = out.position_integral_mps2[0];
             row[SIM_COL_pos_int_y_mps2] = out.position_integral_mps2[1];
+            row[SIM_COL_accel_fb_x_mps2] = out.accel_feedback_mps2[0];
+            row[SIM_COL_accel_fb_y_mps2] = out.accel_feedback_mps2[1];
             row[SIM_COL_yaw_r_deg] = scenario_yaw_setpoint_rad(mission, t) * RAD2DEG;
             row[SIM_COL_k_h] = k_h;
             trace->rows++;

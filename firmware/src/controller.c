@@ -328,19 +328,55 @@ static fc_quat level_attitude(fc_controller *ctl, fc_real yaw_rad)
     return ctl->heading_level;
 }
 
-/* Horizontal PID -> F = m (a_des - g) -> attitude setpoint (fc/position_control.h),
+/* The feedback's measured acceleration (fc/controller.h), horizontal only.
+ * The altitude law (SSC or its baseline) owns the thrust's
+ * magnitude and so z; the position loop's F_req,z only sets the tilt, with
+ * F_req,h: an I_a,z would turn every vertical transient of the altitude law
+ * (a mass step, a pad's heave) into a tilt error, while the mass error it
+ * would correct is the altitude law's to correct (its sliding variable, Theta).
+ * (2.10)-(2.11) are the position loop's, and its horizontal acceleration
+ * g tan(tilt) under an altitude law that holds T cos(tilt) = m g does not
+ * depend on the mass: what I_a,h corrects is a horizontal force the model
+ * lacks (wind, drag, a thrust axis off the body's z) per unit of the true mass. */
+bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specific_force_mps2, bool usable,
+                                  fc_vec3 *accel_world_mps2)
+{
+    *accel_world_mps2 = fc_vec3_zero();
+    if (!usable) {
+        return false;
+    }
+    /* R(q) f: any format in, the same out (ACCEL); g has no horizontal part */
+    const fc_vec3 f_world_mps2 = fc_quat_rotate(ar, attitude, specific_force_mps2);
+    *accel_world_mps2 = fc_vec3_make(f_world_mps2.x, f_world_mps2.y, FC_INT(0, ACCEL));
+    return true;
+}
+
+/* What the acceleration feedback is measured from: the attitude in use, this
+ * step's IMU sample, and whether both are usable. */
+typedef struct feedback_accel_sample {
+    fc_quat attitude;
+    fc_vec3 specific_force_mps2; /* ACCEL, body */
+    bool usable;
+} feedback_accel_sample;
+
+/* Horizontal PID -> F = m (a_des - g - I_a) -> attitude setpoint (fc/position_control.h),
  * in minor frame 0 of the outer group only, so that its cost never adds to
  * that of another part; held, with its status, for the major frame. Until
  * its first run (after arming, a reset or a level phase: at most
  * outer_divider - 1 steps, 8 ms at 500 Hz) the setpoint is level at the heading. */
-static fc_step_status horizontal_step(fc_controller *ctl, const fc_gated_inputs *in, bool position_frame,
-                                      fc_quat *attitude_sp)
+static fc_step_status horizontal_step(fc_controller *ctl, const fc_gated_inputs *in, const feedback_accel_sample *accel,
+                                      bool position_frame, fc_quat *attitude_sp)
 {
     if (position_frame) {
         update_heading(ctl, in->yaw_setpoint_rad);
-        const fc_position_control_input pin = {in->position_m,     in->velocity_mps,   in->position_setpoint_m,
-                                               fc_vec3_zero(),     fc_vec3_zero(),     fc_vec3_zero(),
-                                               ctl->heading_cos,   ctl->heading_sin};
+        /* the newest IMU sample, no average over the major frame: k_a dt
+         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0) */
+        fc_vec3 accel_world_mps2;
+        const bool accel_ok = fc_controller_measured_accel(&ctl->ar, accel->attitude, accel->specific_force_mps2,
+                                                           accel->usable, &accel_world_mps2);
+        const fc_position_control_input pin = {in->position_m,   in->velocity_mps,  in->position_setpoint_m,
+                                               fc_vec3_zero(),    fc_vec3_zero(),    accel_world_mps2,
+                                               accel_ok,          ctl->heading_cos,  ctl->heading_sin};
         fc_position_control_output pout;
         ctl->held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
         ctl->held_attitude_setpoint = pout.attitude_sp;
@@ -746,7 +782,10 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         tm->attitude_setpoint = level_attitude(ctl, c.in.yaw_setpoint_rad);
         ctl->have_attitude_setpoint = false; /* the loop starts afresh after a level phase */
     } else {
-        status |= horizontal_step(ctl, &c.in, position_frame, &tm->attitude_setpoint);
+        /* the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
+        const feedback_accel_sample accel = {c.attitude, in_raw->imu.accel_mps2,
+                                             c.estimate.accel_ok && c.attitude_ok};
+        status |= horizontal_step(ctl, &c.in, &accel, position_frame, &tm->attitude_setpoint);
     }
     /* on the pad (contact being confirmed, the thrust ramp) the feet and not
      * the moments hold the attitude: the integrals hold their trim */

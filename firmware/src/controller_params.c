@@ -297,7 +297,7 @@ static void defaults_around(fc_controller_params *p, fc_airframe airframe, fc_ve
     thrust_range_n(&p->allocation, &p->altitude.thrust_min_n, &p->altitude.thrust_max_n);
     p->altitude.thrust_authority_n = thrust_authority_n;
     /* horizontal PID (2.6.4): wn = 1.5 rad/s, zeta = 0.9, a slow integral,
-     * tilt at most 30 deg; no acceleration feedback (k_a = 0). The Crazyflie
+     * tilt at most 30 deg. The Crazyflie
      * (position at 100 Hz, 5-11 ms old, its attitude loop at wn = 15):
      * wn = 2.5 rad/s, which halves the drift after a rotor's step loss */
     fc_position_control_params *h = &p->horizontal;
@@ -312,8 +312,16 @@ static void defaults_around(fc_controller_params *p, fc_airframe airframe, fc_ve
     h->error_max_m = FC_INT(2, LENGTH);
     h->integral_max_mps2 = FC_INT(2, ACCEL);
     h->accel_max_mps2 = FC_INT(6, ACCEL);
-    h->accel_fb_gain_per_s = FC_INT(0, RATIO);
-    h->accel_fb_max_mps2 = FC_INT(0, ACCEL);
+    /* acceleration feedback (2.10)-(2.11), horizontal (controller.c): I_a
+     * takes a horizontal force the model lacks (wind on a changed mass,
+     * drag) at k_a, faster than the slow position integral; |I_a| <= 1.5
+     * m/s2 (8.7 deg of tilt). k_a = 1 /s from the SIL (sim_host/README.md:
+     * the accel-feedback-mass-step scenario, and a sweep of k_a over the
+     * hexa-deck and cf2-pad Monte-Carlo); the Crazyflie takes half of it,
+     * its position loop (wn = 2.5 rad/s, the position 5-11 ms old) being
+     * the first to oscillate as k_a grows. 0 flies without it */
+    h->accel_fb_gain_per_s = cf2 ? FC_C(0.5f, RATIO) : FC_C(1.0f, RATIO);
+    h->accel_fb_max_mps2 = FC_C(1.5f, ACCEL);
     h->tilt_max_rad = FC_C(0.5236f, ANGLE);
     h->thrust_max_n = p->altitude.thrust_max_n;
     landing_defaults(p, airframe);

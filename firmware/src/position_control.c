@@ -208,7 +208,7 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
         }
     }
     /* acceleration feedback (Figure 2.8), frozen while the thrust is limited */
-    if (meas_ok && !thrust_limited) {
+    if (meas_ok && in->accel_meas_ok && !thrust_limited) {
         const fc_vec3 a_err = fc_vec3_sub(ar, in->accel_meas_mps2, a_des);
         const fc_vec3 inc = fc_vec3_scale(ar, a_err, pc->fb_dt, FC_SHIFT(RATIO, ACCEL, ACCEL));
         pc->accel_fb_mps2 =

@@ -384,6 +384,105 @@ static void test_external_attitude_skips_the_filter(void **state)
     assert_true(fabs(D(out.telemetry.rate_radps.x, RATE)) < 1e-6);
 }
 
+/* The measured acceleration of the feedback (2.10): R(q) f less gravity,
+ * horizontal. Level at rest, and tilted at rest (the accelerometer reads
+ * gravity in the body), give 0; tilted with the thrust holding the height
+ * (f = g / cos along body z) gives g tan(roll) sideways; no sample, none. */
+static void test_measured_accel(void **state)
+{
+    (void)state;
+    fc_arith ar = {0u};
+    const double g = 9.81, roll = 0.2;
+    fc_vec3 a;
+    /* level at rest */
+    assert_true(fc_controller_measured_accel(&ar, fc_quat_identity(),
+                                             fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(g, ACCEL)), true, &a));
+    assert_true(fabs(D(a.x, ACCEL)) < 1e-5 && fabs(D(a.y, ACCEL)) < 1e-5 && fabs(D(a.z, ACCEL)) < 1e-5);
+    /* rolled at rest: f = R^T (0, 0, g) = (0, g sin, g cos) */
+    const fc_quat q = fc_quat_make(F(cos(roll / 2), UNIT), F(sin(roll / 2), UNIT), F(0, UNIT), F(0, UNIT));
+    assert_true(fc_controller_measured_accel(
+        &ar, q, fc_vec3_make(F(0, ACCEL), F(g * sin(roll), ACCEL), F(g * cos(roll), ACCEL)), true, &a));
+    assert_true(fabs(D(a.x, ACCEL)) < 1e-4 && fabs(D(a.y, ACCEL)) < 1e-4 && fabs(D(a.z, ACCEL)) < 1e-5);
+    /* rolled, the thrust along body z holding the height: body z is (0, -sin, cos) in the world */
+    assert_true(fc_controller_measured_accel(
+        &ar, q, fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(g / cos(roll), ACCEL)), true, &a));
+    assert_true(fabs(D(a.x, ACCEL)) < 1e-4);
+    assert_true(fabs(D(a.y, ACCEL) + g * tan(roll)) < 1e-4);
+    assert_true(fabs(D(a.z, ACCEL)) < 1e-5); /* the vertical axis is the altitude law's */
+    /* no usable sample: false, and zero */
+    assert_false(fc_controller_measured_accel(
+        &ar, q, fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(g / cos(roll), ACCEL)), false, &a));
+    assert_true(a.x == FC_INT(0, ACCEL) && a.y == FC_INT(0, ACCEL) && a.z == FC_INT(0, ACCEL));
+    assert_int_equal(ar.saturated, 0u);
+}
+
+/* The Crazyflie on its own attitude (no alignment), tracking, holding its
+ * position: count steps of the position loop's I_a. */
+static void fly_steps(fc_controller *ctl, const fc_controller_inputs *in, int steps)
+{
+    fc_controller_outputs out;
+    for (int k = 0; k < steps; k++) {
+        (void)fc_controller_step(ctl, in, &out);
+        assert_true(out.motors_on);
+    }
+}
+
+static void init_external(fc_controller *ctl, double gain_per_s)
+{
+    fc_controller_params p;
+    fc_controller_default_params(&p, FC_AIRFRAME_CRAZYFLIE2, FC_ALT_VARIANT_SSC, F(0.002, DT));
+    p.use_external_attitude = true;
+    p.horizontal.accel_fb_gain_per_s = F(gain_per_s, RATIO);
+    assert_int_equal(fc_controller_init(ctl, &p), FC_INIT_OK);
+}
+
+/* fc_controller_step wires it: the IMU's sample and the attitude in use to
+ * the position loop's feedback. At rest (level or tilted) I_a stays at 0; a
+ * measured sideways acceleration the loop did not ask for moves I_a towards
+ * it (horizontally only); a bad sample holds I_a; k_a = 0 flies without. */
+static void test_accel_feedback_wiring(void **state)
+{
+    (void)state;
+    static fc_controller ctl;
+    const double g = 9.81, roll = 0.1;
+    const fc_quat q = fc_quat_make(F(cos(roll / 2), UNIT), F(sin(roll / 2), UNIT), F(0, UNIT), F(0, UNIT));
+    /* level at rest */
+    init_external(&ctl, 0.5);
+    fc_controller_inputs in = level_at_rest(0.5);
+    fly_steps(&ctl, &in, 100);
+    assert_true(fabs(D(ctl.position.accel_fb_mps2.x, ACCEL)) < 1e-5);
+    assert_true(fabs(D(ctl.position.accel_fb_mps2.y, ACCEL)) < 1e-5);
+    /* rolled at rest: the accelerometer reads gravity in the body */
+    init_external(&ctl, 0.5);
+    in.attitude_external = q;
+    in.imu.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(g * sin(roll), ACCEL), F(g * cos(roll), ACCEL));
+    fly_steps(&ctl, &in, 100);
+    assert_true(fabs(D(ctl.position.accel_fb_mps2.x, ACCEL)) < 1e-4);
+    assert_true(fabs(D(ctl.position.accel_fb_mps2.y, ACCEL)) < 1e-4);
+    /* rolled, the thrust holding the height: a = (0, -g tan(roll)) measured,
+     * 0 wanted: 20 runs of the loop (100 steps) move I_a by k_a 0.2 s a */
+    in.imu.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(g / cos(roll), ACCEL));
+    fly_steps(&ctl, &in, 100);
+    const double expected = -0.5 * 0.2 * g * tan(roll);
+    const double i_a = D(ctl.position.accel_fb_mps2.y, ACCEL);
+    assert_true(i_a < 0.0 && fabs(i_a - expected) < 0.05 * fabs(expected));
+    assert_true(fabs(D(ctl.position.accel_fb_mps2.x, ACCEL)) < 1e-4);
+    assert_true(ctl.position.accel_fb_mps2.z == FC_INT(0, ACCEL));
+    /* a bad sample (beyond the accelerometer's range, or none): I_a held */
+    const fc_vec3 held = ctl.position.accel_fb_mps2;
+    in.imu.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(NAN_OR_LIMIT, ACCEL), F(g, ACCEL));
+    fly_steps(&ctl, &in, 10);
+    in.imu.accel_mps2 = fc_vec3_zero();
+    fly_steps(&ctl, &in, 10);
+    assert_true(ctl.position.accel_fb_mps2.x == held.x && ctl.position.accel_fb_mps2.y == held.y &&
+                ctl.position.accel_fb_mps2.z == held.z);
+    /* k_a = 0: no feedback */
+    init_external(&ctl, 0.0);
+    in.imu.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(g / cos(roll), ACCEL));
+    fly_steps(&ctl, &in, 100);
+    assert_true(ctl.position.accel_fb_mps2.x == FC_INT(0, ACCEL) && ctl.position.accel_fb_mps2.y == FC_INT(0, ACCEL));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -398,6 +497,8 @@ int main(void)
         cmocka_unit_test(test_yaw_rate_feedforward),
         cmocka_unit_test(test_heading_input_reaches_the_filter),
         cmocka_unit_test(test_external_attitude_skips_the_filter),
+        cmocka_unit_test(test_measured_accel),
+        cmocka_unit_test(test_accel_feedback_wiring),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

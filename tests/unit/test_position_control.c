@@ -42,6 +42,7 @@ static fc_position_control_input still_input(void)
     in.velocity_sp_mps = fc_vec3_zero();
     in.accel_ff_mps2 = fc_vec3_zero();
     in.accel_meas_mps2 = fc_vec3_zero();
+    in.accel_meas_ok = true;
     in.heading_cos = FC_INT(1, UNIT);
     in.heading_sin = FC_INT(0, UNIT);
     return in;
@@ -272,6 +273,13 @@ static void test_acceleration_feedback_corrects_mass(void **state)
         a_meas = ts_val(out.thrust_world_n.z, FC_FORCE_FRAC) / 2.25 - G0;
     }
     TS_ASSERT_CLOSE(ts_val(pc.accel_fb_mps2.z, FC_ACCEL_FRAC), -2.0, 1e-5);
+    /* no measurement (accel_meas_ok false): I_a held, and no bad input */
+    const fc_vec3 held = pc.accel_fb_mps2;
+    in.accel_meas_mps2 = fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), accel(5.0));
+    in.accel_meas_ok = false;
+    fc_position_control_output out;
+    assert_int_equal(fc_position_control_step(&pc, &in, &out) & FC_STEP_BAD_INPUT, 0);
+    TS_ASSERT_REAL_EQ(pc.accel_fb_mps2.z, held.z);
 }
 
 static void test_bad_input(void **state)

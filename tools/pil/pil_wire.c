@@ -116,6 +116,7 @@ bool pil_wire_params(pil_wire *w, uint32_t *airframe, uint32_t *variant, fc_cont
     real(w, &p->horizontal.kp_per_s2);
     real(w, &p->horizontal.kd_per_s);
     real(w, &p->horizontal.tilt_max_rad);
+    real(w, &p->horizontal.accel_fb_gain_per_s);
     real(w, &p->landing.hold_height_m);
     real(w, &p->landing.descent_tau_s);
     real(w, &p->landing.pad_accel_max_mps2);
@@ -216,12 +217,13 @@ bool pil_wire_outputs(pil_wire *w, uint32_t *step_status, fc_controller_outputs 
     vec3(w, &internals->attitude_error_rad);
     vec3(w, &internals->attitude_integral_rad_s);
     vec3(w, &internals->position_integral_mps2);
+    vec3(w, &internals->accel_feedback_mps2);
     return complete(w);
 }
 
 pil_internals pil_internals_of(const fc_controller *ctl)
 {
     const pil_internals internals = {ctl->attitude.last_error_rad, ctl->attitude.integral_rad_s,
-                                     ctl->position.integral_mps2};
+                                     ctl->position.integral_mps2, ctl->position.accel_fb_mps2};
     return internals;
 }

@@ -23,9 +23,9 @@
 
 #include "fc/controller.h"
 
-#define PIL_PARAM_WORDS 27u
+#define PIL_PARAM_WORDS 28u
 #define PIL_INPUT_WORDS 29u
-#define PIL_OUTPUT_WORDS (FC_MAX_ROTORS + 66u)
+#define PIL_OUTPUT_WORDS (FC_MAX_ROTORS + 69u)
 
 /* A mailbox being written (to the wire) or read (from it), one word at a time. */
 typedef struct pil_wire {
@@ -40,6 +40,7 @@ typedef struct pil_internals {
     fc_vec3 attitude_error_rad;      /* ANGLE */
     fc_vec3 attitude_integral_rad_s; /* ANGLE */
     fc_vec3 position_integral_mps2;  /* ACCEL */
+    fc_vec3 accel_feedback_mps2;     /* ACCEL: I_a of the position loop (2.11) */
 } pil_internals;
 
 /* One listing per message, used in both directions: with w->writing the

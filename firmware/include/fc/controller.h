@@ -12,9 +12,14 @@
  *              (the 4.4 task); HOLD / LAND: the landing manager (fc/landing.h)
  *              chooses the reference, the thrust ramp and when the motors stop
  *   altitude   the altitude law (SSC or a baseline) -> body thrust, tilt compensated
- *   horizontal position PID -> wanted acceleration -> F = m (a_des - g) (2.11),
+ *   horizontal position PID -> wanted acceleration -> F = m (a_des - g - I_a) (2.11),
  *              its direction and the heading give the attitude setpoint
- *              (fc/position_control.h, no trigonometry per step); outer group
+ *              (fc/position_control.h, no trigonometry per step); outer group.
+ *              I_a, the acceleration feedback (2.10), Figure 2.8, integrates
+ *              k_a (a - a_des) with a the IMU's specific force rotated to the
+ *              world by the attitude in use, less gravity, horizontal only
+ *              (fc_controller_measured_accel); horizontal.accel_fb_gain_per_s
+ *              = 0 flies without it
  *   attitude   quaternion attitude control (2.9) -> body moments
  *   allocation thrust and moments -> normalised rotor speeds (2.2)-(2.6)
  * Rate groups. The inner group (attitude estimate and control, allocation, the
@@ -291,6 +296,15 @@ void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg);
 void fc_controller_set_outer_divider(fc_controller_params *p, uint8_t divider);
 
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p);
+
+/* The measured acceleration the position loop's feedback (2.10) takes, in
+ * the world frame (ENU): the accelerometer's specific force f (body; +g along
+ * body z at rest) rotated by the attitude q (body -> world), less gravity,
+ * horizontal only: (R(q) f)_x, (R(q) f)_y, and z = 0 (controller.c says why).
+ * false, and zero, when the sample or the attitude is not usable (usable
+ * false): the feedback then holds. */
+bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specific_force_mps2, bool usable,
+                                  fc_vec3 *accel_world_mps2);
 
 /* One fixed step. The outputs are always finite and inside the actuator range;
  * the returned bits say what the step had to do to keep them so. */

@@ -60,6 +60,7 @@ typedef struct fc_position_control_input {
     fc_vec3 velocity_sp_mps;   /* VEL: v_sp (feedforward of the D term; zero to regulate) */
     fc_vec3 accel_ff_mps2;     /* ACCEL: a_ff; z is the wanted vertical acceleration */
     fc_vec3 accel_meas_mps2;   /* ACCEL: measured kinematic acceleration a, world (gravity removed) */
+    bool accel_meas_ok;        /* false: no measurement this step, the feedback I_a is held */
     fc_real heading_cos;       /* UNIT: cos psi */
     fc_real heading_sin;       /* UNIT: sin psi (only the direction matters, |(c, s)| in [0.5, 1.5]) */
 } fc_position_control_input;
@@ -89,7 +90,8 @@ void fc_position_control_reset(fc_position_control *pc);
 
 /* Bad input: a non-finite position, velocity or setpoint gives a zero error
  * (no integration); a non-finite feedforward is taken as zero; a non-finite
- * measured acceleration freezes the acceleration feedback; a bad heading is
+ * measured acceleration freezes the acceleration feedback (as accel_meas_ok
+ * false does, without BAD_INPUT: a missing sample is no bad input); a bad heading is
  * taken as psi = 0. Not ready: identity attitude, zero thrust. */
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
                                         fc_position_control_output *out);
