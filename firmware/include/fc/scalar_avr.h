@@ -296,12 +296,13 @@ FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
     return value;
 }
 
-/* fc_mul16: the signed 16 x 16 -> 32 product inline (avr-gcc calls libgcc's
- * __mulhisi3, some 45 cycles with the call, for the inner loop's most
- * frequent operation): MULS of the high bytes, MUL of the low ones, and the
- * two cross products by MULSU, each sign-extended into the top byte by SBC of
- * its carry (the method of Atmel's AVR201 application note); about 20
- * cycles. MULS and MULSU take their operands in r16-r23 ("a"). */
+/* fc_mul16: the signed 16 x 16 -> 32 product inline, the inner loop's most
+ * frequent operation (avr-gcc calls libgcc's __mulhisi3, which forms the
+ * unsigned product and corrects its signs after a call): MULS of the high
+ * bytes, MUL of the low ones, and the two cross products by MULSU, each
+ * sign-extended into the top byte by SBC of its carry (the method of Atmel's
+ * AVR201 application note). MULS and MULSU take their operands in r16-r23
+ * ("a"). */
 #define FC_PORT_MUL16
 static inline __attribute__((always_inline)) int32_t fc_mul16(int16_t a, int16_t b)
 {
