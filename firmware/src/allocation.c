@@ -1203,12 +1203,11 @@ void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *
 {
     fc_arith ar = {0u};
     const fc_vec3 m = a->moment_authority_nm;
-    const fc_vec3 x = fc_vec3_widen16(d->moment, FC_NORM16_FRAC, FC_RATIO_FRAC);
-    *thrust_n = fc_mul(&ar, fc_widen16(d->thrust, FC_NORM16_FRAC, FC_RATIO_FRAC), a->thrust_max_n,
-                       FC_SHIFT(RATIO, FORCE, FORCE));
-    *moment_nm = fc_vec3_make(fc_mul(&ar, x.x, m.x, FC_SHIFT(RATIO, MOMENT, MOMENT)),
-                              fc_mul(&ar, x.y, m.y, FC_SHIFT(RATIO, MOMENT, MOMENT)),
-                              fc_mul(&ar, x.z, m.z, FC_SHIFT(RATIO, MOMENT, MOMENT)));
+    const int to_moment = FC_SHIFT(NORM16, MOMENT, MOMENT);
+    *thrust_n = fc_mul_by16(&ar, a->thrust_max_n, d->thrust, FC_SHIFT(NORM16, FORCE, FORCE));
+    *moment_nm = fc_vec3_make(fc_mul_by16(&ar, m.x, d->moment.x, to_moment),
+                              fc_mul_by16(&ar, m.y, d->moment.y, to_moment),
+                              fc_mul_by16(&ar, m.z, d->moment.z, to_moment));
 }
 
 /* ---- presets (FC_C constants only) -------------------------------------- */

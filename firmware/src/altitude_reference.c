@@ -76,13 +76,15 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
         pad_used.az_mps2 = FC_INT(0, ACCEL);
         status |= FC_STEP_BAD_INPUT;
     }
-    /* (3.6) and its derivatives */
-    const fc_real offset_now = fc_mul(ar, ref->offset_m, ref->decay, FC_SHIFT(LENGTH, UNIT, LENGTH));
+    /* (3.6) and its derivatives: the three terms scaled by the same decay,
+     * read to 2^-15 (UNIT16), which the decay itself keeps in 32 bits */
+    const fc_real16 decay16 = fc_narrow16(ar, ref->decay, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+    const fc_real offset_now = fc_mul_by16(ar, ref->offset_m, decay16, FC_SHIFT(LENGTH, UNIT16, LENGTH));
     reference->z_m = fc_add(ar, fc_add(ar, pad_used.z_m, ref->bias_m), offset_now);
     reference->vz_mps =
-        fc_sub(ar, pad_used.vz_mps, fc_mul(ar, ref->offset_rate_mps, ref->decay, FC_SHIFT(VEL, UNIT, VEL)));
-    reference->az_mps2 = fc_add(ar, pad_used.az_mps2,
-                                fc_mul(ar, ref->offset_accel_mps2, ref->decay, FC_SHIFT(ACCEL, UNIT, ACCEL)));
+        fc_sub(ar, pad_used.vz_mps, fc_mul_by16(ar, ref->offset_rate_mps, decay16, FC_SHIFT(VEL, UNIT16, VEL)));
+    reference->az_mps2 = fc_add(
+        ar, pad_used.az_mps2, fc_mul_by16(ar, ref->offset_accel_mps2, decay16, FC_SHIFT(ACCEL, UNIT16, ACCEL)));
     ref->decay = fc_mul(ar, ref->decay, ref->decay_per_step, FC_SHIFT(UNIT, UNIT, UNIT));
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;

@@ -182,11 +182,15 @@ static bool rate_in_use(fc_controller *ctl, const fc_attitude_estimate *est, fc_
     return true;
 }
 
-/* k_h = cos(roll) cos(pitch): the world-z component of the body z axis, 1 - 2(x^2 + y^2). */
+/* k_h = cos(roll) cos(pitch): the world-z component of the body z axis,
+ * 1 - 2(x^2 + y^2), from x and y rounded to UNIT16 (the squares exact):
+ * within 4 (|x| + |y|) 2^-15 <= 2^-12 of it. */
 static fc_real tilt_cos_of(fc_arith *ar, fc_quat q)
 {
-    const fc_real xx_yy = fc_dot2(ar, q.x, q.x, q.y, q.y, FC_SHIFT(UNIT, UNIT, RATIO));
-    return fc_sub(ar, FC_INT(1, RATIO), fc_add(ar, xx_yy, xx_yy));
+    const fc_real16 x = fc_narrow16(ar, q.x, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+    const fc_real16 y = fc_narrow16(ar, q.y, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+    const fc_real xx_yy = fc_dot2_16(x, x, y, y); /* UNIT16_SQ, below 2^29 */
+    return fc_convert(ar, FC_INT(1, UNIT16_SQ) - 2 * xx_yy, FC_UNIT16_SQ_FRAC, FC_RATIO_FRAC);
 }
 
 /* The bits of a module's status that the controller passes on. */

@@ -51,6 +51,19 @@ fc_init_result fc_input_gate_init(fc_input_gate *g, const fc_input_gate_params *
         return FC_INIT_BAD_PARAM;
     }
     g->p = *p;
+    fc_arith *ar = &g->ar;
+    fc_input_gate_step_limits *l = &g->per_step;
+    l->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    l->velocity_slack_mps = fc_add(ar, fc_mul(ar, p->accel_max_mps2, l->step_s, FC_SHIFT(ACCEL, TIME, VEL)),
+                                   p->velocity_jump_mps);
+    l->position_slack_m =
+        fc_add(ar, fc_mul(ar, p->speed_max_mps, l->step_s, FC_SHIFT(VEL, TIME, LENGTH)), p->position_jump_m);
+    l->pad_slack_m =
+        fc_add(ar, fc_mul(ar, p->pad_speed_max_mps, l->step_s, FC_SHIFT(VEL, TIME, LENGTH)), p->position_jump_m);
+    l->setpoint_step_m = fc_mul(ar, p->setpoint_speed_mps, p->dt_s, FC_SHIFT(VEL, DT, LENGTH));
+    l->yaw_step_rad = fc_mul(ar, p->yaw_rate_max_radps, p->dt_s, FC_SHIFT(RATE, DT, ANGLE));
+    l->pad_speed_step_mps = fc_mul(ar, p->pad_accel_max_mps2, p->dt_s, FC_SHIFT(ACCEL, DT, VEL));
+    l->pad_accel_step_mps2 = fc_mul(ar, p->pad_jerk_max_mps3, p->dt_s, FC_SHIFT(GAIN, DT, ACCEL));
     g->ready = true;
     return FC_INIT_OK;
 }
@@ -63,12 +76,16 @@ void fc_input_gate_reset(fc_input_gate *g)
     g->pad_accepted = false;
 }
 
-/* |now - last| <= rate t + margin on each axis (all in the format of now). */
-static bool moved_within(fc_arith *ar, fc_vec3 now, fc_vec3 last, fc_real rate, fc_real t_s, fc_real margin,
-                         int rate_time_shift)
+/* rate t + margin, t the time since the last accepted sample (in the
+ * format of margin); one_step: its value for t = dt, formed at init */
+static fc_real slack_since_accepted(fc_input_gate *g, fc_real rate, fc_real margin, fc_real one_step,
+                                    int rate_time_shift)
 {
-    const fc_real slack = fc_add(ar, fc_mul(ar, rate, t_s, rate_time_shift), margin);
-    return fc_vec3_within(fc_vec3_sub(ar, now, last), slack);
+    const fc_real t_s = g->since_accepted_s;
+    if (t_s == g->per_step.step_s) {
+        return one_step;
+    }
+    return fc_add(&g->ar, fc_mul(&g->ar, rate, t_s, rate_time_shift), margin);
 }
 
 /* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
@@ -85,16 +102,19 @@ static bool plausible(const fc_input_gate *g, const fc_gated_inputs *in, bool us
 static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad)
 {
     fc_arith *ar = &g->ar;
-    const fc_real t_s = g->since_accepted_s;
+    const fc_input_gate_params *p = &g->p;
+    const fc_input_gate_step_limits *l = &g->per_step;
     const fc_gated_inputs *last = &g->accepted;
-    const bool velocity_ok = moved_within(ar, in->velocity_mps, last->velocity_mps, g->p.accel_max_mps2, t_s,
-                                          g->p.velocity_jump_mps, FC_SHIFT(ACCEL, TIME, VEL));
-    const bool position_ok = moved_within(ar, in->position_m, last->position_m, g->p.speed_max_mps, t_s,
-                                          g->p.position_jump_m, FC_SHIFT(VEL, TIME, LENGTH));
+    const fc_real velocity_slack = slack_since_accepted(g, p->accel_max_mps2, p->velocity_jump_mps,
+                                                        l->velocity_slack_mps, FC_SHIFT(ACCEL, TIME, VEL));
+    const fc_real position_slack = slack_since_accepted(g, p->speed_max_mps, p->position_jump_m,
+                                                        l->position_slack_m, FC_SHIFT(VEL, TIME, LENGTH));
+    const bool velocity_ok = fc_vec3_within(fc_vec3_sub(ar, in->velocity_mps, last->velocity_mps), velocity_slack);
+    const bool position_ok = fc_vec3_within(fc_vec3_sub(ar, in->position_m, last->position_m), position_slack);
     bool pad_ok = true;
     if (use_pad && g->pad_accepted) {
-        const fc_real pad_slack = fc_add(ar, fc_mul(ar, g->p.pad_speed_max_mps, t_s, FC_SHIFT(VEL, TIME, LENGTH)),
-                                         g->p.position_jump_m);
+        const fc_real pad_slack = slack_since_accepted(g, p->pad_speed_max_mps, p->position_jump_m, l->pad_slack_m,
+                                                       FC_SHIFT(VEL, TIME, LENGTH));
         pad_ok = fc_within(fc_sub(ar, in->pad.z_m, last->pad.z_m), pad_slack);
     }
     return velocity_ok && position_ok && pad_ok;
@@ -131,13 +151,13 @@ static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in, fc_gate
     fc_arith *ar = &g->ar;
     const fc_vec3 last = g->accepted.position_setpoint_m;
     if (!vec3_equal(in->position_setpoint_m, last)) {
-        const fc_real step_m = fc_mul(ar, g->p.setpoint_speed_mps, g->p.dt_s, FC_SHIFT(VEL, DT, LENGTH));
+        const fc_real step_m = g->per_step.setpoint_step_m;
         out->position_setpoint_m = fc_vec3_make(toward(ar, last.x, in->position_setpoint_m.x, step_m),
                                                 toward(ar, last.y, in->position_setpoint_m.y, step_m),
                                                 toward(ar, last.z, in->position_setpoint_m.z, step_m));
     }
     if (in->yaw_setpoint_rad != g->accepted.yaw_setpoint_rad) {
-        const fc_real step_rad = fc_mul(ar, g->p.yaw_rate_max_radps, g->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
+        const fc_real step_rad = g->per_step.yaw_step_rad;
         const fc_real last_yaw = wrapped(ar, g->accepted.yaw_setpoint_rad);
         const fc_real turn = wrapped(ar, fc_sub(ar, wrapped(ar, in->yaw_setpoint_rad), last_yaw));
         out->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
@@ -148,10 +168,8 @@ static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in, fc_gate
 static void limit_pad_feedforward(fc_input_gate *g, fc_gated_inputs *out)
 {
     fc_arith *ar = &g->ar;
-    const fc_real speed_step = fc_mul(ar, g->p.pad_accel_max_mps2, g->p.dt_s, FC_SHIFT(ACCEL, DT, VEL));
-    const fc_real accel_step = fc_mul(ar, g->p.pad_jerk_max_mps3, g->p.dt_s, FC_SHIFT(GAIN, DT, ACCEL));
-    out->pad.vz_mps = toward(ar, g->accepted.pad.vz_mps, out->pad.vz_mps, speed_step);
-    out->pad.az_mps2 = toward(ar, g->accepted.pad.az_mps2, out->pad.az_mps2, accel_step);
+    out->pad.vz_mps = toward(ar, g->accepted.pad.vz_mps, out->pad.vz_mps, g->per_step.pad_speed_step_mps);
+    out->pad.az_mps2 = toward(ar, g->accepted.pad.az_mps2, out->pad.az_mps2, g->per_step.pad_accel_step_mps2);
 }
 
 bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
@@ -163,7 +181,7 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     }
     fc_arith *ar = &g->ar;
     ar->saturated = 0u;
-    const fc_real step_s = fc_convert(ar, g->p.dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    const fc_real step_s = g->per_step.step_s;
     g->since_accepted_s = fc_min(fc_add(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
     const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                              fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&

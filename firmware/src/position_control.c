@@ -70,31 +70,44 @@ static bool horizontal_errors(fc_arith *ar, const fc_position_control_input *in,
     return true;
 }
 
-/* The attitude setpoint from the thrust direction and the heading (header). */
-static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3 b3, fc_real c, fc_real s)
+/* (k v_x, k v_y, 0): the product of a horizontal vector (v_z = 0) and a gain. */
+static fc_vec3 horizontal_scaled(fc_arith *ar, fc_vec3 v, fc_real k, int shift)
 {
-    const fc_real half = FC_C(0.5f, UNIT);
-    /* q_tilt / 2: [(1 + b3_z) / 2, -b3_y / 2, b3_x / 2, 0] */
-    const fc_quat q_tilt = fc_quat_make(fc_add(ar, half, fc_mul(ar, b3.z, half, UNIT_X_UNIT)),
-                                        fc_neg(ar, fc_mul(ar, b3.y, half, UNIT_X_UNIT)),
-                                        fc_mul(ar, b3.x, half, UNIT_X_UNIT), FC_INT(0, UNIT));
-    const fc_real c_half = fc_mul(ar, c, half, UNIT_X_UNIT);
-    const fc_real s_half = fc_mul(ar, s, half, UNIT_X_UNIT);
-    fc_quat q_yaw;
-    if (c >= FC_INT(0, UNIT)) {
-        q_yaw = fc_quat_make(fc_add(ar, half, c_half), FC_INT(0, UNIT), FC_INT(0, UNIT), s_half);
+    return fc_vec3_make(fc_mul(ar, v.x, k, shift), fc_mul(ar, v.y, k, shift), FC_INT(0, UNIT));
+}
+
+/* v / 2 in UNIT16 from the UNIT16 v (the format one FRAC up, rounded);
+ * float: v itself. A quaternion is formed from these throughout and then
+ * normalised, so its scale, 1/2 in fixed and 1 in float, is free. */
+static fc_real16 half16(fc_arith *ar, fc_real v)
+{
+    return fc_narrow16(ar, v, FC_UNIT16_FRAC + 1, FC_UNIT16_FRAC);
+}
+
+/* The attitude setpoint from the thrust direction and the heading (header):
+ * q_tilt and q_yaw in UNIT16 at half scale, their product exact in UNIT16_SQ
+ * (each component of either within 1), normalised in 32 bits. */
+static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3_16 b3, fc_real16 c, fc_real16 s)
+{
+    const fc_real one = FC_INT(1, UNIT16);
+    const fc_real16 tilt_w = half16(ar, one + b3.z), tilt_x = half16(ar, -b3.y), tilt_y = half16(ar, b3.x);
+    fc_real16 yaw_w, yaw_z;
+    if (c >= FC_INT16(0, UNIT16)) {
+        yaw_w = half16(ar, one + c);
+        yaw_z = half16(ar, s);
     } else {
-        q_yaw = fc_quat_make(s_half, FC_INT(0, UNIT), FC_INT(0, UNIT), fc_sub(ar, half, c_half));
+        yaw_w = half16(ar, s);
+        yaw_z = half16(ar, one - c);
     }
-    /* q_tilt (x) q_yaw, (2.8) with the zero components of q_tilt (z) and q_yaw
-     * (x, y) left out: the products that remain, summed as fc_quat_mul sums
-     * them (the dropped terms are exact zeros), 6 products instead of 16 */
-    const fc_quat q_product =
-        fc_quat_make(fc_mul(ar, q_tilt.w, q_yaw.w, UNIT_X_UNIT),
-                     fc_dot2(ar, q_tilt.x, q_yaw.w, q_tilt.y, q_yaw.z, UNIT_X_UNIT),
-                     fc_dot2(ar, fc_neg(ar, q_tilt.x), q_yaw.z, q_tilt.y, q_yaw.w, UNIT_X_UNIT),
-                     fc_mul(ar, q_tilt.w, q_yaw.z, UNIT_X_UNIT));
-    /* |q_tilt| >= 0.7 (b3_z > 0), |q_yaw| >= 0.35: the product is well away from zero */
+    /* q_tilt (x) q_yaw, (2.8) with the zero components of q_tilt (z) and
+     * q_yaw (x, y) left out: 6 products instead of 16 */
+    const int sq = FC_UNIT16_SQ_FRAC;
+    const fc_quat q_product = fc_quat_make(
+        fc_convert(ar, fc_mul16(tilt_w, yaw_w), sq, FC_UNIT_FRAC),
+        fc_convert(ar, fc_dot2_16(tilt_x, yaw_w, tilt_y, yaw_z), sq, FC_UNIT_FRAC),
+        fc_convert(ar, fc_dot2_16(fc_neg16(tilt_x), yaw_z, tilt_y, yaw_w), sq, FC_UNIT_FRAC),
+        fc_convert(ar, fc_mul16(tilt_w, yaw_z), sq, FC_UNIT_FRAC));
+    /* at half scale |q_tilt| >= 0.7 (b3_z > 0), |q_yaw| >= 0.35: the product is well away from zero */
     bool ok = false;
     const fc_quat q = fc_quat_normalize(ar, q_product, &ok);
     return fc_quat_shortest(ar, q);
@@ -147,8 +160,8 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     /* 2.6.4: the error vector saturated by its length, its direction kept */
     e_m = fc_vec3_clamp_norm(ar, e_m, p->error_max_m, FC_FRAC(LENGTH));
     /* PID: k_P e + k_D e_v + I + a_ff,h */
-    const fc_vec3 a_p = fc_vec3_scale(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
-    const fc_vec3 a_d = fc_vec3_scale(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
+    const fc_vec3 a_p = horizontal_scaled(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
+    const fc_vec3 a_d = horizontal_scaled(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
     const fc_vec3 a_unsat =
         fc_vec3_add(ar, fc_vec3_add(ar, fc_vec3_add(ar, a_p, a_d), pc->integral_mps2), horizontal(ff));
     bool limited = false;
@@ -188,11 +201,13 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
         status |= FC_STEP_OUTPUT_LIMITED;
     }
 
-    /* attitude setpoint and collective thrust along body z */
-    bool ok = false;
-    const fc_real force_norm_n = fc_vec3_norm(ar, force, FC_FRAC(FORCE)); /* one root for both */
-    const fc_vec3 b3 = fc_vec3_divide_by_norm(ar, force, force_norm_n, &ok); /* force.z >= thrust_min > 0 */
-    out->attitude_sp = attitude_setpoint(ar, b3, hc, hs);
+    /* attitude setpoint and collective thrust along body z: the direction
+     * in UNIT16 and the length in one (force.z >= thrust_min > 0) */
+    fc_vec3_16 b3;
+    fc_real force_norm_n;
+    (void)fc_vec3_direction16(ar, force, &b3, &force_norm_n);
+    out->attitude_sp = attitude_setpoint(ar, b3, fc_narrow16(ar, hc, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                                         fc_narrow16(ar, hs, FC_UNIT_FRAC, FC_UNIT16_FRAC));
     out->thrust_n = fc_min(force_norm_n, p->thrust_max_n);
     out->thrust_world_n = force;
     out->accel_des_mps2 = a_des;
@@ -202,7 +217,7 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
         fc_arith scratch = {0u};
         const bool unwinding = fc_vec3_dot(&scratch, e_m, a_unsat, FC_SHIFT(LENGTH, ACCEL, LENGTH)) < FC_INT(0, LENGTH);
         if (!limited || unwinding) {
-            const fc_vec3 inc = fc_vec3_scale(ar, e_m, pc->ki_dt, FC_SHIFT(RATIO, LENGTH, ACCEL));
+            const fc_vec3 inc = horizontal_scaled(ar, e_m, pc->ki_dt, FC_SHIFT(RATIO, LENGTH, ACCEL));
             pc->integral_mps2 =
                 fc_vec3_clamp_norm(ar, fc_vec3_add(ar, pc->integral_mps2, inc), p->integral_max_mps2, FC_FRAC(ACCEL));
         }

@@ -221,12 +221,19 @@ static void test_attitude_setpoint(void **state)
                                           fc_vec3_make(FC_INT(0, UNIT), FC_INT(0, UNIT), FC_INT(1, UNIT)));
         const double b[3] = {ts_val(bz.x, FC_UNIT_FRAC), ts_val(bz.y, FC_UNIT_FRAC), ts_val(bz.z, FC_UNIT_FRAC)};
         const double want[3] = {fx / f, fy / f, fz / f};
-        /* fixed: F in Q20 (~1e-6 N of ~15 N: 2^-24 relative) bounds the direction, ~100 UNIT LSB */
+        /* fixed: the direction of F within 2.2 UNIT16 LSB a component
+         * (fc_direction16), then q_tilt at half scale (|.| >= 0.7) rounded to
+         * UNIT16, 2^-15 a component: the body z axis turns by at most twice
+         * the relative error of the quaternion */
+        const double axis_tol = FC_NUMERIC_FIXED ? 2.2 * 0x1p-14 + 2.0 * sqrt(3.0) * 0x1p-15 / 0.7
+                                                 : ts_tol(FC_UNIT_FRAC, 256, 16, 1.0);
         for (int i = 0; i < 3; i++) {
-            ts_close(&axis, b[i], want[i], ts_tol(FC_UNIT_FRAC, 256, 16, 1.0), "%d axis %d", k, i);
+            ts_close(&axis, b[i], want[i], axis_tol, "%d axis %d", k, i);
         }
-        assert_true(acos(fmin(1.0, b[2])) <= tilt_max + 1e-5);
-        ts_close(&thrust, ts_val(out.thrust_n, FC_FORCE_FRAC), f, ts_tol(FC_FORCE_FRAC, 8, 16, f), "%d", k);
+        assert_true(acos(fmin(1.0, b[2])) <= tilt_max + 1e-5 + sqrt(3.0) * axis_tol);
+        /* fixed: |F| within 1.37 2^-14 of itself (fc_direction16) */
+        const double thrust_tol = FC_NUMERIC_FIXED ? 1.37 * 0x1p-14 * f : ts_tol(FC_FORCE_FRAC, 8, 16, f);
+        ts_close(&thrust, ts_val(out.thrust_n, FC_FORCE_FRAC), f, thrust_tol, "%d", k);
         /* unit length and w >= 0 */
         const double qw = ts_val(out.attitude_sp.w, FC_UNIT_FRAC), qx = ts_val(out.attitude_sp.x, FC_UNIT_FRAC);
         const double qy = ts_val(out.attitude_sp.y, FC_UNIT_FRAC), qz = ts_val(out.attitude_sp.z, FC_UNIT_FRAC);
@@ -237,8 +244,13 @@ static void test_attitude_setpoint(void **state)
             assert_int_equal(fc_position_control_init(&pc, &p), FC_INIT_OK);
             assert_int_equal(fc_position_control_step(&pc, &in, &out), FC_STEP_OK);
             const double sgn = cos(psi / 2) >= 0 ? 1.0 : -1.0;
-            ts_close(&head, ts_val(out.attitude_sp.w, FC_UNIT_FRAC), sgn * cos(psi / 2), ts_tol(FC_UNIT_FRAC, 64, 16, 1.0), "w %d", k);
-            ts_close(&head, ts_val(out.attitude_sp.z, FC_UNIT_FRAC), sgn * sin(psi / 2), ts_tol(FC_UNIT_FRAC, 64, 16, 1.0), "z %d", k);
+            /* fixed: cos, sin rounded to UNIT16 and halved, 1.5 2^-15 on each
+             * of q_yaw's two components at half scale (|.| >= 0.7); the
+             * normalised q moves by at most twice the relative error */
+            const double head_tol = FC_NUMERIC_FIXED ? 2.0 * sqrt(2.0) * 1.5 * 0x1p-15 / 0.7
+                                                     : ts_tol(FC_UNIT_FRAC, 64, 16, 1.0);
+            ts_close(&head, ts_val(out.attitude_sp.w, FC_UNIT_FRAC), sgn * cos(psi / 2), head_tol, "w %d", k);
+            ts_close(&head, ts_val(out.attitude_sp.z, FC_UNIT_FRAC), sgn * sin(psi / 2), head_tol, "z %d", k);
             TS_ASSERT_CLOSE(ts_val(out.attitude_sp.x, FC_UNIT_FRAC), 0.0, 1e-7);
         }
     }

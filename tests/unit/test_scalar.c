@@ -1277,6 +1277,48 @@ static void test_direction16(void **state)
     assert_true(worst_length <= 1.0);
 }
 
+/* fc_mul_by16 against the exact product rounded to nearest (half up, as
+ * every fixed product) and saturated at +-INT32_MAX with the flag, from
+ * 64-bit integers: every shift 1..31, operands of every size and the
+ * formats' edges. Float: fc_mul itself, skipped. */
+static void test_mul_by16_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(1616u);
+    const int32_t edges32[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff0000, -0x7fff0000, 0xffff, -0xffff, 0x10000};
+    const int16_t edges16[] = {0, 1, -1, INT16_MAX, -INT16_MAX, 0x4000, -0x4000};
+    const size_t n32 = sizeof edges32 / sizeof edges32[0], n16 = sizeof edges16 / sizeof edges16[0];
+    unsigned cases = 0u, saturated = 0u;
+    for (int shift = 1; shift <= 31; shift++) {
+        for (int i = 0; i < 20000; i++) {
+            int32_t a = (int32_t)(ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u));
+            a = (ts_rand_u32(&rng) & 1u) != 0u ? -a : a;
+            int16_t b = (int16_t)(ts_rand_u32(&rng) >> (16u + ts_rand_u32(&rng) % 16u));
+            b = (int16_t)((ts_rand_u32(&rng) & 1u) != 0u ? -b : b);
+            if ((size_t)i < n32 * n16) {
+                a = edges32[(size_t)i / n16];
+                b = edges16[(size_t)i % n16];
+            }
+            a = a == INT32_MIN ? -INT32_MAX : a;
+            b = b == INT16_MIN ? -INT16_MAX : b;
+            const int64_t exact = ((int64_t)a * b + ((int64_t)1 << (shift - 1))) >> shift; /* floor (gcc) */
+            const bool over = exact > INT32_MAX || exact < -(int64_t)INT32_MAX;
+            const int32_t want = over ? (exact > 0 ? INT32_MAX : -INT32_MAX) : (int32_t)exact;
+            fc_arith ar = {0};
+            assert_int_equal(fc_mul_by16(&ar, a, b, shift), want);
+            assert_int_equal(ar.saturated, over ? 1u : 0u);
+            saturated += over ? 1u : 0u;
+            cases++;
+        }
+    }
+    print_message("mul_by16 exact: %u cases, %u saturated\n", cases, saturated);
+    assert_true(saturated > 0u);
+#else
+    skip(); /* fixed backend only */
+#endif
+}
+
 static void test_rsqrt_exact(void **state)
 {
     (void)state;
@@ -1834,6 +1876,7 @@ int main(void)
         cmocka_unit_test(test_real16),
         cmocka_unit_test(test_unit2_16),
         cmocka_unit_test(test_direction16),
+        cmocka_unit_test(test_mul_by16_exact),
         cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),

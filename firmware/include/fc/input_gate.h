@@ -58,8 +58,23 @@ typedef struct fc_gated_inputs {
     fc_real yaw_rate_setpoint_radps; /* RATE: its rate, fed forward; clamped to +-yaw_rate_max */
 } fc_gated_inputs;
 
+/* The limits over one step, formed at init from the parameters: a sample
+ * a step after the last accepted one (the usual case) is checked against
+ * these, any other against the limits over its own interval. */
+typedef struct fc_input_gate_step_limits {
+    fc_real step_s;              /* TIME: dt */
+    fc_real velocity_slack_mps;  /* VEL: accel_max dt + velocity_jump */
+    fc_real position_slack_m;    /* LENGTH: speed_max dt + position_jump */
+    fc_real pad_slack_m;         /* LENGTH: pad_speed_max dt + position_jump */
+    fc_real setpoint_step_m;     /* LENGTH: setpoint_speed dt */
+    fc_real yaw_step_rad;        /* ANGLE: yaw_rate_max dt */
+    fc_real pad_speed_step_mps;  /* VEL: pad_accel_max dt */
+    fc_real pad_accel_step_mps2; /* ACCEL: pad_jerk_max dt */
+} fc_input_gate_step_limits;
+
 typedef struct fc_input_gate {
     fc_input_gate_params p;
+    fc_input_gate_step_limits per_step;
     fc_gated_inputs accepted;     /* the last accepted measurements, the limited commands */
     fc_real since_accepted_s;     /* TIME: since the last accepted measurement */
     fc_real rejected_s;           /* TIME: rejected in a row this long */

@@ -28,7 +28,8 @@
  *   q_sp = normalise(q_tilt (x) q_yaw), w >= 0   (body -> world)
  * Its body z axis is b3 exactly (q_yaw keeps z); its body x axis is the heading
  * when level and tilts with the thrust. Collective thrust along body z = |F|.
- * Cost per step: one square root and three divisions (|F|, F/|F|), one
+ * Cost per step: the direction of F in UNIT16 and its length (one integer
+ * root, fc_vec3_direction16), q_tilt (x) q_yaw in 16-bit products, one
  * normalisation of q (rsqrt), the norms of the saturations.
  */
 #ifndef FC_POSITION_CONTROL_H

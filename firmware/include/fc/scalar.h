@@ -657,6 +657,13 @@ FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
 {
     return (fc_real)a * b;
 }
+
+/* a b for an unsigned 16-bit a (the low half of a 32-bit value), exact:
+ * |a b| < 2^31. (port: FC_PORT_MUL16) */
+FC_FX_INLINE fc_real fc_mul16_unsigned(uint16_t a, fc_real16 b)
+{
+    return (fc_real)a * b;
+}
 #endif
 
 FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
@@ -679,6 +686,38 @@ FC_FX_INLINE fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_r
 FC_FX_INLINE fc_real16 fc_neg16(fc_real16 a)
 {
     return (fc_real16)-a; /* never -INT16_MIN: the range is symmetric */
+}
+
+/* a b / 2^shift for a 32-bit a and a 16-bit b (a state times a 16-bit
+ * factor), rounded to nearest and saturated as fc_mul(ar, a, b, shift) is,
+ * bit for bit, for 1 <= shift <= 31. With a = 2^16 a_high + a_low (a_low the
+ * unsigned low half) the product is 2^16 a_high b + a_low b: two 16 x 16
+ * products, each exact in 32 bits (|a_high b| <= 2^30, |a_low b| < 2^31),
+ * where fc_mul forms a 64-bit one. From shift 16 on the result is below 2^30
+ * and never saturates; below 16 it is a_high b 2^(16 - shift) plus the low
+ * product rounded, formed in 32 bits where |a_high b| leaves that room, else
+ * by fc_mul. */
+FC_FX_INLINE fc_real fc_mul_by16(fc_arith *ar, fc_real a, fc_real16 b, int shift)
+{
+    const fc_real16 a_high = (fc_real16)(uint16_t)((uint32_t)a >> 16); /* the high half, signed */
+    const fc_real high = fc_mul16(a_high, b);                           /* weight 2^16 */
+    const fc_real low = fc_mul16_unsigned((uint16_t)a, b);              /* weight 1 */
+    if (shift == 16) {
+        return high + fc_fx_asr32(low + ((fc_real)1 << 15), 16);
+    }
+    if (shift > 16) {
+        /* floor(a b / 2^16) exactly, then rounded: 2^(shift - 1) is a
+         * multiple of 2^16, so the floor loses nothing the rounding needs */
+        const fc_real floor16 = high + fc_fx_asr32(low, 16);
+        return fc_fx_asr32(floor16 + ((fc_real)1 << (shift - 17)), shift - 16);
+    }
+    /* |low rounded| <= 2^(31 - shift): the sum stays below 2^31 while
+     * |high| 2^(16 - shift) <= 2^31 - 2^(31 - shift) - 1 */
+    const fc_real high_limit = (INT32_MAX >> (16 - shift)) - ((fc_real)1 << 15);
+    if (high > high_limit || high < -high_limit) {
+        return fc_mul(ar, a, b, shift);
+    }
+    return fc_fx_shl32(high, 16 - shift) + fc_fx_asr32(low + ((fc_real)1 << (shift - 1)), shift);
 }
 
 #else
@@ -863,6 +902,11 @@ static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_
 static inline fc_real16 fc_neg16(fc_real16 a)
 {
     return -a;
+}
+
+static inline fc_real fc_mul_by16(fc_arith *ar, fc_real a, fc_real16 b, int shift)
+{
+    return fc_mul(ar, a, b, shift);
 }
 
 #endif /* FC_NUMERIC_FIXED */

@@ -329,6 +329,33 @@ static inline __attribute__((always_inline)) int32_t fc_mul16(int16_t a, int16_t
     return product;
 }
 
+/* fc_mul16_unsigned: the same with a unsigned (avr-gcc widens both to 32
+ * bits and calls __mulsi3): MULSU of b's high byte by each byte of a, MUL of
+ * the low bytes and of a's high byte by b's low one */
+static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t a, int16_t b)
+{
+    int32_t product;
+    uint8_t zero;
+    __asm__("clr %1\n\t"
+            "mulsu %B3, %B2\n\t"
+            "movw %C0, r0\n\t"
+            "mul %A2, %A3\n\t"
+            "movw %A0, r0\n\t"
+            "mulsu %B3, %A2\n\t"
+            "sbc %D0, %1\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "mul %B2, %A3\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "clr __zero_reg__"
+            : "=&r"(product), "=&r"(zero)
+            : "a"(a), "a"(b));
+    return product;
+}
+
 /* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
  * does not hold another inlined multiply and narrowing per such site */
 #define FC_FX_FAR_INLINE 0

@@ -175,6 +175,7 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_SQRT_UNIT16 18u
 #define OP_NARROW16 19u
 #define OP_MUL16 20u
+#define OP_MUL_BY16 21u
 
 /* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
 static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
@@ -205,10 +206,15 @@ static void compare_narrow16(int32_t x)
     check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
 }
 
-/* fc_mul16 (the port's MULS/MULSU assembly) against the C product of the
- * int16_t values widened to int32_t (libgcc's __mulhisi3), for the low
- * halves of x and y and for the operands at +-INT16_MAX */
+/* fc_mul16 and fc_mul16_unsigned (the port's MULS/MULSU assembly) against
+ * the C product of the values widened to int32_t (libgcc), for the low
+ * halves of x and y and for the operands at their edges */
 static __attribute__((noinline)) int32_t ref_mul16(int16_t x, int16_t y)
+{
+    return (int32_t)x * (int32_t)y;
+}
+
+static __attribute__((noinline)) int32_t ref_mul16_unsigned(uint16_t x, int16_t y)
 {
     return (int32_t)x * (int32_t)y;
 }
@@ -220,6 +226,26 @@ static void compare_mul16(int32_t x, int32_t y)
     check(OP_MUL16, 1u, fc_mul16(x16, INT16_MAX), 0u, ref_mul16(x16, INT16_MAX), 0u);
     check(OP_MUL16, 2u, fc_mul16(-INT16_MAX, y16), 0u, ref_mul16(-INT16_MAX, y16), 0u);
     check(OP_MUL16, 3u, fc_mul16(INT16_MIN, y16), 0u, ref_mul16(INT16_MIN, y16), 0u);
+    const uint16_t xu = (uint16_t)x;
+    check(OP_MUL16, 4u, fc_mul16_unsigned(xu, y16), 0u, ref_mul16_unsigned(xu, y16), 0u);
+    check(OP_MUL16, 5u, fc_mul16_unsigned(UINT16_MAX, y16), 0u, ref_mul16_unsigned(UINT16_MAX, y16), 0u);
+    check(OP_MUL16, 6u, fc_mul16_unsigned(xu, -INT16_MAX), 0u, ref_mul16_unsigned(xu, -INT16_MAX), 0u);
+}
+
+/* fc_mul_by16 (two 16 x 16 products) against the 64-bit product narrowed
+ * as every product is, with b the high half of the 32-bit operand (its edge
+ * values reach +-INT16_MAX) */
+static int16_t factor16(int32_t b)
+{
+    const int16_t high = (int16_t)(b >> 16);
+    return high == INT16_MIN ? -INT16_MAX : high;
+}
+
+static void compare_mul_by16(uint8_t shift, int32_t a, int16_t b, int32_t got, uint8_t got_sat)
+{
+    fc_arith r = {0u};
+    const int32_t want = ref_narrow(&r, (int64_t)a * b, shift);
+    check(OP_MUL_BY16, shift, got, got_sat, want, r.saturated);
 }
 
 static void compare_functions(const int32_t *a, const int32_t *b)
@@ -327,6 +353,12 @@ static void compare_one(uint8_t shift, const int32_t *a, const int32_t *b, int32
         const int32_t up = fc_convert(&cu, a[0], 0, S);                                                \
         compare_one(S, a, b, mul, m.saturated, dot2, d2.saturated, dot3, d3.saturated, dot4,           \
                     d4.saturated, acc, ac.saturated, down, cd.saturated, up, cu.saturated);            \
+        if ((S) <= 31) {                                                                               \
+            fc_arith m16 = {0u};                                                                       \
+            const int16_t b16 = factor16(b[0]);                                                        \
+            compare_mul_by16(S, a[0], b16, fc_mul_by16(&m16, a[0], b16, (S) <= 31 ? (S) : 31),         \
+                             m16.saturated);                                                           \
+        }                                                                                              \
     }
 
 DEFINE_CASE(1) DEFINE_CASE(2) DEFINE_CASE(3) DEFINE_CASE(4) DEFINE_CASE(5) DEFINE_CASE(6) DEFINE_CASE(7)
