@@ -95,7 +95,8 @@ static bool all_finite(const fsw_outputs *o)
         }
     }
     return isfinite(o->thrust_n) && isfinite(o->moment_nm[0]) && isfinite(o->moment_nm[1]) &&
-           isfinite(o->moment_nm[2]);
+           isfinite(o->moment_nm[2]) && isfinite(o->velocity_cmd_mps[0]) && isfinite(o->velocity_cmd_mps[1]) &&
+           isfinite(o->velocity_cmd_mps[2]) && isfinite(o->yaw_rate_cmd_radps);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -343,6 +344,13 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         opt->backend->destroy(fsw);
         return false;
     }
+    if (info.velocity_output != (sc->plant.velocity_input ? 1 : 0)) {
+        snprintf(err, err_len, "the firmware outputs %s, the vehicle takes %s",
+                 info.velocity_output ? "velocity commands" : "rotor speeds",
+                 sc->plant.velocity_input ? "velocity commands ([vehicle] input)" : "rotor speeds");
+        opt->backend->destroy(fsw);
+        return false;
+    }
     res->info = info;
     res->seed = sc->seed;
 
@@ -534,7 +542,14 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         if (!all_finite(&out)) {
             a.nan_outputs++;
         }
-        plant_set_command(&pl, out.rotor_speed, out.rotor_count);
+        if (pl.p.velocity_input) {
+            plant_set_velocity_command(&pl,
+                                       v3_make(out.velocity_cmd_mps[0], out.velocity_cmd_mps[1],
+                                               out.velocity_cmd_mps[2]),
+                                       out.yaw_rate_cmd_radps, out.motors_on && out.output_velocity);
+        } else {
+            plant_set_command(&pl, out.rotor_speed, out.rotor_count);
+        }
 
         /* metrics at t_k */
         plant_diag d;
