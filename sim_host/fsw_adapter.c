@@ -113,6 +113,7 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     override(&p.altitude.pid_kp_v_n_per_mps, cfg->pid_kp_v_n_per_mps, FC_GAIN_FRAC);
     override(&p.altitude.pid_ki_v_n_per_m, cfg->pid_ki_v_n_per_m, FC_GAIN_FRAC);
     override(&p.landing.gear_height_m, cfg->landing_gear_height_m, FC_LENGTH_FRAC);
+    override(&p.landing.touchdown_dip_m, cfg->landing_touchdown_dip_m, FC_LENGTH_FRAC);
     override(&p.landing.hold_height_m, cfg->landing_hold_height_m, FC_LENGTH_FRAC);
     override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
     override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
@@ -341,10 +342,10 @@ static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t
         snprintf(err, err_len, "the PIL wire does not carry the pid gains ([controller] pid_*)");
         return NULL;
     }
-    if (cfg->velocity_output == 1 || !isnan(cfg->landing_gear_height_m)) {
+    if (cfg->velocity_output == 1 || !isnan(cfg->landing_gear_height_m) || !isnan(cfg->landing_touchdown_dip_m)) {
         snprintf(err, err_len,
-                 "the PIL wire does not carry the velocity output nor the gear height ([controller] output, "
-                 "landing_gear_height_m)");
+                 "the PIL wire does not carry the velocity output, the gear height nor the dip ([controller] "
+                 "output, landing_gear_height_m, landing_touchdown_dip_m)");
         return NULL;
     }
     uint32_t airframe = (uint32_t)cfg->airframe, variant = (uint32_t)cfg->variant;

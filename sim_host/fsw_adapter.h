@@ -55,6 +55,7 @@ typedef struct fsw_config {
     double pid_kp_z_per_s, pid_ki_z_per_s2, pid_kp_v_n_per_mps, pid_ki_v_n_per_m;
     /* the landing mission */
     double landing_gear_height_m; /* CG to the bottom of the gear, as the firmware knows it */
+    double landing_touchdown_dip_m; /* how far below the surface the descent's reference ends */
     double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
     /* the velocity output (fc/controller.h FC_OUTPUT_VELOCITY): 1 to fly it, with
      * the vehicle's identified first-order response k_P, a_P per axis (2.18) */

@@ -150,9 +150,12 @@ static double upow(double u, double e)
     return pow(u, e);
 }
 
-/* Velocity input: the lag of the attitude behind the thrust's direction
- * (its attitude loop, far faster than the translation). */
-#define VELOCITY_ATTITUDE_TAU_S 0.05
+/* Velocity input: the vehicle's own attitude loop, a PD on the error to the
+ * thrust's direction at natural frequency VELOCITY_ATTITUDE_WN and damping
+ * VELOCITY_ATTITUDE_ZETA (far faster than the translation); the contact's
+ * moments act against it. */
+#define VELOCITY_ATTITUDE_WN 20.0
+#define VELOCITY_ATTITUDE_ZETA 0.8
 
 /* Velocity input: the world thrust of the vehicle's own autopilot at state
  * s (plant.h): m (-a_P v + k_P u + g e_z) + c_d v, F_z in [0, T_max], the
@@ -228,9 +231,21 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     /* rotors (velocity input: the autopilot's thrust along body z) */
     v3 force_b = v3_make(0.0, 0.0, 0.0), moment_b = v3_make(0.0, 0.0, 0.0);
     double gain_weighted = 0.0, thrust_sum = 0.0;
+    v3 velocity_moment_b = v3_make(0.0, 0.0, 0.0);
     if (p->velocity_input) {
-        /* along body z: the attitude lags the thrust's direction (plant_step) */
-        force_b = v3_make(0.0, 0.0, v3_norm(velocity_thrust_w(pl, s)));
+        /* along body z; the attitude loop turns body z towards the thrust's direction */
+        const v3 thrust_w = velocity_thrust_w(pl, s);
+        force_b = v3_make(0.0, 0.0, v3_norm(thrust_w));
+        const quat target = attitude_of_thrust(thrust_w, pl->yaw_rad);
+        quat e = quat_mul(quat_make(s->q.w, -s->q.x, -s->q.y, -s->q.z), target);
+        if (e.w < 0.0) {
+            e = quat_make(-e.w, -e.x, -e.y, -e.z);
+        }
+        const v3 inertia_now = plant_inertia(p, s->m);
+        const v3 rate_ff = mat_apply_t(r, v3_make(0.0, 0.0, pl->yaw_rate_cmd_radps));
+        const double wn = VELOCITY_ATTITUDE_WN, kd = 2.0 * VELOCITY_ATTITUDE_ZETA * VELOCITY_ATTITUDE_WN;
+        const v3 accel = v3_sub(v3_scale(v3_make(e.x, e.y, e.z), 2.0 * wn * wn), v3_scale(v3_sub(s->w, rate_ff), kd));
+        velocity_moment_b = v3_mul(inertia_now, accel);
     }
     for (int i = 0; i < p->rotor_count && !p->velocity_input; i++) {
         const plant_rotor *rot = &p->rotor[i];
@@ -291,14 +306,11 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     const quat dq = quat_mul(s->q, quat_make(0.0, s->w.x, s->w.y, s->w.z));
     ds->q = quat_make(0.5 * dq.w, 0.5 * dq.x, 0.5 * dq.y, 0.5 * dq.z);
     const v3 inertia = plant_inertia(p, m);
-    const v3 moment = v3_add(v3_add(moment_b, mat_apply_t(r, contact_moment_w)), pl->disturbance_moment_b);
+    const v3 moment = v3_add(v3_add(v3_add(moment_b, mat_apply_t(r, contact_moment_w)), pl->disturbance_moment_b),
+                             velocity_moment_b);
     const v3 gyro = v3_cross(s->w, v3_mul(inertia, s->w));
     ds->w = v3_make((moment.x - gyro.x) / inertia.x, (moment.y - gyro.y) / inertia.y, (moment.z - gyro.z) / inertia.z);
-    if (p->velocity_input) {
-        /* the attitude is set after the step (plant_step) */
-        ds->q = quat_make(0.0, 0.0, 0.0, 0.0);
-        ds->w = v3_make(0.0, 0.0, 0.0);
-    }
+
     ds->m = (mu - m) / p->mass_tau_s;
     for (int i = 0; i < PLANT_MAX_ROTORS; i++) {
         ds->u[i] = 0.0;
@@ -420,23 +432,8 @@ void plant_step(plant *pl, double h)
     }
     pl->s.q = quat_normalize(pl->s.q);
     if (pl->p.velocity_input) {
-        /* the attitude follows the thrust's direction with the lag
-         * VELOCITY_ATTITUDE_TAU_S (normalised linear interpolation towards
-         * it); w is its turn over the step */
-        const quat before = pl->s.q;
+        /* the heading the attitude loop aims at, held over the next step */
         pl->yaw_rad = remainder(pl->yaw_rad + h * pl->yaw_rate_cmd_radps, 2.0 * 3.14159265358979323846);
-        quat target = attitude_of_thrust(velocity_thrust_w(pl, &pl->s), pl->yaw_rad);
-        if (target.w * before.w + target.x * before.x + target.y * before.y + target.z * before.z < 0.0) {
-            target = quat_make(-target.w, -target.x, -target.y, -target.z);
-        }
-        const double k = fmin(1.0, h / VELOCITY_ATTITUDE_TAU_S);
-        pl->s.q = quat_normalize(quat_make(before.w + k * (target.w - before.w), before.x + k * (target.x - before.x),
-                                           before.y + k * (target.y - before.y), before.z + k * (target.z - before.z)));
-        quat turn = quat_mul(quat_make(before.w, -before.x, -before.y, -before.z), pl->s.q);
-        if (turn.w < 0.0) {
-            turn = quat_make(-turn.w, -turn.x, -turn.y, -turn.z);
-        }
-        pl->s.w = v3_make(2.0 * turn.x / h, 2.0 * turn.y / h, 2.0 * turn.z / h);
     }
     pl->t = t + h;
     pl->pad_cache_t = pl->t;

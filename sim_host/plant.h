@@ -30,10 +30,9 @@
  * i.e. its thrust is F = m (-a_P v + k_P u + g e_z) + c_d v (the drag at v is
  * part of the identified response; wind acts through c_d wind / m), with F_z
  * in [0, thrust_max] and the tilt of F at most velocity_tilt_max. The
- * thrust |F| acts along body z, and the attitude follows F's direction at the
- * heading psi, psi' = r, with a lag of 50 ms (the attitude loop far faster
- * than the translation, as 2.6.6 assumes); w is the turn of that attitude
- * over the plant step. Contact and friction as above act on the
+ * thrust |F| acts along body z; the vehicle's attitude loop (a PD at 20 rad/s,
+ * far faster than the translation, as 2.6.6 assumes) turns body z towards
+ * F's direction at the heading psi, psi' = r, against the contact's moments. Contact and friction as above act on the
  * CG; ground effect and the rotor states are not modelled (its velocity
  * loop absorbs the first). Motors off: F = 0.
  */

@@ -65,7 +65,7 @@ void fsw_config_defaults(fsw_config *c)
     c->accel_fb_gain_per_s = (double)NAN;
     c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
     c->velocity_output = 0;
-    c->landing_gear_height_m = (double)NAN;
+    c->landing_gear_height_m = c->landing_touchdown_dip_m = (double)NAN;
     for (int i = 0; i < 3; i++) {
         c->velocity_k_p_per_s[i] = c->velocity_a_p_per_s[i] = 1.0;
     }
@@ -135,7 +135,7 @@ typedef struct raw {
     double fault_start_s, fault_delay_s, fault_duration_s, fault_scale;
     v3 fault_vector;
     /* landing overrides */
-    double land_hold_m, land_tau_s, land_accel_max, land_conf_start, land_gear_m;
+    double land_hold_m, land_tau_s, land_accel_max, land_conf_start, land_gear_m, land_dip_m;
     double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, end_after_motors_off_s, sp_x, sp_y,
         sp_yaw_deg, yaw_amplitude_deg, yaw_frequency_hz;
     int landing, disarm_on_contact;
@@ -299,6 +299,7 @@ static const key_def keys[] = {
     {"initial", "motors", K_ENUM, R(init_motors_hover), 0, 0, motors_names, 0},
 
     {"controller", "landing_gear_height_m", K_DOUBLE, R(land_gear_m), 0.0, 10.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "landing_touchdown_dip_m", K_DOUBLE, R(land_dip_m), 0.0, 1.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "landing_hold_height_m", K_DOUBLE, R(land_hold_m), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "landing_descent_tau_s", K_DOUBLE, R(land_tau_s), 0.05, 100.0, NULL, OPTIONAL},
     {"controller", "landing_pad_accel_max_mps2", K_DOUBLE, R(land_accel_max), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
@@ -427,7 +428,7 @@ static void raw_defaults(raw *r)
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
     r->hkp = r->hkd = r->tilt_max_deg = r->accel_fb_gain = (double)NAN;
     r->pid_kp_z = r->pid_ki_z = r->pid_kp_v = r->pid_ki_v = (double)NAN;
-    r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = r->land_gear_m = (double)NAN;
+    r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = r->land_gear_m = r->land_dip_m = (double)NAN;
     r->wind.gust_tau_s = 2.0;
     r->fault_start_s = r->fault_duration_s = (double)NAN; /* from the first DESCEND; the kind's duration */
     r->fault_scale = 1.0;
@@ -971,6 +972,7 @@ static bool build(parse_ctx *c, scenario *sc)
     f->pid_kp_v_n_per_mps = r->pid_kp_v;
     f->pid_ki_v_n_per_m = r->pid_ki_v;
     f->landing_gear_height_m = r->land_gear_m;
+    f->landing_touchdown_dip_m = r->land_dip_m;
     f->landing_hold_height_m = r->land_hold_m;
     f->landing_descent_tau_s = r->land_tau_s;
     f->landing_pad_accel_max_mps2 = r->land_accel_max;

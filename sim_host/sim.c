@@ -697,6 +697,10 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_accel_fb_y_mps2] = out.accel_feedback_mps2[1];
             row[SIM_COL_yaw_r_deg] = scenario_yaw_setpoint_rad(mission, t) * RAD2DEG;
             row[SIM_COL_k_h] = k_h;
+            row[SIM_COL_velocity_cmd_x_mps] = out.velocity_cmd_mps[0];
+            row[SIM_COL_velocity_cmd_y_mps] = out.velocity_cmd_mps[1];
+            row[SIM_COL_velocity_cmd_z_mps] = out.velocity_cmd_mps[2];
+            row[SIM_COL_yaw_rate_cmd_radps] = out.yaw_rate_cmd_radps;
             trace->rows++;
         }
 
