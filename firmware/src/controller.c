@@ -759,7 +759,8 @@ static fc_step_status velocity_output(fc_controller *ctl, const step_context *c,
     } else {
         u.z = velocity_of_thrust(ctl, c, &tm->vertical, thrust_n);
     }
-    ctl->last_thrust_n = thrust_of_velocity(ctl, c, &tm->vertical, u.z);
+    /* the thrust in force: the one the path set, or the one the law's command stands for */
+    ctl->last_thrust_n = fly_reference ? thrust_of_velocity(ctl, c, &tm->vertical, u.z) : thrust_n;
     tm->attitude_setpoint = tm->attitude; /* the vehicle's own autopilot sets its attitude */
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         out->rotor_speed[i] = FC_INT(0, UNIT);
