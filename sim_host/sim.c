@@ -318,6 +318,10 @@ typedef struct acc {
     double min_clearance;
     bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
+    /* the first contact at the plant's rate: a stiff contact is over within a
+     * controller step, which then sees only its rebound */
+    bool plant_contact_seen;
+    double plant_touchdown_time, plant_touchdown_speed;
     long bounces;
     double max_position_error;
     double settled_position_error; /* after the transient */
@@ -711,6 +715,14 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             }
             plant_step(&pl, h);
             failsafe_acc_plant_step(&fs, &pl);
+            if (sc->plant.contact && !a.plant_contact_seen) {
+                pad_state pad_now;
+                if (plant_gear_clearance(&pl, &pad_now) < 0.0) {
+                    a.plant_contact_seen = true;
+                    a.plant_touchdown_time = pl.t;
+                    a.plant_touchdown_speed = fabs(pl.s.v.z - pad_now.vz_mps);
+                }
+            }
         }
         /* no drift of the plant's clock (the pad cached at the step's end moves with it) */
         const double t_next = (double)(k + 1) * dt;
@@ -735,8 +747,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         sim_variant_is_adaptive(opt->variant) ? fabs(last_theta - last_theta_star) / last_theta_star : (double)NAN;
     const bool landing = mission->landing;
     m->min_clearance_m = landing ? a.min_clearance : (double)NAN;
-    m->touchdown_rel_speed_mps = landing ? a.touchdown_speed : (double)NAN;
-    m->touchdown_time_s = landing ? a.touchdown_time : (double)NAN;
+    m->touchdown_rel_speed_mps =
+        landing ? (a.plant_contact_seen ? a.plant_touchdown_speed : a.touchdown_speed) : (double)NAN;
+    m->touchdown_time_s = landing ? (a.plant_contact_seen ? a.plant_touchdown_time : a.touchdown_time) : (double)NAN;
     m->bounces = landing && a.contact_ever ? (double)a.bounces : (landing ? 0.0 : (double)NAN);
     m->max_tilt_deg = a.max_tilt;
     m->nan_outputs = (double)a.nan_outputs;
