@@ -762,6 +762,7 @@ static fc_step_status velocity_output(fc_controller *ctl, const step_context *c,
     /* the thrust in force: the one the path set, or the one the law's command stands for */
     ctl->last_thrust_n = fly_reference ? thrust_of_velocity(ctl, c, &tm->vertical, u.z) : thrust_n;
     tm->attitude_setpoint = tm->attitude; /* the vehicle's own autopilot sets its attitude */
+    tm->altitude = (fc_altitude_control_output){0}; /* the thrust path's law does not run */
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
         out->rotor_speed[i] = FC_INT(0, UNIT);
     }
