@@ -67,6 +67,8 @@ static void scale(fc_real *field, double factor, int frac)
     }
 }
 
+static fc_vec3 vec_to_fc(const double v[3], int frac);
+
 /* The firmware's parameters for cfg: its defaults, then the overrides. A
  * field overridden here must also be in the PIL wire's listing
  * (tools/pil/pil_wire.c), which carries it to the ATmega image. */
@@ -110,10 +112,18 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     override(&p.altitude.pid_ki_z_per_s2, cfg->pid_ki_z_per_s2, FC_GAIN_FRAC);
     override(&p.altitude.pid_kp_v_n_per_mps, cfg->pid_kp_v_n_per_mps, FC_GAIN_FRAC);
     override(&p.altitude.pid_ki_v_n_per_m, cfg->pid_ki_v_n_per_m, FC_GAIN_FRAC);
+    override(&p.landing.gear_height_m, cfg->landing_gear_height_m, FC_LENGTH_FRAC);
+    override(&p.landing.touchdown_dip_m, cfg->landing_touchdown_dip_m, FC_LENGTH_FRAC);
     override(&p.landing.hold_height_m, cfg->landing_hold_height_m, FC_LENGTH_FRAC);
     override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
     override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
     override(&p.landing.confidence_start, cfg->landing_confidence_start, FC_UNIT_FRAC);
+    if (cfg->velocity_output == 1) {
+        fc_velocity_output_params v;
+        fc_controller_velocity_defaults(&v, vec_to_fc(cfg->velocity_k_p_per_s, FC_RATIO_FRAC),
+                                        vec_to_fc(cfg->velocity_a_p_per_s, FC_RATIO_FRAC));
+        fc_controller_set_velocity_output(&p, &v);
+    }
     *out = p;
     return true;
 }
@@ -153,6 +163,7 @@ static void info_of(const fc_controller_params *params, fsw_info *info)
         info->failsafe_descent_mps = FROM_FC(params->failsafe.descent_mps, VEL);
         info->alignment_steps = (int)params->estimator.alignment_samples;
         info->rotor_count = params->allocation.rotor_count;
+        info->velocity_output = params->output == FC_OUTPUT_VELOCITY ? 1 : 0;
         info->state_bytes = sizeof(fc_controller);
     }
 }
@@ -239,6 +250,9 @@ static void outputs_of(fc_step_status status, const fc_controller_outputs *fo, c
     out->motors_on = fo->motors_on ? 1 : 0;
     out->thrust_n = FROM_FC(fo->thrust_n, FORCE);
     vec_from_fc(fo->moment_nm, FC_MOMENT_FRAC, out->moment_nm);
+    out->output_velocity = fo->output == FC_OUTPUT_VELOCITY ? 1 : 0;
+    vec_from_fc(fo->velocity_cmd_mps, FC_VEL_FRAC, out->velocity_cmd_mps);
+    out->yaw_rate_cmd_radps = FROM_FC(fo->yaw_rate_cmd_radps, RATE);
     const fc_controller_telemetry *tm = &fo->telemetry;
     quat_from_fc(tm->attitude, out->attitude_q);
     quat_from_fc(tm->attitude_setpoint, out->attitude_setpoint_q);
@@ -326,6 +340,12 @@ static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t
     if (!isnan(cfg->pid_kp_z_per_s) || !isnan(cfg->pid_ki_z_per_s2) || !isnan(cfg->pid_kp_v_n_per_mps) ||
         !isnan(cfg->pid_ki_v_n_per_m)) {
         snprintf(err, err_len, "the PIL wire does not carry the pid gains ([controller] pid_*)");
+        return NULL;
+    }
+    if (cfg->velocity_output == 1 || !isnan(cfg->landing_gear_height_m) || !isnan(cfg->landing_touchdown_dip_m)) {
+        snprintf(err, err_len,
+                 "the PIL wire does not carry the velocity output, the gear height nor the dip ([controller] "
+                 "output, landing_gear_height_m, landing_touchdown_dip_m)");
         return NULL;
     }
     uint32_t airframe = (uint32_t)cfg->airframe, variant = (uint32_t)cfg->variant;

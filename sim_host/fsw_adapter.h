@@ -54,7 +54,13 @@ typedef struct fsw_config {
      * PD of section 4.5. Not carried by the PIL wire (pil_create refuses them). */
     double pid_kp_z_per_s, pid_ki_z_per_s2, pid_kp_v_n_per_mps, pid_ki_v_n_per_m;
     /* the landing mission */
+    double landing_gear_height_m; /* CG to the bottom of the gear, as the firmware knows it */
+    double landing_touchdown_dip_m; /* how far below the surface the descent's reference ends */
     double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
+    /* the velocity output (fc/controller.h FC_OUTPUT_VELOCITY): 1 to fly it, with
+     * the vehicle's identified first-order response k_P, a_P per axis (2.18) */
+    int velocity_output;
+    double velocity_k_p_per_s[3], velocity_a_p_per_s[3];
     /* processor in the loop (fsw_pil_backend): the ATmega image that runs the step */
     const char *target_image;
 } fsw_config;
@@ -84,6 +90,9 @@ typedef struct fsw_outputs {
     int motors_on;
     double thrust_n;         /* body thrust demanded */
     double moment_nm[3];
+    int output_velocity;     /* 1: the velocity command below is the output (not the rotors) */
+    double velocity_cmd_mps[3]; /* world */
+    double yaw_rate_cmd_radps;
     unsigned status;         /* fc_step_status of the step */
     /* telemetry */
     double attitude_q[4], attitude_setpoint_q[4];
@@ -118,6 +127,7 @@ typedef struct fsw_info {
     double failsafe_descent_mps; /* failsafe.descent_mps: the descent the failsafe should hold */
     int alignment_steps;     /* disarmed steps the attitude filter needs before arming */
     int rotor_count;
+    int velocity_output;     /* the firmware outputs velocity commands */
     size_t state_bytes;      /* sizeof(fc_controller) */
 } fsw_info;
 

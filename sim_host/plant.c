@@ -85,6 +85,13 @@ const char *plant_params_check(const plant_params *p)
     if (!(p->inertia_kgm2.x > 0.0 && p->inertia_kgm2.y > 0.0 && p->inertia_kgm2.z > 0.0)) {
         return "inertia must be positive";
     }
+    if (p->velocity_input &&
+        !(p->velocity_k_p_per_s.x > 0.0 && p->velocity_k_p_per_s.y > 0.0 && p->velocity_k_p_per_s.z > 0.0 &&
+          p->velocity_a_p_per_s.x >= 0.0 && p->velocity_a_p_per_s.y >= 0.0 && p->velocity_a_p_per_s.z >= 0.0 &&
+          p->velocity_thrust_max_n > p->mass_kg * p->gravity_mps2 && p->velocity_tilt_max_rad > 0.0 &&
+          p->velocity_tilt_max_rad < 1.5)) {
+        return "velocity input: k_P > 0, a_P >= 0, thrust above the weight, a tilt limit in (0, 1.5) rad";
+    }
     if (p->rotor_count < 1 || p->rotor_count > PLANT_MAX_ROTORS) {
         return "rotor count out of range";
     }
@@ -143,6 +150,75 @@ static double upow(double u, double e)
     return pow(u, e);
 }
 
+/* Velocity input: the vehicle's own attitude loop, a PD on the error to the
+ * thrust's direction at natural frequency VELOCITY_ATTITUDE_WN and damping
+ * VELOCITY_ATTITUDE_ZETA (far faster than the translation); the contact's
+ * moments act against it. */
+#define VELOCITY_ATTITUDE_WN 20.0
+#define VELOCITY_ATTITUDE_ZETA 0.8
+
+/* Velocity input: the world thrust of the vehicle's own autopilot at state
+ * s (plant.h): m (-a_P v + k_P u + g e_z) + c_d v, F_z in [0, T_max], the
+ * tilt and then the norm limited. */
+static v3 velocity_thrust_w(const plant *pl, const plant_state *s)
+{
+    const plant_params *p = &pl->p;
+    if (!pl->velocity_motors_on) {
+        return v3_make(0.0, 0.0, 0.0);
+    }
+    const v3 k = p->velocity_k_p_per_s, a = p->velocity_a_p_per_s, u = pl->velocity_cmd_mps;
+    const v3 accel = v3_make(-a.x * s->v.x + k.x * u.x, -a.y * s->v.y + k.y * u.y,
+                             -a.z * s->v.z + k.z * u.z + p->gravity_mps2);
+    v3 f = v3_axpy(v3_scale(accel, s->m), p->drag_n_per_mps, s->v);
+    f.z = fmin(fmax(f.z, 0.0), p->velocity_thrust_max_n);
+    const double horizontal = hypot(f.x, f.y), horizontal_max = f.z * tan(p->velocity_tilt_max_rad);
+    if (horizontal > horizontal_max) {
+        const double k_h = horizontal_max / horizontal;
+        f.x *= k_h;
+        f.y *= k_h;
+    }
+    const double norm = v3_norm(f);
+    return norm > p->velocity_thrust_max_n ? v3_scale(f, p->velocity_thrust_max_n / norm) : f;
+}
+
+/* The attitude whose body z is along f, at heading yaw (level at yaw when f is 0). */
+static quat attitude_of_thrust(v3 f, double yaw)
+{
+    const double norm = v3_norm(f);
+    const v3 b3 = norm > 1e-9 ? v3_scale(f, 1.0 / norm) : v3_make(0.0, 0.0, 1.0);
+    const v3 c = v3_make(cos(yaw), sin(yaw), 0.0);
+    v3 b2 = v3_cross(b3, c);
+    const double n2 = v3_norm(b2);
+    b2 = n2 > 1e-9 ? v3_scale(b2, 1.0 / n2) : v3_make(-sin(yaw), cos(yaw), 0.0);
+    const v3 b1 = v3_cross(b2, b3);
+    /* the rotation matrix [b1 b2 b3] as a quaternion (Shepperd) */
+    const double m00 = b1.x, m11 = b2.y, m22 = b3.z, trace = m00 + m11 + m22;
+    quat q;
+    if (trace > 0.0) {
+        const double t = 2.0 * sqrt(1.0 + trace);
+        q = quat_make(0.25 * t, (b2.z - b3.y) / t, (b3.x - b1.z) / t, (b1.y - b2.x) / t);
+    } else if (m00 > m11 && m00 > m22) {
+        const double t = 2.0 * sqrt(1.0 + m00 - m11 - m22);
+        q = quat_make((b2.z - b3.y) / t, 0.25 * t, (b2.x + b1.y) / t, (b3.x + b1.z) / t);
+    } else if (m11 > m22) {
+        const double t = 2.0 * sqrt(1.0 + m11 - m00 - m22);
+        q = quat_make((b3.x - b1.z) / t, (b2.x + b1.y) / t, 0.25 * t, (b3.y + b2.z) / t);
+    } else {
+        const double t = 2.0 * sqrt(1.0 + m22 - m00 - m11);
+        q = quat_make((b1.y - b2.x) / t, (b3.x + b1.z) / t, (b3.y + b2.z) / t, 0.25 * t);
+    }
+    return quat_normalize(q);
+}
+
+void plant_set_velocity_command(plant *pl, v3 velocity_mps, double yaw_rate_radps, bool motors_on)
+{
+    pl->velocity_cmd_mps = v3_make(isfinite(velocity_mps.x) ? velocity_mps.x : 0.0,
+                                   isfinite(velocity_mps.y) ? velocity_mps.y : 0.0,
+                                   isfinite(velocity_mps.z) ? velocity_mps.z : 0.0);
+    pl->yaw_rate_cmd_radps = isfinite(yaw_rate_radps) ? yaw_rate_radps : 0.0;
+    pl->velocity_motors_on = motors_on;
+}
+
 /* The model: derivative of s at time t with the held commands, and diagnostics. */
 static void derivative(const plant *pl, const pad_state *pad_t, double mu, const plant_state *s, plant_state *ds,
                        plant_diag *diag)
@@ -152,10 +228,26 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     quat_to_matrix(s->q, r);
     const pad_state pad = *pad_t;
 
-    /* rotors */
+    /* rotors (velocity input: the autopilot's thrust along body z) */
     v3 force_b = v3_make(0.0, 0.0, 0.0), moment_b = v3_make(0.0, 0.0, 0.0);
     double gain_weighted = 0.0, thrust_sum = 0.0;
-    for (int i = 0; i < p->rotor_count; i++) {
+    v3 velocity_moment_b = v3_make(0.0, 0.0, 0.0);
+    if (p->velocity_input) {
+        /* along body z; the attitude loop turns body z towards the thrust's direction */
+        const v3 thrust_w = velocity_thrust_w(pl, s);
+        force_b = v3_make(0.0, 0.0, v3_norm(thrust_w));
+        const quat target = attitude_of_thrust(thrust_w, pl->yaw_rad);
+        quat e = quat_mul(quat_make(s->q.w, -s->q.x, -s->q.y, -s->q.z), target);
+        if (e.w < 0.0) {
+            e = quat_make(-e.w, -e.x, -e.y, -e.z);
+        }
+        const v3 inertia_now = plant_inertia(p, s->m);
+        const v3 rate_ff = mat_apply_t(r, v3_make(0.0, 0.0, pl->yaw_rate_cmd_radps));
+        const double wn = VELOCITY_ATTITUDE_WN, kd = 2.0 * VELOCITY_ATTITUDE_ZETA * VELOCITY_ATTITUDE_WN;
+        const v3 accel = v3_sub(v3_scale(v3_make(e.x, e.y, e.z), 2.0 * wn * wn), v3_scale(v3_sub(s->w, rate_ff), kd));
+        velocity_moment_b = v3_mul(inertia_now, accel);
+    }
+    for (int i = 0; i < p->rotor_count && !p->velocity_input; i++) {
         const plant_rotor *rot = &p->rotor[i];
         const double u = s->u[i] > 0.0 ? s->u[i] : 0.0;
         const double thrust = rot->efficiency * rot->thrust_max_n * upow(u, rot->thrust_exponent);
@@ -214,9 +306,11 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     const quat dq = quat_mul(s->q, quat_make(0.0, s->w.x, s->w.y, s->w.z));
     ds->q = quat_make(0.5 * dq.w, 0.5 * dq.x, 0.5 * dq.y, 0.5 * dq.z);
     const v3 inertia = plant_inertia(p, m);
-    const v3 moment = v3_add(v3_add(moment_b, mat_apply_t(r, contact_moment_w)), pl->disturbance_moment_b);
+    const v3 moment = v3_add(v3_add(v3_add(moment_b, mat_apply_t(r, contact_moment_w)), pl->disturbance_moment_b),
+                             velocity_moment_b);
     const v3 gyro = v3_cross(s->w, v3_mul(inertia, s->w));
     ds->w = v3_make((moment.x - gyro.x) / inertia.x, (moment.y - gyro.y) / inertia.y, (moment.z - gyro.z) / inertia.z);
+
     ds->m = (mu - m) / p->mass_tau_s;
     for (int i = 0; i < PLANT_MAX_ROTORS; i++) {
         ds->u[i] = 0.0;
@@ -233,7 +327,7 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
         /* specific force: the non-gravitational acceleration, in the body frame */
         diag->specific_force_b = mat_apply_t(r, v3_scale(force_w, 1.0 / m));
         diag->ground_gain = thrust_sum > 0.0 ? gain_weighted / thrust_sum : 1.0;
-        if (!p->ground_effect) {
+        if (!p->ground_effect || p->velocity_input) {
             diag->ground_gain = 1.0;
         } else if (thrust_sum <= 0.0) {
             /* no thrust: the gain the rotors would see, averaged */
@@ -271,6 +365,16 @@ void plant_init(plant *pl, const plant_params *p, const plant_state *s0)
     pl->ge_c = p->ge_rho * quarter_r * quarter_r;
     for (int i = 0; i < PLANT_MAX_ROTORS; i++) {
         pl->u_cmd[i] = pl->s.u[i];
+    }
+    /* velocity input: hovering, no command, at the initial heading */
+    pl->velocity_cmd_mps = v3_make(0.0, 0.0, 0.0);
+    pl->yaw_rate_cmd_radps = 0.0;
+    pl->velocity_motors_on = true;
+    double roll, pitch;
+    quat_to_rpy(pl->s.q, &roll, &pitch, &pl->yaw_rad);
+    if (p->velocity_input) {
+        pl->s.q = attitude_of_thrust(velocity_thrust_w(pl, &pl->s), pl->yaw_rad);
+        pl->s.w = v3_make(0.0, 0.0, 0.0);
     }
 }
 
@@ -327,6 +431,10 @@ void plant_step(plant *pl, double h)
         pl->s.x[j] = x0.x[j] + h6 * (k1.x[j] + 2.0 * (k2.x[j] + k3.x[j]) + k4.x[j]);
     }
     pl->s.q = quat_normalize(pl->s.q);
+    if (pl->p.velocity_input) {
+        /* the heading the attitude loop aims at, held over the next step */
+        pl->yaw_rad = remainder(pl->yaw_rad + h * pl->yaw_rate_cmd_radps, 2.0 * 3.14159265358979323846);
+    }
     pl->t = t + h;
     pl->pad_cache_t = pl->t;
     pl->pad_cache = pad_end;

@@ -21,6 +21,20 @@
  * friction mu F_n v_t / sqrt(|v_t|^2 + v_s^2).
  * Integration: classical RK4 at the plant step, inputs (u_cmd) held over the step;
  * q is renormalised after each step. m' v and I' w are neglected ((H2.a), (H2.b)).
+ *
+ * Velocity input (velocity_input, the Matrice 600 case of dissertation 2.6.6):
+ * the vehicle's own autopilot takes a world velocity command u and yaw rate
+ * r and flies its rotors so that, in free air, each axis follows the
+ * first-order response (2.18)-(2.23)
+ *   v' = -a_P v + k_P u   (per axis, k_P and a_P of velocity_k_p, velocity_a_p),
+ * i.e. its thrust is F = m (-a_P v + k_P u + g e_z) + c_d v (the drag at v is
+ * part of the identified response; wind acts through c_d wind / m), with F_z
+ * in [0, thrust_max] and the tilt of F at most velocity_tilt_max. The
+ * thrust |F| acts along body z; the vehicle's attitude loop (a PD at 20 rad/s,
+ * far faster than the translation, as 2.6.6 assumes) turns body z towards
+ * F's direction at the heading psi, psi' = r, against the contact's moments. Contact and friction as above act on the
+ * CG; ground effect and the rotor states are not modelled (its velocity
+ * loop absorbs the first). Motors off: F = 0.
  */
 #ifndef SIM_PLANT_H
 #define SIM_PLANT_H
@@ -97,6 +111,11 @@ typedef struct plant_params {
     double friction;
     double slip_speed_mps;
     pad_params pad;
+    /* a velocity-input vehicle (above) */
+    bool velocity_input;
+    v3 velocity_k_p_per_s, velocity_a_p_per_s;
+    double velocity_thrust_max_n;
+    double velocity_tilt_max_rad;
 } plant_params;
 
 #define PLANT_STATE_DIM (3 + 3 + 4 + 3 + 1 + PLANT_MAX_ROTORS)
@@ -139,6 +158,11 @@ typedef struct plant {
     v3 lever[PLANT_MAX_ROTORS];     /* l_i x d_i */
     double height_min[PLANT_MAX_ROTORS];
     double ge_c;                    /* rho (R/4)^2: k_g = h^2 / (h^2 - c) */
+    /* velocity input: the command held over the step, the heading */
+    v3 velocity_cmd_mps;
+    double yaw_rate_cmd_radps;
+    bool velocity_motors_on;
+    double yaw_rad;
 } plant;
 
 /* Checks what the model needs (positive masses and inertias, the ground-effect
@@ -159,6 +183,10 @@ double plant_hover_speed(const plant *pl);
 
 /* Commanded normalised speeds (0 = motor off, otherwise clamped to [u_min, 1]). */
 void plant_set_command(plant *pl, const double *u_cmd, int count);
+
+/* Velocity input: the command (world, m/s), the yaw rate (rad/s) and
+ * whether the motors run; a command that is not finite counts as 0. */
+void plant_set_velocity_command(plant *pl, v3 velocity_mps, double yaw_rate_radps, bool motors_on);
 
 /* One RK4 step of h seconds. */
 void plant_step(plant *pl, double h);

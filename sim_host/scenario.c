@@ -64,6 +64,11 @@ void fsw_config_defaults(fsw_config *c)
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
     c->accel_fb_gain_per_s = (double)NAN;
     c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
+    c->velocity_output = 0;
+    c->landing_gear_height_m = c->landing_touchdown_dip_m = (double)NAN;
+    for (int i = 0; i < 3; i++) {
+        c->velocity_k_p_per_s[i] = c->velocity_a_p_per_s[i] = 1.0;
+    }
     c->target_image = NULL;
 }
 
@@ -91,11 +96,16 @@ typedef struct raw {
         rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg, hkp, hkd, tilt_max_deg, rho_scale, gamma_scale,
         kappa_m_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
     int figure;
+    int output_velocity;
+    v3 fsw_k_p, fsw_a_p;
     /* [vehicle] */
     double mass_kg, gravity_mps2, drag, rotor_count, arm_m, rotor_z_m, thrust_max_n_rotor, torque_ratio_m,
         thrust_exponent, torque_exponent, speed_min, motor_tau_s, first_spin;
     v3 inertia, inertia_per_kg;
     int layout;
+    int input_velocity;
+    v3 plant_k_p, plant_a_p;
+    double velocity_tilt_max_deg;
     /* [rotor.N] */
     raw_rotor rotor[PLANT_MAX_ROTORS];
     /* [mass] */
@@ -125,7 +135,7 @@ typedef struct raw {
     double fault_start_s, fault_delay_s, fault_duration_s, fault_scale;
     v3 fault_vector;
     /* landing overrides */
-    double land_hold_m, land_tau_s, land_accel_max, land_conf_start;
+    double land_hold_m, land_tau_s, land_accel_max, land_conf_start, land_gear_m, land_dip_m;
     double track_start_s, disarm_delay_s, touchdown_planned_s, end_after_landed_s, end_after_motors_off_s, sp_x, sp_y,
         sp_yaw_deg, yaw_amplitude_deg, yaw_frequency_hz;
     int landing, disarm_on_contact;
@@ -151,6 +161,7 @@ typedef enum key_kind { K_DOUBLE, K_INT, K_BOOL, K_ENUM, K_VEC3, K_LIST, K_STRIN
 static const char *const airframe_names[] = {"crazyflie2", "f450", "hexa-4kg", NULL};
 static const char *const attitude_names[] = {"estimator", "external", NULL};
 static const char *const layout_names[] = {"quad-x", "hexa-x", "custom", NULL};
+static const char *const output_names[] = {"rotors", "velocity", NULL};
 static const char *const pad_names[] = {"still", "sine", "waves", NULL};
 static const char *const motors_names[] = {"off", "hover", NULL};
 static const char *const altitude_names[] = {"position", "absolute", "range", NULL};
@@ -216,6 +227,13 @@ static const key_def keys[] = {
     {"controller", "pid_kp_v_n_per_mps", K_DOUBLE, R(pid_kp_v), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "pid_ki_v_n_per_m", K_DOUBLE, R(pid_ki_v), 0.0, 1000.0, NULL, OPTIONAL},
 
+    {"controller", "output", K_ENUM, R(output_velocity), 0, 0, output_names, 0},
+    {"controller", "velocity_k_p_per_s", K_VEC3, R(fsw_k_p), 0.01, 100.0, NULL, 0},
+    {"controller", "velocity_a_p_per_s", K_VEC3, R(fsw_a_p), 0.0, 100.0, NULL, 0},
+    {"vehicle", "input", K_ENUM, R(input_velocity), 0, 0, output_names, 0},
+    {"vehicle", "velocity_k_p_per_s", K_VEC3, R(plant_k_p), 0.0, 100.0, NULL, OPEN_LO},
+    {"vehicle", "velocity_a_p_per_s", K_VEC3, R(plant_a_p), 0.0, 100.0, NULL, 0},
+    {"vehicle", "velocity_tilt_max_deg", K_DOUBLE, R(velocity_tilt_max_deg), 0.0, 80.0, NULL, OPEN_LO},
     {"vehicle", "mass_kg", K_DOUBLE, R(mass_kg), 0.0, 1000.0, NULL, OPEN_LO},
     {"vehicle", "inertia_kgm2", K_VEC3, R(inertia), 0.0, 1000.0, NULL, OPEN_LO},
     {"vehicle", "inertia_per_kg_m2", K_VEC3, R(inertia_per_kg), -100.0, 100.0, NULL, 0},
@@ -280,6 +298,8 @@ static const key_def keys[] = {
     {"initial", "velocity_mps", K_VEC3, R(init_velocity), -100.0, 100.0, NULL, 0},
     {"initial", "motors", K_ENUM, R(init_motors_hover), 0, 0, motors_names, 0},
 
+    {"controller", "landing_gear_height_m", K_DOUBLE, R(land_gear_m), 0.0, 10.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "landing_touchdown_dip_m", K_DOUBLE, R(land_dip_m), 0.0, 1.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "landing_hold_height_m", K_DOUBLE, R(land_hold_m), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "landing_descent_tau_s", K_DOUBLE, R(land_tau_s), 0.05, 100.0, NULL, OPTIONAL},
     {"controller", "landing_pad_accel_max_mps2", K_DOUBLE, R(land_accel_max), 0.0, 100.0, NULL, OPEN_LO | OPTIONAL},
@@ -354,6 +374,7 @@ static const key_def keys[] = {
     {"metrics", "error_until_contact", K_BOOL, R(error_until_contact), 0, 0, NULL, 0},
 
     {"montecarlo", "mass_rel", K_DOUBLE, R(mc.mass_rel), 0.0, 0.9, NULL, 0},
+    {"montecarlo", "velocity_response_rel", K_DOUBLE, R(mc.velocity_response_rel), 0.0, 0.9, NULL, 0},
     {"montecarlo", "pad_amplitude_min_m", K_DOUBLE, R(mc.pad_amplitude_min_m), 0.0, 100.0, NULL, OPTIONAL},
     {"montecarlo", "pad_amplitude_max_m", K_DOUBLE, R(mc.pad_amplitude_max_m), 0.0, 100.0, NULL, OPTIONAL},
     {"montecarlo", "pad_period_min_s", K_DOUBLE, R(mc.pad_period_min_s), 0.1, 1000.0, NULL, OPTIONAL},
@@ -407,7 +428,7 @@ static void raw_defaults(raw *r)
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
     r->hkp = r->hkd = r->tilt_max_deg = r->accel_fb_gain = (double)NAN;
     r->pid_kp_z = r->pid_ki_z = r->pid_kp_v = r->pid_ki_v = (double)NAN;
-    r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = (double)NAN;
+    r->land_hold_m = r->land_tau_s = r->land_accel_max = r->land_conf_start = r->land_gear_m = r->land_dip_m = (double)NAN;
     r->wind.gust_tau_s = 2.0;
     r->fault_start_s = r->fault_duration_s = (double)NAN; /* from the first DESCEND; the kind's duration */
     r->fault_scale = 1.0;
@@ -415,6 +436,8 @@ static void raw_defaults(raw *r)
     r->mc.pad_period_min_s = r->mc.pad_period_max_s = r->mc.gust_std_max_mps = (double)NAN;
     r->mc.mass_max_rel = (double)NAN;
     r->rho_scale = r->gamma_scale = r->kappa_m_scale = (double)NAN;
+    r->fsw_k_p = r->fsw_a_p = r->plant_k_p = r->plant_a_p = v3_make(1.0, 1.0, 1.0);
+    r->velocity_tilt_max_deg = 25.0;
     r->mass_kg = 4.0;
     r->inertia = v3_make(0.082, 0.082, 0.149);
     r->gravity_mps2 = 9.81;
@@ -948,10 +971,19 @@ static bool build(parse_ctx *c, scenario *sc)
     f->pid_ki_z_per_s2 = r->pid_ki_z;
     f->pid_kp_v_n_per_mps = r->pid_kp_v;
     f->pid_ki_v_n_per_m = r->pid_ki_v;
+    f->landing_gear_height_m = r->land_gear_m;
+    f->landing_touchdown_dip_m = r->land_dip_m;
     f->landing_hold_height_m = r->land_hold_m;
     f->landing_descent_tau_s = r->land_tau_s;
     f->landing_pad_accel_max_mps2 = r->land_accel_max;
     f->landing_confidence_start = r->land_conf_start;
+    f->velocity_output = r->output_velocity;
+    f->velocity_k_p_per_s[0] = r->fsw_k_p.x;
+    f->velocity_k_p_per_s[1] = r->fsw_k_p.y;
+    f->velocity_k_p_per_s[2] = r->fsw_k_p.z;
+    f->velocity_a_p_per_s[0] = r->fsw_a_p.x;
+    f->velocity_a_p_per_s[1] = r->fsw_a_p.y;
+    f->velocity_a_p_per_s[2] = r->fsw_a_p.z;
 
     /* plant */
     plant_params *p = &sc->plant;
@@ -960,6 +992,10 @@ static bool build(parse_ctx *c, scenario *sc)
     p->inertia_per_kg = r->inertia_per_kg;
     p->gravity_mps2 = r->gravity_mps2;
     p->drag_n_per_mps = r->drag;
+    p->velocity_input = r->input_velocity == 1;
+    p->velocity_k_p_per_s = r->plant_k_p;
+    p->velocity_a_p_per_s = r->plant_a_p;
+    p->velocity_tilt_max_rad = r->velocity_tilt_max_deg * DEG;
     sc->layout = (rotor_layout)r->layout;
     int n;
     if (sc->layout == LAYOUT_QUAD_X) {
@@ -1079,8 +1115,16 @@ static bool build(parse_ctx *c, scenario *sc)
             pad->wave_phase_rad[k] = r->wave_phases_deg.count != 0 ? r->wave_phases_deg.v[k] * DEG : 0.0;
         }
     }
+    /* a velocity-input vehicle: its rotors' thrust is what its autopilot has */
+    p->velocity_thrust_max_n = 0.0;
+    for (int i = 0; i < p->rotor_count; i++) {
+        p->velocity_thrust_max_n += p->rotor[i].thrust_max_n;
+    }
     const char *why = plant_params_check(p);
     if (why != NULL) {
+        if (strstr(why, "velocity input") != NULL) {
+            return fail_key(c, "vehicle", "input", why);
+        }
         if (strstr(why, "ground effect") != NULL) {
             return fail_key(c, "gear", "height_m", why);
         }
@@ -1446,6 +1490,16 @@ void scenario_perturb(scenario *sc, uint64_t seed)
         p->mass_step_count++;
     }
     perturb_failsafe_family(sc, &r);
+    /* last, and only when asked for (the other scenarios' draws unchanged):
+     * the velocity-input vehicle's true response against the identified one */
+    if (mc->velocity_response_rel > 0.0 && p->velocity_input) {
+        const double a = mc->velocity_response_rel;
+        double *k[6] = {&p->velocity_k_p_per_s.x, &p->velocity_k_p_per_s.y, &p->velocity_k_p_per_s.z,
+                        &p->velocity_a_p_per_s.x, &p->velocity_a_p_per_s.y, &p->velocity_a_p_per_s.z};
+        for (int i = 0; i < 6; i++) {
+            *k[i] *= 1.0 + rng_range(&r, -a, a);
+        }
+    }
     sc->seed = seed;
 }
 

@@ -27,6 +27,7 @@ typedef enum rotor_layout { LAYOUT_QUAD_X = 0, LAYOUT_HEXA_X, LAYOUT_CUSTOM } ro
 /* Monte-Carlo perturbations ([montecarlo]); each run draws from its own seed. */
 typedef struct montecarlo_params {
     double mass_rel;              /* true mass x (1 + U(-a, a)) (the firmware's nominal stays) */
+    double velocity_response_rel; /* a velocity-input vehicle's k_P and a_P, each axis, x (1 + U(-a, a)) (0: none) */
     double inertia_rel;
     double pad_amplitude_rel;     /* every pad amplitude x (1 + U(-a, a)) */
     double pad_period_rel;        /* every pad period x (1 + U(-a, a)) */

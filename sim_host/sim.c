@@ -95,7 +95,8 @@ static bool all_finite(const fsw_outputs *o)
         }
     }
     return isfinite(o->thrust_n) && isfinite(o->moment_nm[0]) && isfinite(o->moment_nm[1]) &&
-           isfinite(o->moment_nm[2]);
+           isfinite(o->moment_nm[2]) && isfinite(o->velocity_cmd_mps[0]) && isfinite(o->velocity_cmd_mps[1]) &&
+           isfinite(o->velocity_cmd_mps[2]) && isfinite(o->yaw_rate_cmd_radps);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -317,6 +318,10 @@ typedef struct acc {
     double min_clearance;
     bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
+    /* the first contact at the plant's rate: a stiff contact is over within a
+     * controller step, which then sees only its rebound */
+    bool plant_contact_seen;
+    double plant_touchdown_time, plant_touchdown_speed;
     long bounces;
     double max_position_error;
     double settled_position_error; /* after the transient */
@@ -340,6 +345,13 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     if (info.rotor_count != sc->plant.rotor_count) {
         snprintf(err, err_len, "the firmware airframe has %d rotors, the plant %d", info.rotor_count,
                  sc->plant.rotor_count);
+        opt->backend->destroy(fsw);
+        return false;
+    }
+    if (info.velocity_output != (sc->plant.velocity_input ? 1 : 0)) {
+        snprintf(err, err_len, "the firmware outputs %s, the vehicle takes %s",
+                 info.velocity_output ? "velocity commands" : "rotor speeds",
+                 sc->plant.velocity_input ? "velocity commands ([vehicle] input)" : "rotor speeds");
         opt->backend->destroy(fsw);
         return false;
     }
@@ -534,7 +546,14 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         if (!all_finite(&out)) {
             a.nan_outputs++;
         }
-        plant_set_command(&pl, out.rotor_speed, out.rotor_count);
+        if (pl.p.velocity_input) {
+            plant_set_velocity_command(&pl,
+                                       v3_make(out.velocity_cmd_mps[0], out.velocity_cmd_mps[1],
+                                               out.velocity_cmd_mps[2]),
+                                       out.yaw_rate_cmd_radps, out.motors_on && out.output_velocity);
+        } else {
+            plant_set_command(&pl, out.rotor_speed, out.rotor_count);
+        }
 
         /* metrics at t_k */
         plant_diag d;
@@ -682,6 +701,10 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_accel_fb_y_mps2] = out.accel_feedback_mps2[1];
             row[SIM_COL_yaw_r_deg] = scenario_yaw_setpoint_rad(mission, t) * RAD2DEG;
             row[SIM_COL_k_h] = k_h;
+            row[SIM_COL_velocity_cmd_x_mps] = out.velocity_cmd_mps[0];
+            row[SIM_COL_velocity_cmd_y_mps] = out.velocity_cmd_mps[1];
+            row[SIM_COL_velocity_cmd_z_mps] = out.velocity_cmd_mps[2];
+            row[SIM_COL_yaw_rate_cmd_radps] = out.yaw_rate_cmd_radps;
             trace->rows++;
         }
 
@@ -692,6 +715,14 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             }
             plant_step(&pl, h);
             failsafe_acc_plant_step(&fs, &pl);
+            if (sc->plant.contact && !a.plant_contact_seen) {
+                pad_state pad_now;
+                if (plant_gear_clearance(&pl, &pad_now) < 0.0) {
+                    a.plant_contact_seen = true;
+                    a.plant_touchdown_time = pl.t;
+                    a.plant_touchdown_speed = fabs(pl.s.v.z - pad_now.vz_mps);
+                }
+            }
         }
         /* no drift of the plant's clock (the pad cached at the step's end moves with it) */
         const double t_next = (double)(k + 1) * dt;
@@ -716,8 +747,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         sim_variant_is_adaptive(opt->variant) ? fabs(last_theta - last_theta_star) / last_theta_star : (double)NAN;
     const bool landing = mission->landing;
     m->min_clearance_m = landing ? a.min_clearance : (double)NAN;
-    m->touchdown_rel_speed_mps = landing ? a.touchdown_speed : (double)NAN;
-    m->touchdown_time_s = landing ? a.touchdown_time : (double)NAN;
+    m->touchdown_rel_speed_mps =
+        landing ? (a.plant_contact_seen ? a.plant_touchdown_speed : a.touchdown_speed) : (double)NAN;
+    m->touchdown_time_s = landing ? (a.plant_contact_seen ? a.plant_touchdown_time : a.touchdown_time) : (double)NAN;
     m->bounces = landing && a.contact_ever ? (double)a.bounces : (landing ? 0.0 : (double)NAN);
     m->max_tilt_deg = a.max_tilt;
     m->nan_outputs = (double)a.nan_outputs;

@@ -64,7 +64,8 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(moment_x_nm) X(moment_y_nm) X(moment_z_nm) X(saturation) X(att_err_x_rad) X(att_err_y_rad) X(att_err_z_rad) \
     X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)             \
     X(fsw_vz_est_mps) X(fsw_hover_thrust_n) X(fsw_accel_bias_mps2) X(land_state) X(failsafe_cause) \
-    X(yaw_r_deg) X(k_h) X(accel_fb_x_mps2) X(accel_fb_y_mps2)
+    X(yaw_r_deg) X(k_h) X(accel_fb_x_mps2) X(accel_fb_y_mps2) X(velocity_cmd_x_mps) X(velocity_cmd_y_mps) \
+    X(velocity_cmd_z_mps) X(yaw_rate_cmd_radps)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,

@@ -45,7 +45,7 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 CASES = [("seed-4.4", "ssc"), ("seed-4.4", "ssc-adaptive"), ("cf2-pad", None), ("hexa-deck", None),
-         ("robustness", None), ("robustness-cf2", None)]
+         ("robustness", None), ("robustness-cf2", None), ("m600-deck", None)]
 # metric: its resolution, the float value under which a ratio is not judged
 METRICS = {
     "rms_error_m": 1e-4,

@@ -15,6 +15,12 @@ static void motors_off(const fc_controller *ctl, fc_controller_outputs *out)
     out->motors_on = false;
     out->thrust_n = FC_INT(0, FORCE);
     out->moment_nm = fc_vec3_zero();
+    out->output = ctl->ready ? ctl->p.output : FC_OUTPUT_ROTORS;
+    out->velocity_cmd_mps = fc_vec3_zero();
+    out->yaw_rate_cmd_radps = FC_INT(0, RATE);
+    if (out->output == FC_OUTPUT_VELOCITY) {
+        out->rotor_count = 0u; /* no rotor output in this mode */
+    }
 }
 
 static void reset_loops(fc_controller *ctl)
@@ -47,6 +53,16 @@ static fc_quat level_at_heading(fc_real heading_cos, fc_real heading_sin)
     return ok ? n : fc_quat_identity();
 }
 
+/* The velocity output's own parameters (the law's are its init's). */
+static bool velocity_output_valid(const fc_controller_params *p)
+{
+    if (p->output != FC_OUTPUT_ROTORS && p->output != FC_OUTPUT_VELOCITY) {
+        return false;
+    }
+    return fc_in_range(p->velocity.yaw_gain_per_s, FC_INT(0, RATIO), FC_INT(20, RATIO)) &&
+           p->velocity.yaw_rate_max_radps > FC_INT(0, RATE) && p->velocity.yaw_rate_max_radps <= FC_INT(10, RATE);
+}
+
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p)
 {
     ctl->ready = false;
@@ -57,7 +73,13 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
                                       p->altitude.thrust_min_n,
                                       p->altitude.thrust_max_n,
                                       p->reference.offset_init_m,
-                                      p->land_detector.range_fresh_s};
+                                      p->land_detector.range_fresh_s,
+                                      p->output,
+                                      p->velocity.yaw_gain_per_s,
+                                      p->velocity.yaw_rate_max_radps,
+                                      FC_INT(0, RATIO),
+                                      p->gravity_mps2,
+                                      p->velocity.tracking.k_p_per_s.z};
     ctl->ar.saturated = 0u;
     ctl->last_command = FC_COMMAND_DISARM;
     ctl->mode = FC_COMMAND_DISARM;
@@ -100,6 +122,8 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
         fc_vertical_estimator_init(&ctl->vertical, &p->vertical),
         fc_land_detector_init(&ctl->land_detector, &p->land_detector),
         fc_failsafe_init(&ctl->failsafe, &p->failsafe),
+        fc_trajectory_tracking_init(&ctl->tracking, &p->velocity.tracking),
+        velocity_output_valid(p) ? FC_INIT_OK : FC_INIT_BAD_PARAM,
     };
     for (unsigned i = 0u; i < sizeof parts / sizeof parts[0]; i++) {
         if (parts[i] != FC_INIT_OK && result == FC_INIT_OK) {
@@ -113,6 +137,10 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
     }
     ctl->step_s = fc_convert(&ctl->ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
     ctl->inv_dt_per_s = fc_div(&ctl->ar, FC_INT(1, DT), p->dt_s, FC_DIV_SHIFT(DT, DT, GAIN));
+    if (result == FC_INIT_OK) {
+        /* g in (0, 100] (fc_controller_params_agree) */
+        ctl->p.inv_gravity_s2pm = fc_div(&ctl->ar, FC_INT(1, RATIO), p->gravity_mps2, FC_DIV_SHIFT(RATIO, ACCEL, RATIO));
+    }
     ctl->ready = result == FC_INIT_OK;
     return result;
 }
@@ -590,7 +618,7 @@ static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical
 static bool hover_learnable(const fc_controller *ctl, const step_context *c)
 {
     /* the flags first: each test only when those before it pass */
-    if (!ctl->armed || ctl->failsafe.active || !c->inputs_ok ||
+    if (ctl->p.output != FC_OUTPUT_ROTORS || !ctl->armed || ctl->failsafe.active || !c->inputs_ok ||
         (ctl->last_saturation & (FC_SAT_THRUST_HIGH | FC_SAT_THRUST_LOW)) != 0u) {
         return false;
     }
@@ -625,8 +653,15 @@ static fc_real failsafe_thrust(fc_controller *ctl, const step_context *c, fc_con
         v->vz_mps, v->accel_z_mps2, fc_mul(ar, ctl->last_thrust_n, c->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE)),
         v->hover_thrust_n, true, ctl->gear_height_m, ctl->gear_height_age_s, ctl->gear_height_known};
     tm->land_state = fc_land_detector_step(&ctl->land_detector, &lin);
-    const fc_failsafe_input fin = {v->vz_mps, v->hover_thrust_n, c->tilt_cos, ctl->p.thrust_min_n,
-                                   ctl->p.thrust_max_n, tm->land_state};
+    fc_real thrust_min_n = ctl->p.thrust_min_n;
+    fc_real thrust_max_n = ctl->p.thrust_max_n;
+    if (ctl->p.output == FC_OUTPUT_VELOCITY) {
+        /* the vehicle's own autopilot has the thrust: [0, 2 T_h] */
+        thrust_min_n = FC_INT(0, FORCE);
+        thrust_max_n = fc_add(ar, v->hover_thrust_n, v->hover_thrust_n);
+    }
+    const fc_failsafe_input fin = {v->vz_mps, v->hover_thrust_n, c->tilt_cos, thrust_min_n, thrust_max_n,
+                                   tm->land_state};
     return fc_failsafe_step(&ctl->failsafe, &fin);
 }
 
@@ -650,6 +685,102 @@ static fc_step_status stopped(fc_controller *ctl, fc_controller_outputs *out, fc
     landing_telemetry(ctl, &out->telemetry, state_before, reason_before);
     motors_off(ctl, out);
     return FC_STEP_OK;
+}
+
+/* ---------------------------------------------------------------------- */
+/* the velocity output (fc/controller.h, FC_OUTPUT_VELOCITY)               */
+/* ---------------------------------------------------------------------- */
+
+/* The vertical velocity command that asks the vehicle for the acceleration a
+ * body thrust T would give, a = g (T k_h / T_h - 1): (2.23) solved for u,
+ * u_z = (a + a_P v_z) / k_P, inside +-u_max. */
+static fc_real velocity_of_thrust(fc_controller *ctl, const step_context *c, const fc_vertical_estimate *v,
+                                  fc_real thrust_n)
+{
+    fc_arith *ar = &ctl->ar;
+    const fc_trajectory_tracking *tt = &ctl->tracking;
+    const fc_real vertical_n = fc_mul(ar, thrust_n, c->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real share = fc_div(ar, vertical_n, v->hover_thrust_n, FC_DIV_SHIFT(FORCE, FORCE, RATIO));
+    const fc_real accel =
+        fc_mul(ar, fc_sub(ar, share, FC_INT(1, RATIO)), ctl->p.gravity_mps2, FC_SHIFT(RATIO, ACCEL, ACCEL));
+    const fc_real drag = fc_mul(ar, tt->a_p_per_s.z, v->vz_mps, FC_SHIFT(RATIO, VEL, ACCEL));
+    const fc_real u = fc_mul(ar, tt->inv_k_p_s.z, fc_add(ar, accel, drag), FC_SHIFT(RATIO, ACCEL, VEL));
+    return fc_clamp(u, fc_neg(ar, tt->u_max_mps.z), tt->u_max_mps.z);
+}
+
+/* The body thrust that stands for a vertical command u_z: the acceleration
+ * it asks of the vehicle, a = k_P u_z - a_P v_z (2.23), as T = T_h (1 + a / g) / k_h
+ * in [0, 2 T_h]. What the landing's ramp starts from and the land detector
+ * weighs. */
+static fc_real thrust_of_velocity(fc_controller *ctl, const step_context *c, const fc_vertical_estimate *v,
+                                  fc_real u_z_mps)
+{
+    fc_arith *ar = &ctl->ar;
+    const fc_real accel = fc_sub(ar, fc_mul(ar, ctl->p.k_p_z_per_s, u_z_mps, FC_SHIFT(RATIO, VEL, ACCEL)),
+                                 fc_mul(ar, ctl->tracking.a_p_per_s.z, v->vz_mps, FC_SHIFT(RATIO, VEL, ACCEL)));
+    const fc_real share =
+        fc_add(ar, FC_INT(1, RATIO), fc_mul(ar, accel, ctl->p.inv_gravity_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO)));
+    const fc_real vertical_n = fc_mul(ar, v->hover_thrust_n, share, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real k_h = fc_max(c->tilt_cos, FC_C(0.5f, RATIO));
+    const fc_real thrust_n = fc_div(ar, vertical_n, k_h, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
+    return fc_clamp(thrust_n, FC_INT(0, FORCE), fc_add(ar, v->hover_thrust_n, v->hover_thrust_n));
+}
+
+/* The heading: yaw_gain (psi_sp - psi) + psi_sp', inside +-yaw_rate_max.
+ * psi - psi_sp from the shortest rotation from the setpoint's level
+ * attitude to the attitude, 2 q_z (its sine of the half angle, twice: the
+ * angle for small errors, and its sign for any). */
+static fc_real yaw_rate_command(fc_controller *ctl, const step_context *c)
+{
+    fc_arith *ar = &ctl->ar;
+    const fc_quat setpoint = level_attitude(ctl, c->in.yaw_setpoint_rad);
+    const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), c->attitude));
+    const fc_real twice_z = fc_add(ar, error.z, error.z);
+    const fc_real feedback = fc_mul(ar, ctl->p.yaw_gain_per_s, twice_z, FC_SHIFT(RATIO, UNIT, RATE));
+    const fc_real rate = fc_sub(ar, c->in.yaw_rate_setpoint_radps, feedback);
+    return fc_clamp(rate, fc_neg(ar, ctl->p.yaw_rate_max_radps), ctl->p.yaw_rate_max_radps);
+}
+
+/* The velocity output's step, motors on: the tracking law (2.24) on the
+ * reference, or (the failsafe, the ramp, a lost contact) the vertical
+ * command of the thrust that path set, level and still horizontally. */
+static fc_step_status velocity_output(fc_controller *ctl, const step_context *c, bool fly_reference, fc_real thrust_n,
+                                      fc_controller_outputs *out)
+{
+    fc_controller_telemetry *tm = &out->telemetry;
+    fc_step_status status = FC_STEP_OK;
+    fc_vec3 u = fc_vec3_zero();
+    fc_real yaw_rate = FC_INT(0, RATE);
+    if (fly_reference) {
+        const fc_gated_inputs *in = &c->in;
+        const fc_trajectory_tracking_input tin = {
+            fc_vec3_make(in->position_setpoint_m.x, in->position_setpoint_m.y, tm->reference.z_m),
+            fc_vec3_make(FC_INT(0, VEL), FC_INT(0, VEL), tm->reference.vz_mps),
+            fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), tm->reference.az_mps2), in->position_m,
+            in->velocity_mps};
+        status |= passed_on(fc_trajectory_tracking_step(&ctl->tracking, &tin, &u));
+        yaw_rate = yaw_rate_command(ctl, c);
+    } else {
+        u.z = velocity_of_thrust(ctl, c, &tm->vertical, thrust_n);
+    }
+    /* the thrust in force: the one the path set, or the one the law's command stands for */
+    ctl->last_thrust_n = fly_reference ? thrust_of_velocity(ctl, c, &tm->vertical, u.z) : thrust_n;
+    tm->attitude_setpoint = tm->attitude; /* the vehicle's own autopilot sets its attitude */
+    tm->altitude = (fc_altitude_control_output){0}; /* the thrust path's law does not run */
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        out->rotor_speed[i] = FC_INT(0, UNIT);
+    }
+    out->rotor_count = 0u;
+    out->motors_on = true;
+    out->thrust_n = FC_INT(0, FORCE);
+    out->moment_nm = fc_vec3_zero();
+    out->output = FC_OUTPUT_VELOCITY;
+    out->velocity_cmd_mps = u;
+    out->yaw_rate_cmd_radps = yaw_rate;
+    if (ctl->ar.saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
 }
 
 fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs *in_raw, fc_controller_outputs *out)
@@ -767,6 +898,9 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         tm->attitude_setpoint = tm->attitude; /* no setpoint: the attitude itself */
         return status;
     }
+    if (ctl->p.output == FC_OUTPUT_VELOCITY) {
+        return status | velocity_output(ctl, &c, fly_reference, thrust_n, out);
+    }
     if (fly_reference) {
         const fc_altitude_control_input altitude_in = {c.in.position_m.z, c.in.velocity_mps.z, tm->reference,
                                                        c.tilt_cos, ctl->last_saturation};
@@ -821,6 +955,9 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     }
     out->rotor_count = ctl->allocation.rotor_count;
     out->motors_on = true;
+    out->output = FC_OUTPUT_ROTORS;
+    out->velocity_cmd_mps = fc_vec3_zero();
+    out->yaw_rate_cmd_radps = FC_INT(0, RATE);
     /* at the library's edge in N and N m: the thrust as set, the moments as sent */
     fc_real sent_thrust_n;
     fc_allocation_physical(&ctl->allocation, &demand, &sent_thrust_n, &out->moment_nm);

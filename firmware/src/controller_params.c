@@ -327,6 +327,28 @@ static void defaults_around(fc_controller_params *p, fc_airframe airframe, fc_ve
     landing_defaults(p, airframe);
     safety_defaults(p, airframe);
     fc_controller_set_mass(p, p->mass_kg);
+    /* the rotors, unless fc_controller_set_velocity_output; a valid law all the same */
+    p->output = FC_OUTPUT_ROTORS;
+    fc_controller_velocity_defaults(&p->velocity, fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO)),
+                                    fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO)));
+}
+
+void fc_controller_velocity_defaults(fc_velocity_output_params *v, fc_vec3 k_p_per_s, fc_vec3 a_p_per_s)
+{
+    fc_trajectory_tracking_params *t = &v->tracking;
+    t->k_p_per_s = k_p_per_s;
+    t->a_p_per_s = a_p_per_s;
+    t->zeta = fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO));
+    t->omega_n_radps = fc_vec3_make(FC_C(1.5f, RATE), FC_C(1.5f, RATE), FC_INT(2, RATE));
+    t->u_max_mps = fc_vec3_make(FC_INT(3, VEL), FC_INT(3, VEL), FC_C(1.5f, VEL));
+    v->yaw_gain_per_s = FC_INT(1, RATIO);
+    v->yaw_rate_max_radps = FC_C(0.5f, RATE);
+}
+
+void fc_controller_set_velocity_output(fc_controller_params *p, const fc_velocity_output_params *v)
+{
+    p->output = FC_OUTPUT_VELOCITY;
+    p->velocity = *v;
 }
 
 void fc_controller_default_params(fc_controller_params *p, fc_airframe airframe, fc_altitude_variant variant,
@@ -413,6 +435,10 @@ fc_init_result fc_controller_params_agree(const fc_controller_params *p)
     }
     if (!one_mass(p)) {
         return FC_INIT_MASS_MISMATCH;
+    }
+    if (p->output == FC_OUTPUT_VELOCITY) {
+        /* the vehicle's own autopilot has the rotors and their thrust (fc/controller.h) */
+        return FC_INIT_OK;
     }
     fc_arith ar = {0u};
     const fc_real weight_n = fc_mul(&ar, p->mass_kg, p->gravity_mps2, FC_SHIFT(MASS, ACCEL, FORCE));

@@ -96,6 +96,7 @@
 #include "fc/position_control.h"
 #include "fc/quat.h"
 #include "fc/status.h"
+#include "fc/trajectory_tracking.h"
 #include "fc/vertical_estimator.h"
 
 typedef enum fc_airframe {
@@ -124,6 +125,37 @@ typedef enum fc_arming_check {
     FC_ARMING_CHECK_COUNT
 } fc_arming_check;
 
+/* What the step drives (fc_controller_outputs.output). */
+typedef enum fc_output_kind {
+    FC_OUTPUT_ROTORS = 0,   /* rotor speeds through the allocation: the inner loop is ours */
+    FC_OUTPUT_VELOCITY,     /* velocity commands to a vehicle whose own autopilot flies its
+                             * rotors (a DJI-class M600, dissertation 2.6.6): see below */
+    FC_OUTPUT_KIND_COUNT
+} fc_output_kind;
+
+/* The velocity output (FC_OUTPUT_VELOCITY). The vehicle takes a world
+ * velocity command u per axis and follows it as v' = -a_P v + k_P u
+ * (2.18)-(2.23); fc_controller_step forms u by the tracking law (2.24)
+ * (fc/trajectory_tracking.h) with r = (pad centre x, y; z_r of the landing
+ * manager), r' = (0, 0, z_r'), r'' = (0, 0, z_r''), x and x' the measured
+ * position and velocity. The mission, the gates and the failsafe are the
+ * rotor path's; where that path sets a body thrust T (the thrust ramp of
+ * DISARM, the hover held on a lost contact, the failsafe's speed loop) the
+ * vertical command is the one that asks the vehicle for the same vertical
+ * acceleration a = g (T k_h / T_h - 1), T_h the hover thrust:
+ * u_z = (a + a_P v_z) / k_P, (2.23) solved for u, and the horizontal
+ * command is 0 (stop and level). The attitude law and the allocation do
+ * not run, the rotor outputs are 0 (rotor_count 0), the hover thrust is not
+ * learnt. Heading: yaw_rate_cmd = yaw_gain (psi_sp - psi) + psi_sp',
+ * clamped to yaw_rate_max, 0 in the failsafe and on the pad. The thrust
+ * checks of fc_controller_init (1.5 x weight, the rotors' sum) are the
+ * vehicle autopilot's and are not made. */
+typedef struct fc_velocity_output_params {
+    fc_trajectory_tracking_params tracking; /* (2.24): k_P, a_P, zeta, w_n, |u| limit per axis */
+    fc_real yaw_gain_per_s;             /* RATIO: [0, 20] 1/s */
+    fc_real yaw_rate_max_radps;         /* RATE: (0, 10] rad/s */
+} fc_velocity_output_params;
+
 #define FC_OUTER_DIVIDER_MAX 10u        /* the outer group's longest major frame, in steps */
 
 typedef struct fc_controller_params {
@@ -150,6 +182,8 @@ typedef struct fc_controller_params {
     fc_vertical_estimator_params vertical;
     fc_land_detector_params land_detector;
     fc_failsafe_params failsafe;
+    fc_output_kind output;              /* FC_OUTPUT_ROTORS unless set (fc_controller_set_velocity_output) */
+    fc_velocity_output_params velocity; /* used with FC_OUTPUT_VELOCITY */
 } fc_controller_params;
 
 typedef struct fc_controller_inputs {
@@ -202,6 +236,10 @@ typedef struct fc_controller_outputs {
     bool motors_on;
     fc_real thrust_n;                   /* FORCE: body thrust demanded */
     fc_vec3 moment_nm;                  /* MOMENT: body moments demanded */
+    fc_output_kind output;              /* which command is valid: the rotors' or the velocity's */
+    fc_vec3 velocity_cmd_mps;           /* VEL: world ENU velocity command (FC_OUTPUT_VELOCITY), 0
+                                         * otherwise and with the motors off */
+    fc_real yaw_rate_cmd_radps;         /* RATE: about the world's up axis, as velocity_cmd_mps */
     fc_controller_telemetry telemetry;
 } fc_controller_outputs;
 
@@ -216,6 +254,12 @@ typedef struct fc_controller_settings {
     fc_real thrust_min_n, thrust_max_n; /* FORCE: the altitude law's limits */
     fc_real reference_offset_init_m;    /* LENGTH: reference.offset_init_m */
     fc_real range_fresh_s;              /* TIME: land_detector.range_fresh_s */
+    fc_output_kind output;
+    fc_real yaw_gain_per_s;             /* RATIO: velocity.yaw_gain_per_s */
+    fc_real yaw_rate_max_radps;         /* RATE: velocity.yaw_rate_max_radps */
+    fc_real inv_gravity_s2pm;           /* RATIO: 1 / g */
+    fc_real gravity_mps2;               /* ACCEL */
+    fc_real k_p_z_per_s;                /* RATIO: velocity.tracking.k_p_per_s.z */
 } fc_controller_settings;
 
 typedef struct fc_controller {
@@ -267,6 +311,7 @@ typedef struct fc_controller {
     fc_landing landing;
     fc_altitude_control altitude;
     fc_position_control position;
+    fc_trajectory_tracking tracking;    /* (2.24), the velocity output's law */
     fc_pad_motion pad_motion;
     fc_allocation allocation;
 } fc_controller;
@@ -294,6 +339,16 @@ void fc_controller_set_mass(fc_controller_params *p, fc_real mass_kg);
  * the pad model) with it: a platform whose core cannot run the outer group
  * at the default's 100 Hz gives it a longer frame. */
 void fc_controller_set_outer_divider(fc_controller_params *p, uint8_t divider);
+
+/* The velocity output (FC_OUTPUT_VELOCITY, above) with the law and the
+ * vehicle's identified first-order velocity response in v. */
+void fc_controller_set_velocity_output(fc_controller_params *p, const fc_velocity_output_params *v);
+
+/* A velocity-input vehicle's tracking law for a first-order response of
+ * k_P, a_P (1/s, per axis): the error dynamics (2.14) at zeta = 1 and
+ * w_n = 1.5 rad/s horizontally, 2 rad/s vertically, |u| <= 3 m/s
+ * horizontally and 1.5 m/s vertically; the heading at 1 /s, 0.5 rad/s. */
+void fc_controller_velocity_defaults(fc_velocity_output_params *v, fc_vec3 k_p_per_s, fc_vec3 a_p_per_s);
 
 fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params *p);
 
