@@ -670,7 +670,7 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out)
 
 static void unit2_scaled(fc_arith *ar, fc_real16 v, uint16_t y_q15, int k, fc_real16 *out)
 {
-    int32_t v_y = (int32_t)v * (int32_t)y_q15; /* Q14 x Q15 = Q29 */
+    int32_t v_y = fc_mul16_unsigned(y_q15, v); /* Q14 x Q15 = Q29 */
     if (k < 0) {
         /* k = -1 (n_sq in [1, 4)): halved, a floor (the rounding below is
          * at bit 14; a C division by 2 is a libgcc call on the ATmega) */
@@ -701,7 +701,7 @@ static uint16_t rsqrt_newton_q15(uint32_t m)
     /* |d| < 2^-8.5: below 2^13.5 in Q22 (a floor, by a byte move) */
     const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
     /* y0 d / 2: Q15 x Q22 = Q37, the half Q38, rounded to Q15 */
-    const int32_t half_step_q38 = (int32_t)d_q22 * (int32_t)y0 + ((int32_t)1 << (UNIT2_D16_FRAC));
+    const int32_t half_step_q38 = fc_mul16_unsigned(y0, d_q22) + ((int32_t)1 << (UNIT2_D16_FRAC));
     const int32_t y = (int32_t)y0 + (int32_t)fc_fx_extract((uint32_t)half_step_q38,
                                                             half_step_q38 < 0 ? UINT32_MAX : 0u,
                                                             UNIT2_D16_FRAC + 1);
@@ -748,7 +748,7 @@ void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16
 
 static fc_real16 direction_component(fc_arith *ar, int16_t m_i, uint16_t y_q15, bool halve)
 {
-    int32_t m_y = (int32_t)m_i * (int32_t)y_q15; /* Q15 x Q15 = Q30, |.| <= 2^30 */
+    int32_t m_y = fc_mul16_unsigned(y_q15, m_i); /* Q15 x Q15 = Q30, |.| <= 2^30 */
     if (halve) {
         m_y = (int32_t)fc_fx_extract((uint32_t)m_y, m_y < 0 ? UINT32_MAX : 0u, 1); /* a floor */
     }

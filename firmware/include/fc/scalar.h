@@ -679,7 +679,7 @@ FC_FX_INLINE fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_r
                                   fc_real16 a2, fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products,
                                   int frac_to)
 {
-    const fc_real sum = (fc_real)a0 * b0 + (fc_real)a1 * b1 + (fc_real)a2 * b2 + (fc_real)a3 * b3;
+    const fc_real sum = fc_dot2_16(a0, b0, a1, b1) + fc_dot2_16(a2, b2, a3, b3);
     return fc_narrow16(ar, sum, frac_products, frac_to);
 }
 
