@@ -4,16 +4,12 @@
 # position closer after the transient (settled_position_error_m) than the run
 # without (what the figure shows); with gnuplot on the PATH the PNG must be written.
 #   cmake -DFCSIL=... -DNUMERIC=... -DDURATION=S -DWORK=DIR -P check_accel_feedback.cmake
+include("${CMAKE_CURRENT_LIST_DIR}/fcsil_check.cmake")
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
-execute_process(
-  COMMAND "${FCSIL}" --scenario accel-feedback-mass-step --controller ssc --numeric "${NUMERIC}"
-          --duration "${DURATION}" --json "${WORK}/runs.json" --plot "${WORK}" --quiet
-  RESULT_VARIABLE status ERROR_VARIABLE err)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
-endif()
-file(READ "${WORK}/runs.json" json)
+fcsil_run(OUT_JSON "${WORK}/runs.json"
+          ARGS --scenario accel-feedback-mass-step --controller ssc --numeric "${NUMERIC}"
+               --duration "${DURATION}" --plot "${WORK}")
 string(JSON runs LENGTH "${json}" results)
 if(NOT runs EQUAL 2)
   message(FATAL_ERROR "${runs} runs in the JSON, 2 expected (with and without the feedback)")
@@ -37,12 +33,4 @@ endif()
 if(NOT settled_0 LESS settled_1)
   message(FATAL_ERROR "with the feedback the position error is not smaller: ${settled_0} >= ${settled_1}")
 endif()
-find_program(GNUPLOT gnuplot)
-if(GNUPLOT)
-  if(NOT EXISTS "${WORK}/accel-feedback-ssc-${NUMERIC}.png")
-    message(FATAL_ERROR "accel-feedback-ssc-${NUMERIC}.png not written")
-  endif()
-  message(STATUS "accel-feedback-ssc-${NUMERIC}.png written")
-else()
-  message(STATUS "gnuplot not found: the PNG is not checked")
-endif()
+fcsil_check_png("${WORK}/accel-feedback-ssc-${NUMERIC}.png")

@@ -3,18 +3,14 @@
 # --plot: every run must end with 0 NaN outputs, and with gnuplot on the PATH
 # the figure's PNG must be written.
 #   cmake -DFCSIL=... -DSCENARIO=... -DFIGURE=4.5 -DNUMERIC=... -DDURATION=S -DWORK=DIR -P check_figure.cmake
+include("${CMAKE_CURRENT_LIST_DIR}/fcsil_check.cmake")
 set(controllers pid ssc ssc-adaptive)
 list(JOIN controllers "," controller_list)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
-execute_process(
-  COMMAND "${FCSIL}" --scenario "${SCENARIO}" --controller "${controller_list}" --numeric "${NUMERIC}"
-          --duration "${DURATION}" --json "${WORK}/runs.json" --plot "${WORK}" --quiet
-  RESULT_VARIABLE status ERROR_VARIABLE err)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
-endif()
-file(READ "${WORK}/runs.json" json)
+fcsil_run(OUT_JSON "${WORK}/runs.json"
+          ARGS --scenario "${SCENARIO}" --controller "${controller_list}" --numeric "${NUMERIC}"
+               --duration "${DURATION}" --plot "${WORK}")
 string(JSON runs LENGTH "${json}" results)
 list(LENGTH controllers expected)
 if(NOT runs EQUAL expected)
@@ -30,12 +26,4 @@ foreach(i RANGE ${last})
     message(FATAL_ERROR "${variant}: ${nan} NaN outputs")
   endif()
 endforeach()
-find_program(GNUPLOT gnuplot)
-if(GNUPLOT)
-  if(NOT EXISTS "${WORK}/fig${FIGURE}-${NUMERIC}.png")
-    message(FATAL_ERROR "fig${FIGURE}-${NUMERIC}.png not written")
-  endif()
-  message(STATUS "fig${FIGURE}-${NUMERIC}.png written")
-else()
-  message(STATUS "gnuplot not found: the PNG is not checked")
-endif()
+fcsil_check_png("${WORK}/fig${FIGURE}-${NUMERIC}.png")

@@ -3,13 +3,9 @@
 # touchdown faster than SPEED_MAX or any bounce.
 #   cmake -DFCSIL=... -DSCENARIO=m600-deck -DCONTROLLER=ssc -DNUMERIC=float|fixed -DRUNS=20
 #         -DSPEED_MAX=0.15 -DOUT=... -P check_landing_campaign.cmake
-execute_process(COMMAND "${FCSIL}" --scenario ${SCENARIO} --controller ${CONTROLLER} --numeric ${NUMERIC}
-                        --runs ${RUNS} --seed 1 --json "${OUT}" --quiet
-                RESULT_VARIABLE status ERROR_VARIABLE err)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
-endif()
-file(READ "${OUT}" json)
+include("${CMAKE_CURRENT_LIST_DIR}/fcsil_check.cmake")
+fcsil_run(OUT_JSON "${OUT}"
+          ARGS --scenario ${SCENARIO} --controller ${CONTROLLER} --numeric ${NUMERIC} --runs ${RUNS} --seed 1)
 string(JSON runs GET "${json}" runs)
 string(JSON diverged GET "${json}" diverged_runs)
 string(JSON nan_runs GET "${json}" nan_output_runs)

@@ -1,12 +1,8 @@
 # Monte-Carlo: --runs 3 --seed 11 gives per-metric min <= median <= p95 <= max,
 # the worst seed among 11..13, three per-run entries with distinct metrics.
 #   cmake -DFCSIL=... -DOUT=... -P check_montecarlo.cmake
-execute_process(COMMAND "${FCSIL}" --scenario cf2-pad --controller ssc --duration 8 --runs 3 --seed 11 --json "${OUT}" --quiet
-                RESULT_VARIABLE status ERROR_VARIABLE err)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
-endif()
-file(READ "${OUT}" json)
+include("${CMAKE_CURRENT_LIST_DIR}/fcsil_check.cmake")
+fcsil_run(OUT_JSON "${OUT}" ARGS --scenario cf2-pad --controller ssc --duration 8 --runs 3 --seed 11)
 string(JSON runs GET "${json}" runs)
 string(JSON n LENGTH "${json}" per_run)
 if(NOT runs EQUAL 3 OR NOT n EQUAL 3)

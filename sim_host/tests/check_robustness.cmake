@@ -7,13 +7,8 @@
 if(NOT DEFINED SCENARIO)
   set(SCENARIO robustness)
 endif()
-execute_process(COMMAND "${FCSIL}" --scenario ${SCENARIO} --numeric ${NUMERIC} --runs ${RUNS} --seed 1
-                        --json "${OUT}" --quiet
-                RESULT_VARIABLE status ERROR_VARIABLE err)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "fc-sil failed (${status}): ${err}")
-endif()
-file(READ "${OUT}" json)
+include("${CMAKE_CURRENT_LIST_DIR}/fcsil_check.cmake")
+fcsil_run(OUT_JSON "${OUT}" ARGS --scenario ${SCENARIO} --numeric ${NUMERIC} --runs ${RUNS} --seed 1)
 string(JSON runs GET "${json}" runs)
 string(JSON n LENGTH "${json}" per_run)
 string(JSON diverged GET "${json}" diverged_runs)
