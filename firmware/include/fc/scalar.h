@@ -408,6 +408,8 @@ FC_FX_INLINE fc_real fc_fx_symmetric(fc_arith *ar, int32_t value, bool overflowe
     return value;
 }
 
+/* a + b and a - b, saturated. (port: FC_PORT_ADD) */
+#ifndef FC_PORT_ADD
 FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
 {
     int32_t sum;
@@ -421,6 +423,7 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     const bool overflowed = __builtin_sub_overflow(a, b, &difference);
     return fc_fx_symmetric(ar, difference, overflowed, a >= 0);
 }
+#endif
 
 FC_FX_INLINE fc_real fc_neg(fc_arith *ar, fc_real a)
 {

@@ -356,6 +356,48 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
     return product;
 }
 
+/* fc_add, fc_sub: the 32-bit sum by ADD/ADC (SUB/SBC) and the overflow read
+ * from the V flag (avr-gcc 5.4 forms __builtin_add_overflow by comparing the
+ * sum with an operand, and the symmetric range's -2^31 by a second compare
+ * chain). On overflow the wrapped sum has the sign opposite to the true one:
+ * +INT32_MAX when it reads negative, -INT32_MAX when it reads positive. A sum
+ * of exactly -2^31 is -INT32_MAX, saturated. OP is "add"/"sub" and CARRY
+ * "adc"/"sbc". FLAG (r16-r31, for LDI) is 1 when it saturated. */
+#define FC_AVR_ADD_SATURATED(OP, CARRY)                                                        \
+    "ldi %1, 0\n\t" OP " %A0, %A2\n\t" CARRY " %B0, %B2\n\t" CARRY " %C0, %C2\n\t" CARRY       \
+    " %D0, %D2\n\t"                                                                            \
+    "brvs 1f\n\t"                                                                              \
+    "cp %A0, __zero_reg__\n\tcpc %B0, __zero_reg__\n\tcpc %C0, __zero_reg__\n\t"               \
+    "ldi %1, 0x80\n\tcpc %D0, %1\n\tldi %1, 0\n\tbrne 3f\n\t"                                  \
+    "ldi %1, 1\n\tinc %A0\n\trjmp 3f\n"                                                        \
+    "1:\n\tldi %1, 1\n\tclr %A0\n\tsbrs %D0, 7\n\trjmp 2f\n\t"                                 \
+    "dec %A0\n\tmov %B0, %A0\n\tmov %C0, %A0\n\tmov %D0, %A0\n\tlsr %D0\n\trjmp 3f\n"          \
+    "2:\n\tinc %A0\n\tclr %B0\n\tclr %C0\n\tclr %D0\n\tsec\n\tror %D0\n"                       \
+    "3:"
+
+#define FC_PORT_ADD
+FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+{
+    fc_real sum = a;
+    uint8_t saturated;
+    __asm__(FC_AVR_ADD_SATURATED("add", "adc") : "+r"(sum), "=&d"(saturated) : "r"(b));
+    if (saturated != 0u) {
+        ar->saturated = 1u;
+    }
+    return sum;
+}
+
+FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    fc_real difference = a;
+    uint8_t saturated;
+    __asm__(FC_AVR_ADD_SATURATED("sub", "sbc") : "+r"(difference), "=&d"(saturated) : "r"(b));
+    if (saturated != 0u) {
+        ar->saturated = 1u;
+    }
+    return difference;
+}
+
 /* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
  * does not hold another inlined multiply and narrowing per such site */
 #define FC_FX_FAR_INLINE 0

@@ -18,7 +18,8 @@
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
  * 16) against the rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared, fc_mul16 (MULS/MULSU
- * assembly) against the C product of its operands; the out-of-line products
+ * assembly) against the C product of its operands, fc_add and fc_sub (ADD
+ * and the V flag) against the int64_t sum saturated; the out-of-line products
  * that every other unit calls on the ATmega (fc_fx_mul_outline,
  * fc_fx_dot2/3/4_outline: a run-time shift narrowed by bytes and bits)
  * against the int64_t form.
@@ -176,6 +177,8 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_NARROW16 19u
 #define OP_MUL16 20u
 #define OP_MUL_BY16 21u
+#define OP_ADD 22u
+#define OP_SUB 23u
 
 /* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
 static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
@@ -248,8 +251,28 @@ static void compare_mul_by16(uint8_t shift, int32_t a, int16_t b, int32_t got, u
     check(OP_MUL_BY16, shift, got, got_sat, want, r.saturated);
 }
 
+/* fc_add and fc_sub (the port's ADD/SUB with the V flag) against the sum
+ * in int64_t saturated at +-INT32_MAX (so -2^31 saturates too) */
+static __attribute__((noinline)) int32_t ref_sum(fc_arith *ar, int64_t sum)
+{
+    return fc_fx_saturate(ar, sum);
+}
+
+static void compare_add_sub(int32_t x, int32_t y)
+{
+    fc_arith got = {0u}, want = {0u};
+    int32_t value = fc_add(&got, x, y);
+    check(OP_ADD, 0u, value, got.saturated, ref_sum(&want, (int64_t)x + y), want.saturated);
+    got.saturated = 0u;
+    want.saturated = 0u;
+    value = fc_sub(&got, x, y);
+    check(OP_SUB, 0u, value, got.saturated, ref_sum(&want, (int64_t)x - y), want.saturated);
+}
+
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
+    compare_add_sub(a[0], b[0]);
+    compare_add_sub(a[2], b[2]);
     const int shift = (int)(rng_next() % 32u);
     fc_arith got = {0u}, want = {0u};
     int32_t value = fc_div(&got, a[0], b[0], shift);
