@@ -56,7 +56,7 @@ static fc_quat level_at_heading(fc_real heading_cos, fc_real heading_sin)
 /* The velocity output's own parameters (the law's are its init's). */
 static bool velocity_output_valid(const fc_controller_params *p)
 {
-    if (p->output != FC_OUTPUT_ROTORS && p->output != FC_OUTPUT_VELOCITY) {
+    if (p->output != FC_OUTPUT_ROTORS && (p->output != FC_OUTPUT_VELOCITY || !FC_VELOCITY_OUTPUT)) {
         return false;
     }
     return fc_in_range(p->velocity.yaw_gain_per_s, FC_INT(0, RATIO), FC_INT(20, RATIO)) &&
@@ -122,7 +122,7 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
         fc_vertical_estimator_init(&ctl->vertical, &p->vertical),
         fc_land_detector_init(&ctl->land_detector, &p->land_detector),
         fc_failsafe_init(&ctl->failsafe, &p->failsafe),
-        fc_trajectory_tracking_init(&ctl->tracking, &p->velocity.tracking),
+        FC_VELOCITY_OUTPUT ? fc_trajectory_tracking_init(&ctl->tracking, &p->velocity.tracking) : FC_INIT_OK,
         velocity_output_valid(p) ? FC_INIT_OK : FC_INIT_BAD_PARAM,
     };
     for (unsigned i = 0u; i < sizeof parts / sizeof parts[0]; i++) {
@@ -898,7 +898,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
         tm->attitude_setpoint = tm->attitude; /* no setpoint: the attitude itself */
         return status;
     }
-    if (ctl->p.output == FC_OUTPUT_VELOCITY) {
+    if (FC_VELOCITY_OUTPUT && ctl->p.output == FC_OUTPUT_VELOCITY) {
         return status | velocity_output(ctl, &c, fly_reference, thrust_n, out);
     }
     if (fly_reference) {
