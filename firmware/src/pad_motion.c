@@ -100,8 +100,8 @@ static fc_real series_in_x2(fc_arith *ar, fc_real x2, const fc_real *c, unsigned
 /* sin and cos of a step angle x, UNIT. The angle is small in practice
  * (w_k <= 12.6 rad/s: 0.13 rad at dt 0.01 s): for |x| <= 0.5 their series;
  * beyond (dt up to 0.1 s) fc_sincos. Every adapted frequency needs one pair,
- * all in the same minor frame: on the Cortex-M4F the series take ~40 cycles
- * against ~140 for libm's sinf and cosf (platform/cortex-m4-bench). */
+ * all in the same minor frame: on the Cortex-M4F the series take a fraction
+ * of libm's sinf and cosf (tools/bench.sh). */
 static void step_sin_cos(fc_arith *ar, fc_real x_rad, fc_real *sin_out, fc_real *cos_out)
 {
     if (fc_abs(ar, x_rad) > FC_C(0.5f, ANGLE)) {

@@ -100,10 +100,9 @@ fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
     if (OUTLINE_RUNTIME_SHIFT(shift) || OUTLINE_FAR_SHIFT(shift, 0)) {
         const fc_fx_wide product = fc_fx_mul_wide(a, b);
-        /* the shifts of most calls (the ATmega bench's Crazyflie step: 30,
-         * 32, 22 and 24, 13.4 of its 14 calls a step) narrowed with the
-         * shift a constant, as inline: no shift loops (the same functions,
-         * so the same values) */
+        /* the library's most frequent shifts (UNIT x UNIT -> UNIT, the far
+         * 32, and 22, 24) narrowed with the shift a constant, as inline: no
+         * shift loops (the same functions, so the same values) */
         switch (shift) {
         case FC_UNIT_FRAC:
             return fc_fx_narrow_wide(ar, product, FC_UNIT_FRAC);
@@ -124,13 +123,13 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
 {
     if (OUTLINE_RUNTIME_SHIFT(shift)) {
         const fc_fx_wide sum = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        /* as fc_fx_mul_outline: the bench step's 30 (4 of its 5 calls) */
+        /* as fc_fx_mul_outline: the quaternion products' 30 */
         return shift == FC_UNIT_FRAC ? fc_fx_narrow_wide(ar, sum, FC_UNIT_FRAC) : narrow_wide_runtime(ar, sum, shift);
     }
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
         const fc_fx_wide quarters = fc_fx_quarters2(a0, b0, a1, b1);
-        /* and its 36 (the fifth); 32 is the allocation's ratio comparison
-         * (the hexa's saturated steps, 1.9 calls a step) */
+        /* and 36; 32 is the allocation's ratio comparison (its saturated
+         * steps) */
         switch (shift) {
         case 36:
             return fc_fx_narrow_quarters(ar, quarters, 36);
@@ -597,7 +596,7 @@ static void rsqrt_knots(uint32_t k, uint16_t *at_start, uint16_t *at_end)
  * difference times the position in the segment (Q16), a 16 x 16-bit
  * product, give Q30. (The constant shifts by fc_fx_extract: a C shift by 25
  * or 9 is a loop of that many rounds on the ATmega at -Os.) Inlined in its
- * two callers: a call costs the ATmega's step some 60 cycles. */
+ * two callers, both on the ATmega's step. */
 static inline __attribute__((always_inline)) uint32_t rsqrt_chord_q30(uint32_t m_q30)
 {
     uint16_t knot_start, knot_end;
@@ -1109,8 +1108,8 @@ void fc_sincos(fc_arith *ar, fc_real angle_rad, fc_real *sin_out, fc_real *cos_o
 {
     (void)ar;
     /* two calls: avr-libc has no sincos, and newlib's sincosf (Cortex-M4F)
-     * is slower than its sinf and cosf (est. +50 cycles a pair); on the host
-     * gcc pairs them into glibc's sincosf itself */
+     * is slower than its sinf and cosf (tools/bench.sh); on the host gcc
+     * pairs them into glibc's sincosf itself */
     *sin_out = (fc_real)sinf(angle_rad);
     *cos_out = (fc_real)cosf(angle_rad);
 }

@@ -269,34 +269,66 @@ typedef struct fc_controller_settings {
     fc_real k_p_z_per_s;                /* RATIO: velocity.tracking.k_p_per_s.z */
 } fc_controller_settings;
 
-typedef struct fc_controller {
-    fc_controller_settings p;
+/* The parts of the controller's own state, one job each (controller.c has
+ * a section per part). */
+
+/* The mission: the command flown, arming. */
+typedef struct fc_controller_mission {
     fc_controller_command last_command; /* the mode flown at the last step (DISARM: none) */
     fc_controller_command mode;         /* the newest valid command: what an unknown one keeps */
     bool armed;
     bool await_disarm;                  /* landed by the failsafe: no arming before a DISARM */
-    uint8_t last_saturation;
-    fc_quat last_attitude;
+} fc_controller_mission;
+
+/* The input guard: what the step flies on while an input is not usable. */
+typedef struct fc_controller_guard {
+    fc_quat last_attitude;              /* the attitude in use at the last step */
     fc_quat last_external_attitude;     /* the platform's, for a rate without a gyro */
-    fc_real inv_dt_per_s;               /* GAIN: 1 / dt */
-    fc_real last_thrust_n;              /* FORCE */
     fc_real reckoned_z_m;               /* LENGTH: the height flown on while inputs are held */
-    fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
-    fc_real gear_height_age_s;          /* TIME: its age */
-    bool gear_height_known;
-    /* rate groups (see the top of this file) */
-    uint8_t minor_frame;                /* this step's place in the major frame, 0..outer_divider - 1 */
+} fc_controller_guard;
+
+/* The rate groups (fc_controller_set_outer_divider): this step's place in
+ * the major frame, and what the outer group's position loop holds for it. */
+typedef struct fc_controller_rate_groups {
+    uint8_t minor_frame;                /* 0..outer_divider - 1 */
     fc_quat held_attitude_setpoint;     /* the position loop's, held for the major frame */
     fc_step_status held_position_status; /* its status bits, reported while it is held */
     bool have_attitude_setpoint;        /* held_attitude_setpoint is the running loop's */
-    fc_pad_motion_estimate pad_estimate; /* the pad model's newest output */
-    fc_real pad_estimate_age_s;         /* DT: since the pad model made it */
-    fc_real pending_pad_height_m;       /* LENGTH: the newest range sample as pad height, waiting */
-    fc_real pending_pad_age_s;          /* DT: since it was taken */
-    bool pad_sample_pending;
-    /* the heading of the setpoint, kept between steps (trigonometry only when it changes) */
-    fc_real heading_rad, heading_cos, heading_sin;
-    fc_quat heading_level;              /* level at that heading */
+} fc_controller_rate_groups;
+
+/* The range finder's samples: the gear's height above the pad, and the
+ * pad's height waiting for the pad model's minor frame; the model's newest
+ * estimate. */
+typedef struct fc_controller_pad_samples {
+    fc_real gear_height_m;              /* LENGTH: newest range sample as gear height */
+    fc_real gear_height_age_s;          /* TIME: its age */
+    bool gear_height_known;
+    fc_real pending_height_m;           /* LENGTH: the newest range sample as pad height, waiting */
+    fc_real pending_age_s;              /* DT: since it was taken */
+    bool pending;
+    fc_pad_motion_estimate estimate;    /* the pad model's newest output */
+    fc_real estimate_age_s;             /* DT: since the pad model made it */
+} fc_controller_pad_samples;
+
+/* The heading of the setpoint, kept between steps: trigonometry only when
+ * it changes. */
+typedef struct fc_controller_heading {
+    fc_real yaw_rad;                    /* ANGLE */
+    fc_real yaw_cos, yaw_sin;           /* UNIT */
+    fc_quat level;                      /* level at that heading */
+} fc_controller_heading;
+
+typedef struct fc_controller {
+    fc_controller_settings p;
+    fc_controller_mission mission;
+    fc_controller_guard guard;
+    fc_controller_rate_groups groups;
+    fc_controller_pad_samples pad;
+    fc_controller_heading heading;
+    /* what the loops hand back to the next step */
+    uint8_t last_saturation;            /* the allocation's FC_SAT_* */
+    fc_real last_thrust_n;              /* FORCE: the body thrust in force */
+    fc_real inv_dt_per_s;               /* GAIN: 1 / dt */
     fc_real step_s;                     /* TIME: dt */
     bool ready;
     fc_arith ar;

@@ -109,7 +109,7 @@ FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, i
 }
 
 /* True when every component is a finite number (always true in fixed).
- * Inlined: ten calls a step, each a few instructions (the M4F profile). */
+ * Inlined: called on every step, a few instructions each. */
 FC_VEC3_INLINE bool fc_vec3_is_finite(fc_vec3 v)
 {
     return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
