@@ -13,7 +13,7 @@
 
 #include "fc/controller.h"
 #include "fsw_adapter.h"
-#include "pil_wire.h" /* platform/atmega/pil: the loop internals, the PIL wire */
+#include "pil_wire.h" /* tools/pil: the PIL wire, shared with the ATmega image */
 
 #ifndef FSW_BACKEND
 #error "FSW_BACKEND (float or fixed) must be defined"

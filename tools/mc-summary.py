@@ -20,6 +20,14 @@ def nearest_rank(sorted_values, fraction):
     return sorted_values[rank - 1]
 
 
+def campaigns(paths):
+    """Each campaign of the files: one, or (several backends or variants) a list under "results"."""
+    for path in paths:
+        with open(path) as f:
+            d = json.load(f)
+        yield from d.get("results", [d])
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("json_files", nargs="+")
@@ -28,9 +36,7 @@ def main():
     args = ap.parse_args()
     metrics = [("touchdown_rel_speed_mps", "high"), ("touchdown_time_s", "high"),
                ("min_clearance_m", "low"), ("bounces", "high"), ("max_tilt_deg", "high")]
-    for path in args.json_files:
-        with open(path) as f:
-            d = json.load(f)
+    for d in campaigns(args.json_files):
         runs = d["per_run"]
         print(f"## {d['scenario']} ({d['backend']}, {d['variant']}): {len(runs)} runs from seed {d['seed']}")
         print("| metric | runs with it | median | p99 (p1 for clearance) | worst (seed) |")
