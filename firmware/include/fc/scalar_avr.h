@@ -375,16 +375,22 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
     "2:\n\tinc %A0\n\tclr %B0\n\tclr %C0\n\tclr %D0\n\tsec\n\tror %D0\n"                       \
     "3:"
 
+/* the saturation of FC_AVR_ADD_SATURATED recorded in the caller's record */
+FC_FX_INLINE fc_real fc_avr_recorded(fc_arith *ar, fc_real value, uint8_t saturated)
+{
+    if (saturated != 0u) {
+        ar->saturated = 1u;
+    }
+    return value;
+}
+
 #define FC_PORT_ADD
 FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
 {
     fc_real sum = a;
     uint8_t saturated;
     __asm__(FC_AVR_ADD_SATURATED("add", "adc") : "+r"(sum), "=&d"(saturated) : "r"(b));
-    if (saturated != 0u) {
-        ar->saturated = 1u;
-    }
-    return sum;
+    return fc_avr_recorded(ar, sum, saturated);
 }
 
 FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
@@ -392,10 +398,7 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     fc_real difference = a;
     uint8_t saturated;
     __asm__(FC_AVR_ADD_SATURATED("sub", "sbc") : "+r"(difference), "=&d"(saturated) : "r"(b));
-    if (saturated != 0u) {
-        ar->saturated = 1u;
-    }
-    return difference;
+    return fc_avr_recorded(ar, difference, saturated);
 }
 
 /* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
