@@ -85,9 +85,15 @@ static void step(cf_app *app, const cf_sample *s, const cf_tuning *tuning, const
     const fc_controller_command command = cf_command(cmd->mission, cmd->track, s);
     const bool began = cf_session_begin(ss, command, s, tuning);
     choose_controller(app, began, tuning);
+    const bool flies = !app->select_pending && app->live_usable;
+    if (!flies) {
+        /* motors off: the command begins (setpoint and approach from the
+         * vehicle) at the first step that flies */
+        cf_session_reset(ss);
+    }
     cf_range_step(ss, s->range_mm, tuning);
     fc_step_status status = FC_STEP_NOT_READY;
-    if (!app->select_pending && app->live_usable) {
+    if (flies) {
         if (command != FC_COMMAND_DISARM) {
             cf_setpoint_step(ss, s, tuning, CF_STEP_DT_S);
         }
