@@ -1021,7 +1021,7 @@ static flow *flow_new(double x, double y, double z)
     f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
     assert_true(cf_app_worker(&f.app, &f.tuning)); /* the app task at boot */
     assert_false(cf_app_worker(&f.app, &f.tuning));
-    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    assert_int_equal(cf_app_spare_result(&f.app), FC_INIT_OK);
     plant_at(&f.pl, x, y, z, 0.0);
     memset(&f.s, 0, sizeof f.s);
     sp_clear(&f.s);
@@ -1227,13 +1227,22 @@ static void test_flow_airframe_cf21bl(void **state)
     cf_airframe bad = cf21bl_airframe;
     bad.thrust_min_n = bad.thrust_max_n;
     assert_false(cf_airframe_use(&bad));
+    /* the cf2 with the thrust upgrade kit (CONFIG_CRAZYFLIE_THRUST_UPGRADE_KIT) */
+    const cf_airframe upgrade_kit = {0.0325f, 0.046f, 0.18f, 0.01922636758983749f, 0.0051648627905205285f};
+    assert_true(cf_airframe_use(&upgrade_kit));
+    t = (cf_tuning)CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    near_abs(D(p.altitude.thrust_max_n, FORCE), 0.72, 1e-3);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    assert_true(cf_airframe_use(&cf21bl_airframe));
     /* fly it: a cf21bl plant */
     static flow f;
     memset(&f, 0, sizeof f);
     cf_app_reset(&f.app);
     f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
     assert_true(cf_app_worker(&f.app, &f.tuning));
-    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    assert_int_equal(cf_app_spare_result(&f.app), FC_INIT_OK);
     plant_at(&f.pl, 0.0, 0.0, 0.0, 0.0);
     const double scale = 0.0393 / 0.027 * (0.05 / 0.046) * (0.05 / 0.046);
     f.pl.mass_kg = 0.0393;
@@ -1335,6 +1344,28 @@ static void test_flow_in_flight_switch(void **state)
         flow_tick(f);
     }
     assert_false(f->app.reinit_pending);
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    near_abs(f->pl.p[2], 0.5, 0.03);
+    /* a selection while the app task makes the next spare (a parameter just
+     * changed): the published one flies at once, and the app task writes only
+     * the other slot, then publishes it */
+    f->tuning.h_kp *= 1.1f;
+    const uint8_t published = f->app.published;
+    static fc_controller published_spare;
+    memcpy(&published_spare, &f->app.spare[published - 1u], sizeof published_spare);
+    cf_app_select(&f->app);
+    for (int i = 0; i < 100; i++) {
+        flow_tick(f);
+    }
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    assert_true(cf_app_worker(&f->app, &f->tuning));
+    assert_int_not_equal(f->app.published, published);
+    assert_memory_equal(&published_spare, &f->app.spare[published - 1u], sizeof published_spare);
+    assert_int_equal(cf_app_spare_result(&f->app), FC_INIT_OK);
+    f->cmd.reinit = true; /* the new gains, still without a gap */
+    for (int i = 0; i < 1000; i++) {
+        flow_tick(f);
+    }
     assert_int_equal(f->zero_thrust_ticks, 0);
     near_abs(f->pl.p[2], 0.5, 0.03);
 }
