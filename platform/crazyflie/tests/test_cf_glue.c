@@ -5,8 +5,9 @@
  * build has CRAZYFLIE_BASE, else tests/fw-types), PARAM written and LOG read
  * by name through their tables, the app task run as appMain. The setpoints
  * are the firmware's sequences: the high-level commander's trajectory
- * setpoints, MotionCommander's hover setpoints, the supervisor's level-out
- * and null setpoint, a selection of the controller in flight.
+ * setpoints, MotionCommander's hover setpoints, cflib's world velocity
+ * setpoints, the supervisor's level-out and null setpoint, a selection of
+ * the controller in flight.
  */
 #include <stdarg.h>
 #include <stdio.h>
@@ -280,6 +281,19 @@ static void sp_hover(setpoint_t *sp, double vx, double vy, double yaw_rate_dps, 
     sp->velocity_body = true;
 }
 
+/* crtp_commander_generic.c's velocity decoder (cflib's
+ * send_velocity_world_setpoint): x, y, z velocity in the world, yaw rate. */
+static void sp_velocity_world(setpoint_t *sp, double vx, double vy, double vz, double yaw_rate_dps)
+{
+    memset(sp, 0, sizeof *sp);
+    sp->mode.x = sp->mode.y = sp->mode.z = modeVelocity;
+    sp->velocity.x = (float)vx;
+    sp->velocity.y = (float)vy;
+    sp->velocity.z = (float)vz;
+    sp->mode.yaw = modeVelocity;
+    sp->attitudeRate.yaw = (float)yaw_rate_dps;
+}
+
 /* supervisor.c, supervisorStateWarningLevelOut: the setpoint as it was, with
  * x, y disabled, roll and pitch 0, yaw at rate 0. */
 static void sp_level_out(setpoint_t *sp)
@@ -460,6 +474,33 @@ static void test_glue_motion_commander(void **state)
     assert_int_equal(v->calls_no_thrust, 0);
 }
 
+/* World-frame velocity setpoints at 10 Hz: 0.2 m/s along x and 0.1 m/s up
+ * for 2 s while turning at 30 deg/s, then zero: the vehicle ends 0.4 m
+ * along x and 0.2 m higher, turned 60 deg. */
+static void test_glue_velocity_world(void **state)
+{
+    (void)state;
+    vehicle *v = boot(0.0, 0.0, 0.5);
+    param_set_u8("track", 1u);
+    for (int i = 0; i < 5000; i++) {
+        if (i % 100 == 0) {
+            const bool moving = i >= 1000 && i < 3000;
+            sp_velocity_world(&v->sp, moving ? 0.2 : 0.0, 0.0, moving ? 0.1 : 0.0, moving ? 30.0 : 0.0);
+        }
+        stabilizer_tick(v);
+        if (i == 999) {
+            /* zero velocities from the start: it holds where it began */
+            assert_true(horizontal_distance(v, 0.0, 0.0) < 0.02);
+            near_abs(v->pl.p[2], 0.5, 0.02);
+        }
+    }
+    near_abs(v->pl.p[0], 0.4, 0.05);
+    near_abs(v->pl.p[1], 0.0, 0.05);
+    near_abs(v->pl.p[2], 0.7, 0.03);
+    near_abs(plant_yaw_rad(&v->pl), PI / 3, 0.05);
+    assert_int_equal(v->calls_no_thrust, 0);
+}
+
 /* The commander's setpoints stop: the last one repeats for 0.5 s, the
  * supervisor levels out until 2 s, then its null setpoint. The vehicle
  * stays where it was (not where the command began), keeps its height, and
@@ -578,6 +619,7 @@ int main(void)
         cmocka_unit_test(test_glue_log),
         cmocka_unit_test(test_glue_high_level_commander),
         cmocka_unit_test(test_glue_motion_commander),
+        cmocka_unit_test(test_glue_velocity_world),
         cmocka_unit_test(test_glue_watchdog_level_out_then_cut),
         cmocka_unit_test(test_glue_in_flight_switch),
         cmocka_unit_test(test_glue_hold_track_land),
