@@ -1,5 +1,5 @@
 /* task.h - the task calls of the glue, defined by the test: the app task's
- * loop (appMain) returns to the test from its wait (cf_test_task.c). */
+ * loop (appMain) returns to the test from its wait (test_cf_glue.c). */
 #ifndef CF_TEST_TASK_H
 #define CF_TEST_TASK_H
 
