@@ -6,9 +6,15 @@
 void cf_app_reset(cf_app *app)
 {
     memset(app, 0, sizeof *app);
-    app->spare_result = (uint8_t)FC_INIT_BAD_PARAM;
+    app->spare_result[0] = app->spare_result[1] = (uint8_t)FC_INIT_BAD_PARAM;
     cf_session_reset(&app->session);
     app->telemetry.command = (uint8_t)FC_COMMAND_DISARM;
+}
+
+uint8_t cf_app_spare_result(const cf_app *app)
+{
+    const uint8_t published = app->published;
+    return published != 0u ? app->spare_result[published - 1u] : (uint8_t)FC_INIT_BAD_PARAM;
 }
 
 bool cf_app_worker(cf_app *app, cf_tuning *tuning)
@@ -16,20 +22,21 @@ bool cf_app_worker(cf_app *app, cf_tuning *tuning)
     (void)cf_tuning_prepare(tuning);
     cf_tuning snapshot;
     memcpy(&snapshot, tuning, sizeof snapshot);
-    if (app->spare_ready && memcmp(&snapshot, &app->spare_tuning, sizeof snapshot) == 0) {
+    const uint8_t published = app->published;
+    if (published != 0u && memcmp(&snapshot, &app->spare_tuning[published - 1u], sizeof snapshot) == 0) {
         return false;
     }
-    app->spare_ready = false;
-    __sync_synchronize();
+    /* the slot the stabilizer does not read */
+    const uint8_t slot = published == 1u ? 1u : 0u;
     fc_init_result result = FC_INIT_BAD_PARAM;
     /* the library's own approach offset is 0: the app shapes the approach (cf_track_trajectory) */
     if (cf_params_from_tuning(&snapshot, 0.0f, &app->params)) {
-        result = fc_controller_init(&app->spare, &app->params);
+        result = fc_controller_init(&app->spare[slot], &app->params);
     }
-    memcpy(&app->spare_tuning, &snapshot, sizeof snapshot);
-    app->spare_result = (uint8_t)result;
+    memcpy(&app->spare_tuning[slot], &snapshot, sizeof snapshot);
+    app->spare_result[slot] = (uint8_t)result;
     __sync_synchronize();
-    app->spare_ready = true;
+    app->published = (uint8_t)(slot + 1u);
     return true;
 }
 
@@ -44,26 +51,32 @@ void cf_app_select(cf_app *app)
     app->tick_phase = 0u;
 }
 
-/* The live controller starts over as a copy of the spare. */
+/* The live controller starts over as a copy of the published spare. */
 static void take_spare(cf_app *app)
 {
-    memcpy(&app->live, &app->spare, sizeof app->live);
-    app->live_usable = app->spare_result == (uint8_t)FC_INIT_OK;
-    app->telemetry.init_result = app->spare_result;
+    const uint8_t slot = (uint8_t)(app->published - 1u);
+    memcpy(&app->live, &app->spare[slot], sizeof app->live);
+    app->live_usable = app->spare_result[slot] == (uint8_t)FC_INIT_OK;
+    app->telemetry.init_result = app->spare_result[slot];
+}
+
+static bool spare_ready(const cf_app *app)
+{
+    return app->published != 0u;
 }
 
 static bool spare_matches(const cf_app *app, const cf_tuning *tuning)
 {
-    return app->spare_ready && memcmp(&app->spare_tuning, tuning, sizeof *tuning) == 0;
+    return spare_ready(app) && memcmp(&app->spare_tuning[app->published - 1u], tuning, sizeof *tuning) == 0;
 }
 
-/* Which controller this step flies: a selection or a start takes the spare
- * (a start without a spare ready flies the live one, reset by its DISARM);
- * reinit takes it once it was made from the present tuning. */
+/* Which controller this step flies: a selection or a start takes the
+ * published spare (a start before the first flies the live one, reset by
+ * its DISARM); reinit takes it once it was made from the present tuning. */
 static void choose_controller(cf_app *app, bool began, const cf_tuning *tuning)
 {
     if (app->select_pending) {
-        if (app->spare_ready) {
+        if (spare_ready(app)) {
             take_spare(app);
             app->select_pending = false;
         }
@@ -72,7 +85,7 @@ static void choose_controller(cf_app *app, bool began, const cf_tuning *tuning)
             take_spare(app);
             app->reinit_pending = false;
         }
-    } else if (began && app->spare_ready) {
+    } else if (began && spare_ready(app)) {
         take_spare(app);
     } else {
         /* the live controller flies on */
@@ -85,9 +98,15 @@ static void step(cf_app *app, const cf_sample *s, const cf_tuning *tuning, const
     const fc_controller_command command = cf_command(cmd->mission, cmd->track, s);
     const bool began = cf_session_begin(ss, command, s, tuning);
     choose_controller(app, began, tuning);
+    const bool flies = !app->select_pending && app->live_usable;
+    if (!flies) {
+        /* motors off: the command begins (setpoint and approach from the
+         * vehicle) at the first step that flies */
+        cf_session_reset(ss);
+    }
     cf_range_step(ss, s->range_mm, tuning);
     fc_step_status status = FC_STEP_NOT_READY;
-    if (!app->select_pending && app->live_usable) {
+    if (flies) {
         if (command != FC_COMMAND_DISARM) {
             cf_setpoint_step(ss, s, tuning, CF_STEP_DT_S);
         }

@@ -27,6 +27,25 @@
 #include <stddef.h>
 
 #include "autoconf.h" /* first: without CONFIG_CONTROLLER_OOT, controller.h hides the prototypes below */
+
+#if !defined(CONFIG_CONTROLLER_OOT) || !defined(CONFIG_APP_ENABLE)
+#error "the fc app needs CONFIG_CONTROLLER_OOT=y and CONFIG_APP_ENABLE=y (see app-config)"
+#endif
+
+/* The platforms the app can fly: force and torque go through the quadrotor
+ * power distribution (power_distribution_quadrotor.c), in newtons only with
+ * the battery-compensated thrust curve of the cf2 or the cf21bl. Checked
+ * before any platform header, so that the reason is the first error. */
+#if defined(CONFIG_PLATFORM_FLAPPER) || defined(CONFIG_POWER_DISTRIBUTION_FLAPPER)
+#error "the fc app cannot fly the Flapper: its power distribution takes legacy control only (it asserts controlModeLegacy), and this app commands force and torque"
+#elif !defined(CONFIG_POWER_DISTRIBUTION_QUADROTOR)
+#error "the fc app needs the quadrotor power distribution (CONFIG_POWER_DISTRIBUTION_QUADROTOR): it is the one that takes controlModeForceTorque"
+#elif !defined(CONFIG_PLATFORM_CF2) && !defined(CONFIG_PLATFORM_CF21BL)
+#error "the fc app knows the airframe of the cf2 and cf21bl platforms only: platform_defaults has no calibrated thrust or torque constants for this one"
+#elif !defined(CONFIG_ENABLE_THRUST_BAT_COMPENSATED)
+#error "the fc app needs CONFIG_ENABLE_THRUST_BAT_COMPENSATED: without it THRUST_MAX and THRUST2TORQUE are placeholders and force mode is not in newtons (legacy PWM only)"
+#endif
+
 #include "FreeRTOS.h"
 #include "app.h"
 #include "controller.h"
@@ -41,23 +60,6 @@
 #include "cf_app.h"
 #include "cf_convert.h"
 #include "fc/controller.h"
-
-#if !defined(CONFIG_CONTROLLER_OOT) || !defined(CONFIG_APP_ENABLE)
-#error "the fc app needs CONFIG_CONTROLLER_OOT=y and CONFIG_APP_ENABLE=y (see app-config)"
-#endif
-
-/* The platforms the app can fly: force and torque go through the quadrotor
- * power distribution (power_distribution_quadrotor.c), in newtons only with
- * the battery-compensated thrust curve of the cf2 or the cf21bl. */
-#if defined(CONFIG_PLATFORM_FLAPPER) || defined(CONFIG_POWER_DISTRIBUTION_FLAPPER)
-#error "the fc app cannot fly the Flapper: its power distribution takes legacy control only (it asserts controlModeLegacy), and this app commands force and torque"
-#elif !defined(CONFIG_POWER_DISTRIBUTION_QUADROTOR)
-#error "the fc app needs the quadrotor power distribution (CONFIG_POWER_DISTRIBUTION_QUADROTOR): it is the one that takes controlModeForceTorque"
-#elif !defined(CONFIG_PLATFORM_CF2) && !defined(CONFIG_PLATFORM_CF21BL)
-#error "the fc app knows the airframe of the cf2 and cf21bl platforms only: platform_defaults has no calibrated thrust or torque constants for this one"
-#elif !defined(CONFIG_ENABLE_THRUST_BAT_COMPENSATED)
-#error "the fc app needs CONFIG_ENABLE_THRUST_BAT_COMPENSATED: without it THRUST_MAX and THRUST2TORQUE are placeholders and force mode is not in newtons (legacy PWM only)"
-#endif
 
 _Static_assert(modeDisable == CF_MODE_DISABLE && modeAbs == CF_MODE_ABS && modeVelocity == CF_MODE_VELOCITY,
                "stab_mode_t values differ");

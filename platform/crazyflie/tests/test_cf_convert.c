@@ -16,6 +16,7 @@
 
 #include "cf_app.h"
 #include "cf_convert.h"
+#include "cf_test_plant.h"
 
 #define D(x, KIND) val((x), FC_##KIND##_FRAC)
 #define PI 3.14159265358979323846
@@ -934,94 +935,6 @@ static void test_chain_land_then_hold_aborts(void **state)
 
 /* ---- the firmware's flows through the app (cf_app.c) and the library, closed loop ------------ */
 
-/* A Crazyflie for the flows: a rigid body under the app's body thrust and
- * moments (what the firmware's mixer makes of controlModeForceTorque), the
- * ground at z = 0, stepped at the stabilizer's 1 kHz; its mass is the cf2's
- * CF_MASS, heavier than the library's nominal 27 g. */
-#define PLANT_MASS_KG 0.029
-#define PLANT_G 9.81
-
-typedef struct plant {
-    double p[3], v[3];
-    double q[4]; /* w, x, y, z: body -> world */
-    double w[3]; /* body rate, rad/s */
-    double f_body_z; /* specific force along body z, m/s^2 (the accelerometer) */
-    double mass_kg;
-    double inertia[3]; /* kg m^2 */
-} plant;
-
-static void plant_at(plant *pl, double x, double y, double z, double yaw_rad)
-{
-    memset(pl, 0, sizeof *pl);
-    pl->p[0] = x;
-    pl->p[1] = y;
-    pl->p[2] = z;
-    pl->q[0] = cos(yaw_rad / 2);
-    pl->q[3] = sin(yaw_rad / 2);
-    pl->f_body_z = PLANT_G;
-    pl->mass_kg = PLANT_MASS_KG;
-    pl->inertia[0] = pl->inertia[1] = 1.66e-5;
-    pl->inertia[2] = 2.93e-5;
-}
-
-/* body z axis in the world: the third column of R(q) */
-static void plant_body_z(const plant *pl, double e[3])
-{
-    const double w = pl->q[0], x = pl->q[1], y = pl->q[2], z = pl->q[3];
-    e[0] = 2 * (x * z + w * y);
-    e[1] = 2 * (y * z - w * x);
-    e[2] = 1 - 2 * (x * x + y * y);
-}
-
-static double plant_yaw_rad(const plant *pl)
-{
-    const double w = pl->q[0], x = pl->q[1], y = pl->q[2], z = pl->q[3];
-    return atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-}
-
-static void plant_step(plant *pl, const cf_force_torque *ft, double dt)
-{
-    double e[3];
-    plant_body_z(pl, e);
-    const double a = (double)ft->thrust_n / pl->mass_kg;
-    pl->f_body_z = a;
-    for (int k = 0; k < 3; k++) {
-        pl->v[k] += (a * e[k] - (k == 2 ? PLANT_G : 0.0)) * dt;
-        pl->p[k] += pl->v[k] * dt;
-    }
-    if (pl->p[2] <= 0.0) {
-        /* on the ground: held there, level, still */
-        pl->p[2] = 0.0;
-        if (pl->v[2] < 0.0) {
-            pl->v[0] = pl->v[1] = pl->v[2] = 0.0;
-        }
-        pl->f_body_z = PLANT_G;
-    }
-    const double *J = pl->inertia;
-    double wdot[3];
-    const double Jw[3] = {J[0] * pl->w[0], J[1] * pl->w[1], J[2] * pl->w[2]};
-    const double gyro[3] = {pl->w[1] * Jw[2] - pl->w[2] * Jw[1], pl->w[2] * Jw[0] - pl->w[0] * Jw[2],
-                            pl->w[0] * Jw[1] - pl->w[1] * Jw[0]};
-    for (int k = 0; k < 3; k++) {
-        wdot[k] = ((double)ft->torque_nm[k] - gyro[k]) / J[k];
-    }
-    for (int k = 0; k < 3; k++) {
-        pl->w[k] += wdot[k] * dt;
-    }
-    const double *q = pl->q, *w = pl->w;
-    const double dq[4] = {-0.5 * (q[1] * w[0] + q[2] * w[1] + q[3] * w[2]), 0.5 * (q[0] * w[0] + q[2] * w[2] - q[3] * w[1]),
-                          0.5 * (q[0] * w[1] - q[1] * w[2] + q[3] * w[0]), 0.5 * (q[0] * w[2] + q[1] * w[1] - q[2] * w[0])};
-    double n = 0.0;
-    for (int k = 0; k < 4; k++) {
-        pl->q[k] += dq[k] * dt;
-        n += pl->q[k] * pl->q[k];
-    }
-    n = sqrt(n);
-    for (int k = 0; k < 4; k++) {
-        pl->q[k] /= n;
-    }
-}
-
 /* What cf_glue.c copies out of sensorData_t and state_t for this plant; the
  * setpoint fields are the caller's. */
 static void plant_sample(const plant *pl, cf_sample *s)
@@ -1089,18 +1002,6 @@ static void sp_level_out(cf_sample *s)
     s->sp_yaw_rate_dps = 0.0f;
 }
 
-/* A smooth move from a to b over t_s (a quintic, zero speed and acceleration at both ends), at time t. */
-static void smooth(double a, double b, double t_s, double t, double *p, double *v, double *acc)
-{
-    const double u = t <= 0 ? 0 : (t >= t_s ? 1 : t / t_s);
-    const double s5 = u * u * u * (10 - 15 * u + 6 * u * u);
-    const double d5 = 30 * u * u * (1 - u) * (1 - u) / t_s;
-    const double dd5 = 60 * u * (1 - 3 * u + 2 * u * u) / (t_s * t_s);
-    *p = a + (b - a) * s5;
-    *v = (b - a) * d5;
-    *acc = (b - a) * dd5;
-}
-
 typedef struct flow {
     cf_app app;
     cf_tuning tuning;
@@ -1120,7 +1021,7 @@ static flow *flow_new(double x, double y, double z)
     f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
     assert_true(cf_app_worker(&f.app, &f.tuning)); /* the app task at boot */
     assert_false(cf_app_worker(&f.app, &f.tuning));
-    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    assert_int_equal(cf_app_spare_result(&f.app), FC_INIT_OK);
     plant_at(&f.pl, x, y, z, 0.0);
     memset(&f.s, 0, sizeof f.s);
     sp_clear(&f.s);
@@ -1326,13 +1227,22 @@ static void test_flow_airframe_cf21bl(void **state)
     cf_airframe bad = cf21bl_airframe;
     bad.thrust_min_n = bad.thrust_max_n;
     assert_false(cf_airframe_use(&bad));
+    /* the cf2 with the thrust upgrade kit (CONFIG_CRAZYFLIE_THRUST_UPGRADE_KIT) */
+    const cf_airframe upgrade_kit = {0.0325f, 0.046f, 0.18f, 0.01922636758983749f, 0.0051648627905205285f};
+    assert_true(cf_airframe_use(&upgrade_kit));
+    t = (cf_tuning)CF_TUNING_INITIALIZER;
+    (void)cf_tuning_prepare(&t);
+    assert_true(cf_params_from_tuning(&t, 0.0f, &p));
+    near_abs(D(p.altitude.thrust_max_n, FORCE), 0.72, 1e-3);
+    assert_int_equal(fc_controller_init(&ctl, &p), FC_INIT_OK);
+    assert_true(cf_airframe_use(&cf21bl_airframe));
     /* fly it: a cf21bl plant */
     static flow f;
     memset(&f, 0, sizeof f);
     cf_app_reset(&f.app);
     f.tuning = (cf_tuning)CF_TUNING_INITIALIZER;
     assert_true(cf_app_worker(&f.app, &f.tuning));
-    assert_int_equal(f.app.spare_result, FC_INIT_OK);
+    assert_int_equal(cf_app_spare_result(&f.app), FC_INIT_OK);
     plant_at(&f.pl, 0.0, 0.0, 0.0, 0.0);
     const double scale = 0.0393 / 0.027 * (0.05 / 0.046) * (0.05 / 0.046);
     f.pl.mass_kg = 0.0393;
@@ -1434,6 +1344,28 @@ static void test_flow_in_flight_switch(void **state)
         flow_tick(f);
     }
     assert_false(f->app.reinit_pending);
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    near_abs(f->pl.p[2], 0.5, 0.03);
+    /* a selection while the app task makes the next spare (a parameter just
+     * changed): the published one flies at once, and the app task writes only
+     * the other slot, then publishes it */
+    f->tuning.h_kp *= 1.1f;
+    const uint8_t published = f->app.published;
+    static fc_controller published_spare;
+    memcpy(&published_spare, &f->app.spare[published - 1u], sizeof published_spare);
+    cf_app_select(&f->app);
+    for (int i = 0; i < 100; i++) {
+        flow_tick(f);
+    }
+    assert_int_equal(f->zero_thrust_ticks, 0);
+    assert_true(cf_app_worker(&f->app, &f->tuning));
+    assert_int_not_equal(f->app.published, published);
+    assert_memory_equal(&published_spare, &f->app.spare[published - 1u], sizeof published_spare);
+    assert_int_equal(cf_app_spare_result(&f->app), FC_INIT_OK);
+    f->cmd.reinit = true; /* the new gains, still without a gap */
+    for (int i = 0; i < 1000; i++) {
+        flow_tick(f);
+    }
     assert_int_equal(f->zero_thrust_ticks, 0);
     near_abs(f->pl.p[2], 0.5, 0.03);
 }

@@ -1,0 +1,26 @@
+/* autoconf.h - the Kconfig choices of the build under test: the app's
+ * (app-config) and a platform, the cf2 with 2.1+ propellers unless
+ * CF_TEST_PLATFORM_CF21BL or CF_TEST_PLATFORM_FLAPPER is defined. */
+#ifndef CF_TEST_AUTOCONF_H
+#define CF_TEST_AUTOCONF_H
+
+#define CONFIG_CONTROLLER_OOT 1
+#define CONFIG_APP_ENABLE 1
+#define CONFIG_APP_PRIORITY 1
+#define CONFIG_APP_STACKSIZE 1000
+
+#if defined(CF_TEST_PLATFORM_FLAPPER)
+#define CONFIG_PLATFORM_FLAPPER 1
+#define CONFIG_POWER_DISTRIBUTION_FLAPPER 1
+#elif defined(CF_TEST_PLATFORM_CF21BL)
+#define CONFIG_PLATFORM_CF21BL 1
+#define CONFIG_POWER_DISTRIBUTION_QUADROTOR 1
+#define CONFIG_ENABLE_THRUST_BAT_COMPENSATED 1
+#else
+#define CONFIG_PLATFORM_CF2 1
+#define CONFIG_POWER_DISTRIBUTION_QUADROTOR 1
+#define CONFIG_ENABLE_THRUST_BAT_COMPENSATED 1
+#define CONFIG_CRAZYFLIE_21_PLUS 1
+#endif
+
+#endif
