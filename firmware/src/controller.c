@@ -241,6 +241,7 @@ static void telemetry_defaults(fc_controller_telemetry *tm)
     tm->allocation_status = FC_STEP_OK;
     tm->touchdown_window = false;
     tm->descent_blocked_by = FC_REASON_NONE;
+    tm->descent_shaping_mps = FC_INT(0, VEL);
     tm->land_state = FC_LAND_AIRBORNE;
     tm->failsafe_cause = FC_FAILSAFE_NONE;
     tm->arming_blocked_by = FC_ARMING_OK;
@@ -867,12 +868,15 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     } else {
         const fc_landing_input lin = {landing_request_of(c.command), c.in.position_m.z,
                                       horizontal_error_m(ar, &c.in, fc_landing_reads_horizontal_error(&ctl->landing)),
-                                      c.tilt_cos, ctl->gear_height_m, c.range_fresh, ctl->last_thrust_n, &tm->pad};
+                                      c.tilt_cos, ctl->gear_height_m, c.range_fresh, ctl->last_thrust_n, &tm->pad,
+                                      fc_sub(ar, c.in.position_m.x, c.in.position_setpoint_m.x),
+                                      fc_sub(ar, c.in.position_m.y, c.in.position_setpoint_m.y), in_raw->pad_attitude};
         fc_landing_output lout;
         status |= passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
         tm->reference = lout.reference;
         tm->touchdown_window = lout.touchdown_window;
         tm->descent_blocked_by = lout.blocked_by;
+        tm->descent_shaping_mps = lout.shaping_mps;
         fly_reference = lout.fly_reference;
         motors_on = lout.motors_on;
         thrust_n = lout.ramp_thrust_n;
