@@ -344,7 +344,7 @@ static void test_shaped_full_landing(void **state)
     assert_int_equal(w.out.aborts, 0);
 }
 
-/* (2.28): a pad tilted 15 deg under a centred vehicle holds the shaped
+/* (2.28): a pad tilted 40 deg under a centred vehicle holds the shaped
  * descent (no lower than where it started); level again, it goes on down. */
 static void test_shaped_descent_holds_on_tilted_pad(void **state)
 {
@@ -353,8 +353,8 @@ static void test_shaped_descent_holds_on_tilted_pad(void **state)
     world_init(&w);
     w.p.descent_shaping = true;
     assert_int_equal(fc_landing_init(&w.lm, &w.p), FC_INIT_OK);
-    /* 15 deg about x: q = (cos 7.5 deg, sin 7.5 deg, 0, 0) */
-    const fc_quat tilted = {FC_C(0.99144486f, UNIT), FC_C(0.13052619f, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT)};
+    /* 40 deg about x: q = (cos 20 deg, sin 20 deg, 0, 0) */
+    const fc_quat tilted = {FC_C(0.93969262f, UNIT), FC_C(0.34202014f, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT)};
     w.in.pad_attitude = tilted;
     assert_true(run_until(&w, FC_LANDING_DESCEND, 100000) >= 0);
     const double start_m = w.z_m;
