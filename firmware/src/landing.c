@@ -278,7 +278,6 @@ static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_ve
 /* Contact lost, with hysteresis against the range finder's noise: the gear
  * clearly off the surface (3 contact heights), or the vehicle back on its
  * reference (flying again, not held by the pad). */
-
 static bool contact_lost(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
 {
     const fc_real behind_m = fc_sub(&lm->ar, in->z_m, reference->z_m);
