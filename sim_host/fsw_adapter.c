@@ -118,6 +118,17 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     override(&p.landing.descent_tau_s, cfg->landing_descent_tau_s, FC_TIME_FRAC);
     override(&p.landing.pad_accel_max_mps2, cfg->landing_pad_accel_max_mps2, FC_ACCEL_FRAC);
     override(&p.landing.confidence_start, cfg->landing_confidence_start, FC_UNIT_FRAC);
+    if (cfg->descent_shaping >= 0) {
+        p.landing.descent_shaping = cfg->descent_shaping == 1;
+    }
+    override(&p.landing.shaping.k_r_m2ps, cfg->shaping_k_r_m2ps, FC_GAIN_FRAC);
+    override(&p.landing.shaping.delta_h_m, cfg->shaping_delta_h_m, FC_LENGTH_FRAC);
+    override(&p.landing.shaping.k_c_per_s, cfg->shaping_k_c_per_s, FC_GAIN_FRAC);
+    override(&p.landing.shaping.u_zbias_mps, cfg->shaping_u_zbias_mps, FC_VEL_FRAC);
+    override(&p.landing.shaping.k_a_mps, cfg->shaping_k_a_mps, FC_GAIN_FRAC);
+    override(&p.landing.shaping.delta_a_m, cfg->shaping_delta_a_m, FC_LENGTH_FRAC);
+    override(&p.landing.shaping.max_climb_mps, cfg->shaping_max_climb_mps, FC_VEL_FRAC);
+    override(&p.landing.shaping_commit_m, cfg->shaping_commit_m, FC_LENGTH_FRAC);
     if (cfg->velocity_output == 1) {
         fc_velocity_output_params v;
         fc_controller_velocity_defaults(&v, vec_to_fc(cfg->velocity_k_p_per_s, FC_RATIO_FRAC),
@@ -231,6 +242,10 @@ static fc_controller_inputs inputs_of(const fsw_inputs *in)
     fin.range_m = TO_FC(in->range_m, LENGTH);
     fin.range_fresh = in->range_fresh != 0;
     fin.position_setpoint_m = vec_to_fc(in->position_setpoint_m, FC_LENGTH_FRAC);
+    fin.pad_attitude.w = TO_FC(in->pad_attitude_q[0], UNIT);
+    fin.pad_attitude.x = TO_FC(in->pad_attitude_q[1], UNIT);
+    fin.pad_attitude.y = TO_FC(in->pad_attitude_q[2], UNIT);
+    fin.pad_attitude.z = TO_FC(in->pad_attitude_q[3], UNIT);
     fin.yaw_setpoint_rad = TO_FC(in->yaw_setpoint_rad, ANGLE);
     fin.yaw_rate_setpoint_radps = TO_FC(in->yaw_rate_setpoint_radps, RATE);
     fin.command = (in->command >= 0 && in->command < (int)FC_COMMAND_COUNT) ? (fc_controller_command)in->command
@@ -284,6 +299,7 @@ static void outputs_of(fc_step_status status, const fc_controller_outputs *fo, c
     out->touchdown_window = tm->touchdown_window ? 1 : 0;
     out->aborts = tm->aborts;
     out->descent_blocked_by = (int)tm->descent_blocked_by;
+    out->descent_shaping_mps = FROM_FC(tm->descent_shaping_mps, VEL);
     out->pad_est_z_m = FROM_FC(tm->pad.now.z_m, LENGTH);
     out->pad_est_vz_mps = FROM_FC(tm->pad.now.vz_mps, VEL);
     out->pad_confidence = FROM_FC(tm->pad.confidence, UNIT);
@@ -340,6 +356,10 @@ static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t
     if (!isnan(cfg->pid_kp_z_per_s) || !isnan(cfg->pid_ki_z_per_s2) || !isnan(cfg->pid_kp_v_n_per_mps) ||
         !isnan(cfg->pid_ki_v_n_per_m)) {
         snprintf(err, err_len, "the PIL wire does not carry the pid gains ([controller] pid_*)");
+        return NULL;
+    }
+    if (cfg->descent_shaping == 1) {
+        snprintf(err, err_len, "the PIL wire does not carry descent shaping ([landing] descent_shaping)");
         return NULL;
     }
     if (cfg->velocity_output == 1 || !isnan(cfg->landing_gear_height_m) || !isnan(cfg->landing_touchdown_dip_m)) {

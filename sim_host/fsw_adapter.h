@@ -57,6 +57,11 @@ typedef struct fsw_config {
     double landing_gear_height_m; /* CG to the bottom of the gear, as the firmware knows it */
     double landing_touchdown_dip_m; /* how far below the surface the descent's reference ends */
     double landing_hold_height_m, landing_descent_tau_s, landing_pad_accel_max_mps2, landing_confidence_start;
+    /* descent shaping (2.25)-(2.28) (fc/landing.h): 1 on, 0 off, -1 the default
+     * (off); its gains k_r, delta_h, k_c, u_zbias, k_a, delta_a (NaN: default) */
+    int descent_shaping;
+    double shaping_k_r_m2ps, shaping_delta_h_m, shaping_k_c_per_s, shaping_u_zbias_mps, shaping_k_a_mps,
+        shaping_delta_a_m, shaping_max_climb_mps, shaping_commit_m;
     /* the velocity output (fc/controller.h FC_OUTPUT_VELOCITY): 1 to fly it, with
      * the vehicle's identified first-order response k_P, a_P per axis (2.18) */
     int velocity_output;
@@ -78,6 +83,7 @@ typedef struct fsw_inputs {
     double range_m;          /* range finder, CG to the pad along body -z */
     int range_fresh;         /* a new range sample this step */
     double position_setpoint_m[3];
+    double pad_attitude_q[4]; /* w, x, y, z: the pad's attitude, pad -> world (all 0: level) */
     double yaw_setpoint_rad;
     double yaw_rate_setpoint_radps; /* its rate, fed forward */
     int command;             /* FSW_COMMAND_* */
@@ -106,6 +112,7 @@ typedef struct fsw_outputs {
     unsigned estimator_status, altitude_status, attitude_status, allocation_status;
     /* the landing mission */
     int landing_state, landing_reason, landing_changed, touchdown_window, aborts, descent_blocked_by;
+    double descent_shaping_mps; /* a shaped descent's v_zd (2.25) */
     double pad_est_z_m, pad_est_vz_mps, pad_confidence, pad_accel_bound_mps2, pad_period_s, gear_height_m;
     /* the safety logic: the vertical estimate, the land detector's stage, the
      * failsafe's cause and what refused arming (fc/controller.h) */

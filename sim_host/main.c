@@ -37,6 +37,8 @@ static void usage(FILE *f)
             "  --json FILE            metrics as JSON (SPEC.md's names, with scenario, variant, backend)\n"
             "  --csv FILE             the run's trace as CSV (several runs: FILE-variant-backend.csv)\n"
             "  --plot DIR             data files, plots.gp and PNG figures (gnuplot) in DIR\n"
+            "  --descent-shaping on|off  the landing descent with or without (2.25)-(2.28)\n"
+            "                         (the same as --set landing.descent_shaping=on|off)\n"
             "  --duration S           fly S seconds instead of the scenario's duration_s\n"
             "  --runs N --seed S      Monte-Carlo: N runs perturbed per [montecarlo], seeds S..S+N-1;\n"
             "                         per-metric min/median/p95/max and the worst seed\n"
@@ -310,7 +312,8 @@ int main(int argc, char **argv)
         OPT_BENCHMARK,
         OPT_QUIET,
         OPT_PIL_IMAGE,
-        OPT_SET
+        OPT_SET,
+        OPT_DESCENT_SHAPING
     };
     static const struct option options[] = {
         {"scenario", required_argument, NULL, 's'},
@@ -329,6 +332,7 @@ int main(int argc, char **argv)
         {"quiet", no_argument, NULL, OPT_QUIET},
         {"pil-image", required_argument, NULL, OPT_PIL_IMAGE},
         {"set", required_argument, NULL, OPT_SET},
+        {"descent-shaping", required_argument, NULL, OPT_DESCENT_SHAPING},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -379,6 +383,18 @@ int main(int argc, char **argv)
                 return 2;
             }
             a.overrides[a.override_count++] = optarg;
+            break;
+        case OPT_DESCENT_SHAPING:
+            if (strcmp(optarg, "on") != 0 && strcmp(optarg, "off") != 0) {
+                fprintf(stderr, "fc-sil: --descent-shaping needs on or off\n");
+                return 2;
+            }
+            if (a.override_count == SCENARIO_OVERRIDES_MAX) {
+                fprintf(stderr, "fc-sil: at most %d --set\n", SCENARIO_OVERRIDES_MAX);
+                return 2;
+            }
+            a.overrides[a.override_count++] =
+                strcmp(optarg, "on") == 0 ? "landing.descent_shaping=on" : "landing.descent_shaping=off";
             break;
         case OPT_LIST_CONTROLLERS:
             for (int i = 0; i < FSW_VARIANT_COUNT; i++) {

@@ -13,6 +13,16 @@ void pad_eval(const pad_params *p, double t_s, pad_state *out)
     out->z_m = p->base_m;
     out->vz_mps = 0.0;
     out->az_mps2 = 0.0;
+    out->roll_rad = out->pitch_rad = out->roll_rate_radps = out->pitch_rate_radps = 0.0;
+    if (pad_tilts(p)) {
+        /* the deck's roll and pitch on the same (warped) clock as its heave */
+        const double roll_phase = p->roll_omega_radps * t + p->roll_phase_rad;
+        const double pitch_phase = p->pitch_omega_radps * t + p->pitch_phase_rad;
+        out->roll_rad = p->roll_amplitude_rad * sin(roll_phase);
+        out->pitch_rad = p->pitch_amplitude_rad * sin(pitch_phase);
+        out->roll_rate_radps = warp * p->roll_amplitude_rad * p->roll_omega_radps * cos(roll_phase);
+        out->pitch_rate_radps = warp * p->pitch_amplitude_rad * p->pitch_omega_radps * cos(pitch_phase);
+    }
     switch (p->model) {
     case PAD_SINE: {
         /* (3.1): z_d = A/2 sin(w t) + A/2 */
@@ -48,6 +58,36 @@ void pad_eval(const pad_params *p, double t_s, pad_state *out)
         out->vz_mps *= factor;
         out->az_mps2 *= factor;
     }
+}
+
+bool pad_tilts(const pad_params *p)
+{
+    return p->roll_amplitude_rad > 0.0 || p->pitch_amplitude_rad > 0.0;
+}
+
+quat pad_attitude(const pad_state *pad)
+{
+    return quat_from_rpy(pad->roll_rad, pad->pitch_rad, 0.0);
+}
+
+v3 pad_normal(const pad_state *pad)
+{
+    /* R_y(pitch) R_x(roll) e_z */
+    const double cr = cos(pad->roll_rad), sr = sin(pad->roll_rad);
+    const double cp = cos(pad->pitch_rad), sp = sin(pad->pitch_rad);
+    return v3_make(cr * sp, -sr, cr * cp);
+}
+
+v3 pad_angular_velocity(const pad_state *pad)
+{
+    /* pitch' e_y + R_y(pitch) roll' e_x */
+    return v3_make(pad->roll_rate_radps * cos(pad->pitch_rad), pad->pitch_rate_radps,
+                   -pad->roll_rate_radps * sin(pad->pitch_rad));
+}
+
+double pad_height_of(const pad_state *pad, v3 x)
+{
+    return v3_dot(v3_make(x.x, x.y, x.z - pad->z_m), pad_normal(pad));
 }
 
 double plant_ground_gain(double radius_m, double rho, double height_m)
@@ -227,6 +267,9 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     double r[3][3];
     quat_to_matrix(s->q, r);
     const pad_state pad = *pad_t;
+    const bool tilting = pad_tilts(&p->pad);
+    const v3 pad_n = tilting ? pad_normal(&pad) : v3_make(0.0, 0.0, 1.0);
+    const v3 pad_rate = tilting ? pad_angular_velocity(&pad) : v3_make(0.0, 0.0, 0.0);
 
     /* rotors (velocity input: the autopilot's thrust along body z) */
     v3 force_b = v3_make(0.0, 0.0, 0.0), moment_b = v3_make(0.0, 0.0, 0.0);
@@ -257,6 +300,9 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
             /* (3.2) as h^2 / (h^2 - rho (R/4)^2), h floored at the gear touching */
             double h = s->p.z + r[2][0] * rot->position_m.x + r[2][1] * rot->position_m.y +
                        r[2][2] * rot->position_m.z - pad.z_m;
+            if (tilting) {
+                h = pad_height_of(&pad, v3_add(s->p, mat_apply(r, rot->position_m)));
+            }
             h = h > pl->height_min[i] ? h : pl->height_min[i];
             kg = h * h / (h * h - pl->ge_c);
         }
@@ -277,7 +323,7 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
     int in_contact = 0;
     for (int f = 0; f < p->foot_count && (p->contact || diag != NULL); f++) {
         const v3 arm_w = mat_apply(r, p->foot_m[f]);
-        const double height = s->p.z + arm_w.z - pad.z_m;
+        const double height = tilting ? pad_height_of(&pad, v3_add(s->p, arm_w)) : s->p.z + arm_w.z - pad.z_m;
         if (height < clearance) {
             clearance = height;
         }
@@ -286,6 +332,22 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
         }
         in_contact++;
         const v3 v_foot = v3_add(s->v, mat_apply(r, v3_cross(s->w, p->foot_m[f])));
+        if (tilting) {
+            /* along the deck's normal, against the surface point's own motion */
+            const v3 foot_w = v3_add(s->p, arm_w);
+            const v3 surface_v = v3_add(v3_make(0.0, 0.0, pad.vz_mps),
+                                        v3_cross(pad_rate, v3_make(foot_w.x, foot_w.y, foot_w.z - pad.z_m)));
+            const v3 v_rel = v3_sub(v_foot, surface_v);
+            const double v_n = v3_dot(v_rel, pad_n);
+            double normal_force = -p->contact_stiffness_n_per_m * height - p->contact_damping_ns_per_m * v_n;
+            normal_force = normal_force > 0.0 ? normal_force : 0.0;
+            const v3 v_t = v3_axpy(v_rel, -v_n, pad_n);
+            const double slip_t = sqrt(v3_dot(v_t, v_t) + p->slip_speed_mps * p->slip_speed_mps);
+            const v3 fc = v3_axpy(v3_scale(pad_n, normal_force), -p->friction * normal_force / slip_t, v_t);
+            contact_w = v3_add(contact_w, fc);
+            contact_moment_w = v3_add(contact_moment_w, v3_cross(arm_w, fc));
+            continue;
+        }
         const double penetration_rate = pad.vz_mps - v_foot.z;
         double normal = -p->contact_stiffness_n_per_m * height + p->contact_damping_ns_per_m * penetration_rate;
         if (normal < 0.0) {
@@ -333,7 +395,8 @@ static void derivative(const plant *pl, const pad_state *pad_t, double mu, const
             /* no thrust: the gain the rotors would see, averaged */
             double sum = 0.0;
             for (int i = 0; i < p->rotor_count; i++) {
-                const double h = s->p.z + v3_dot(v3_make(r[2][0], r[2][1], r[2][2]), p->rotor[i].position_m) - pad.z_m;
+                const double h = tilting ? pad_height_of(&pad, v3_add(s->p, mat_apply(r, p->rotor[i].position_m)))
+                                         : s->p.z + v3_dot(v3_make(r[2][0], r[2][1], r[2][2]), p->rotor[i].position_m) - pad.z_m;
                 const double h_min = plant_rotor_height_min(p, i);
                 sum += plant_ground_gain(p->ge_radius_m, p->ge_rho, h > h_min ? h : h_min);
             }
@@ -458,7 +521,9 @@ double plant_gear_clearance(const plant *pl, pad_state *pad)
     quat_to_matrix(pl->s.q, r);
     double clearance = (double)INFINITY;
     for (int f = 0; f < pl->p.foot_count; f++) {
-        const double height = pl->s.p.z + mat_apply(r, pl->p.foot_m[f]).z - now.z_m;
+        const v3 arm_w = mat_apply(r, pl->p.foot_m[f]);
+        const double height = pad_tilts(&pl->p.pad) ? pad_height_of(&now, v3_add(pl->s.p, arm_w))
+                                                    : pl->s.p.z + arm_w.z - now.z_m;
         clearance = height < clearance ? height : clearance;
     }
     if (pad != NULL) {

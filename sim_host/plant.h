@@ -19,6 +19,13 @@
  * Contact: each foot of the landing gear below the pad's plane pushes back with
  * a spring-damper k d + c d' (never pulling) and slides against regularised Coulomb
  * friction mu F_n v_t / sqrt(|v_t|^2 + v_s^2).
+ * A deck that rolls and pitches (pad roll/pitch amplitudes > 0): the pad's
+ * plane turns about its centre (0, 0, z_pad) with R_pad = R_y(pitch) R_x(roll),
+ * normal n = R_pad e_z; a foot's depth is measured along n, the spring-damper
+ * pushes along n against the foot's speed relative to the surface point under
+ * it (v_pad e_z + w_pad x r), friction acts on the tangential part of that
+ * relative speed; a rotor's ground-effect height is its distance from the
+ * plane along n. With both amplitudes 0 the level pad's code runs unchanged.
  * Integration: classical RK4 at the plant step, inputs (u_cmd) held over the step;
  * q is renormalised after each step. m' v and I' w are neglected ((H2.a), (H2.b)).
  *
@@ -66,13 +73,29 @@ typedef struct pad_params {
     /* a fault: from warp_start_s the pad's clock runs warp_factor times faster (its
      * frequencies scale, the motion stays continuous; 0: off) */
     double warp_start_s, warp_factor;
+    /* a deck's roll and pitch (rad): amplitude sin(omega t + phase); 0: level */
+    double roll_amplitude_rad, roll_omega_radps, roll_phase_rad;
+    double pitch_amplitude_rad, pitch_omega_radps, pitch_phase_rad;
 } pad_params;
 
 typedef struct pad_state {
     double z_m, vz_mps, az_mps2;
+    double roll_rad, pitch_rad, roll_rate_radps, pitch_rate_radps; /* 0 for a level pad */
 } pad_state;
 
 void pad_eval(const pad_params *p, double t, pad_state *out);
+
+/* Whether the pad rolls or pitches (the tilting model of the contact is used). */
+bool pad_tilts(const pad_params *p);
+
+/* The pad's attitude (pad -> world, R_y(pitch) R_x(roll)), its normal n and
+ * angular velocity (world). */
+quat pad_attitude(const pad_state *pad);
+v3 pad_normal(const pad_state *pad);
+v3 pad_angular_velocity(const pad_state *pad);
+
+/* Height of the world point x above the pad's plane along its normal. */
+double pad_height_of(const pad_state *pad, v3 x);
 
 typedef struct plant_rotor {
     v3 position_m;        /* l_i, body */

@@ -66,6 +66,9 @@ void fsw_config_defaults(fsw_config *c)
     c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
     c->velocity_output = 0;
     c->landing_gear_height_m = c->landing_touchdown_dip_m = (double)NAN;
+    c->descent_shaping = -1;
+    c->shaping_k_r_m2ps = c->shaping_delta_h_m = c->shaping_k_c_per_s = (double)NAN;
+    c->shaping_u_zbias_mps = c->shaping_k_a_mps = c->shaping_delta_a_m = c->shaping_max_climb_mps = c->shaping_commit_m = (double)NAN;
     for (int i = 0; i < 3; i++) {
         c->velocity_k_p_per_s[i] = c->velocity_a_p_per_s[i] = 1.0;
     }
@@ -123,6 +126,11 @@ typedef struct raw {
     int pad_model;
     double pad_base, pad_amplitude, pad_period;
     raw_list wave_amplitudes, wave_periods, wave_phases_deg;
+    double roll_amplitude_deg, roll_period_s, roll_phase_deg, pitch_amplitude_deg, pitch_period_s, pitch_phase_deg;
+    /* [landing] */
+    int descent_shaping; /* -1: the firmware's default */
+    double shaping_k_r, shaping_delta_h, shaping_k_c, shaping_u_zbias, shaping_k_a, shaping_delta_a, shaping_max_climb,
+        shaping_commit;
     /* [initial] */
     double init_x, init_y, init_height, init_yaw_deg, init_roll_deg, init_pitch_deg;
     v3 init_velocity;
@@ -288,6 +296,22 @@ static const key_def keys[] = {
     {"pad", "wave_amplitudes_m", K_LIST, R(wave_amplitudes), 0.0, 100.0, NULL, 0},
     {"pad", "wave_periods_s", K_LIST, R(wave_periods), 0.0, 10000.0, NULL, OPEN_LO},
     {"pad", "wave_phases_deg", K_LIST, R(wave_phases_deg), -360.0, 360.0, NULL, 0},
+    {"pad", "roll_amplitude_deg", K_DOUBLE, R(roll_amplitude_deg), 0.0, 45.0, NULL, 0},
+    {"pad", "roll_period_s", K_DOUBLE, R(roll_period_s), 0.0, 10000.0, NULL, OPEN_LO},
+    {"pad", "roll_phase_deg", K_DOUBLE, R(roll_phase_deg), -360.0, 360.0, NULL, 0},
+    {"pad", "pitch_amplitude_deg", K_DOUBLE, R(pitch_amplitude_deg), 0.0, 45.0, NULL, 0},
+    {"pad", "pitch_period_s", K_DOUBLE, R(pitch_period_s), 0.0, 10000.0, NULL, OPEN_LO},
+    {"pad", "pitch_phase_deg", K_DOUBLE, R(pitch_phase_deg), -360.0, 360.0, NULL, 0},
+
+    {"landing", "descent_shaping", K_BOOL, R(descent_shaping), 0, 0, NULL, 0},
+    {"landing", "k_r_m2ps", K_DOUBLE, R(shaping_k_r), 0.0, 100.0, NULL, OPTIONAL},
+    {"landing", "delta_h_m", K_DOUBLE, R(shaping_delta_h), 0.01, 100.0, NULL, OPTIONAL},
+    {"landing", "k_c_per_s", K_DOUBLE, R(shaping_k_c), 0.0, 100.0, NULL, OPTIONAL},
+    {"landing", "u_zbias_mps", K_DOUBLE, R(shaping_u_zbias), -50.0, 50.0, NULL, OPTIONAL},
+    {"landing", "k_a_mps", K_DOUBLE, R(shaping_k_a), 0.0, 100.0, NULL, OPTIONAL},
+    {"landing", "delta_a_m", K_DOUBLE, R(shaping_delta_a), 0.01, 100.0, NULL, OPTIONAL},
+    {"landing", "max_climb_mps", K_DOUBLE, R(shaping_max_climb), 0.001, 50.0, NULL, OPTIONAL},
+    {"landing", "commit_m", K_DOUBLE, R(shaping_commit), 0.0, 1.0, NULL, OPTIONAL},
 
     {"initial", "x_m", K_DOUBLE, R(init_x), -1000.0, 1000.0, NULL, 0},
     {"initial", "y_m", K_DOUBLE, R(init_y), -1000.0, 1000.0, NULL, 0},
@@ -410,7 +434,7 @@ static const char *const sections[] = {"scenario",        "controller",      "ve
                                        "initial",         "mission",         "sensors",         "imu",
                                        "position_sensor", "altitude_sensor", "attitude_sensor", "heading_sensor",
                                        "metrics",         "montecarlo",      "wind",            "fault",
-                                       NULL};
+                                       "landing",         NULL};
 
 static void raw_defaults(raw *r)
 {
@@ -473,6 +497,10 @@ static void raw_defaults(raw *r)
     r->pad_model = PAD_SINE;
     r->pad_amplitude = 0.18;
     r->pad_period = 10.0;
+    r->roll_period_s = r->pitch_period_s = 10.0;
+    r->descent_shaping = -1;
+    r->shaping_k_r = r->shaping_delta_h = r->shaping_k_c = (double)NAN;
+    r->shaping_u_zbias = r->shaping_k_a = r->shaping_delta_a = r->shaping_max_climb = r->shaping_commit = (double)NAN;
     r->init_height = (double)NAN;
     r->init_motors_hover = 1;
     r->touchdown_planned_s = (double)NAN;
@@ -977,6 +1005,15 @@ static bool build(parse_ctx *c, scenario *sc)
     f->landing_descent_tau_s = r->land_tau_s;
     f->landing_pad_accel_max_mps2 = r->land_accel_max;
     f->landing_confidence_start = r->land_conf_start;
+    f->descent_shaping = r->descent_shaping;
+    f->shaping_k_r_m2ps = r->shaping_k_r;
+    f->shaping_delta_h_m = r->shaping_delta_h;
+    f->shaping_k_c_per_s = r->shaping_k_c;
+    f->shaping_u_zbias_mps = r->shaping_u_zbias;
+    f->shaping_k_a_mps = r->shaping_k_a;
+    f->shaping_delta_a_m = r->shaping_delta_a;
+    f->shaping_max_climb_mps = r->shaping_max_climb;
+    f->shaping_commit_m = r->shaping_commit;
     f->velocity_output = r->output_velocity;
     f->velocity_k_p_per_s[0] = r->fsw_k_p.x;
     f->velocity_k_p_per_s[1] = r->fsw_k_p.y;
@@ -1098,6 +1135,12 @@ static bool build(parse_ctx *c, scenario *sc)
     pad->base_m = r->pad_base;
     pad->amplitude_m = r->pad_amplitude;
     pad->omega_radps = 2.0 * PI / r->pad_period;
+    pad->roll_amplitude_rad = r->roll_amplitude_deg * DEG;
+    pad->roll_omega_radps = 2.0 * PI / r->roll_period_s;
+    pad->roll_phase_rad = r->roll_phase_deg * DEG;
+    pad->pitch_amplitude_rad = r->pitch_amplitude_deg * DEG;
+    pad->pitch_omega_radps = 2.0 * PI / r->pitch_period_s;
+    pad->pitch_phase_rad = r->pitch_phase_deg * DEG;
     if (pad->model == PAD_WAVES) {
         if (r->wave_amplitudes.count == 0) {
             return fail_key(c, "pad", "wave_amplitudes_m", "the waves model needs at least one component");
@@ -1490,6 +1533,16 @@ void scenario_perturb(scenario *sc, uint64_t seed)
         p->mass_step_count++;
     }
     perturb_failsafe_family(sc, &r);
+    /* a deck that rolls and pitches: its amplitudes and periods as the heave's,
+     * random phases; drawn only then (the other scenarios' draws unchanged) */
+    if (pad_tilts(&p->pad)) {
+        p->pad.roll_amplitude_rad *= amp;
+        p->pad.pitch_amplitude_rad *= amp;
+        p->pad.roll_omega_radps /= 1.0 + rng_range(&r, -mc->pad_period_rel, mc->pad_period_rel);
+        p->pad.pitch_omega_radps /= 1.0 + rng_range(&r, -mc->pad_period_rel, mc->pad_period_rel);
+        p->pad.roll_phase_rad = rng_range(&r, -PI, PI);
+        p->pad.pitch_phase_rad = rng_range(&r, -PI, PI);
+    }
     /* last, and only when asked for (the other scenarios' draws unchanged):
      * the velocity-input vehicle's true response against the identified one */
     if (mc->velocity_response_rel > 0.0 && p->velocity_input) {

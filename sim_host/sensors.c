@@ -151,8 +151,15 @@ void sensors_sample(sensors *s, const plant *pl, double t)
             /* distance from the CG along body -z to the pad's plane */
             pad_state pad;
             pad_eval(&pl->p.pad, t, &pad);
-            const double r33 = 1.0 - 2.0 * (pl->s.q.x * pl->s.q.x + pl->s.q.y * pl->s.q.y);
-            const double height = pl->s.p.z - pad.z_m;
+            double r33 = 1.0 - 2.0 * (pl->s.q.x * pl->s.q.x + pl->s.q.y * pl->s.q.y);
+            double height = pl->s.p.z - pad.z_m;
+            if (pad_tilts(&pl->p.pad)) {
+                /* a rolling deck: the plane's distance along n over cos(body z, n) */
+                double r[3][3];
+                quat_to_matrix(pl->s.q, r);
+                r33 = v3_dot(v3_make(r[0][2], r[1][2], r[2][2]), pad_normal(&pad));
+                height = pad_height_of(&pad, pl->s.p);
+            }
             value = r33 > 0.05 ? height / r33 : ap->range_max_m;
             if (value > ap->range_max_m || value < 0.0) {
                 value = ap->range_max_m;

@@ -16,7 +16,8 @@
 const char *const sim_metric_names[SIM_METRIC_COUNT] = {
     "rms_error_m",      "max_abs_error_m",         "mass_step_peak_error_m", "control_tv_per_s",
     "theta_rel_error",  "min_clearance_m",         "touchdown_rel_speed_mps", "touchdown_time_s",
-    "bounces",          "max_tilt_deg",            "nan_outputs",
+    "bounces",          "max_tilt_deg",            "nan_outputs",            "touchdown_rel_tilt_deg",
+    "early_contact",
     "failsafe_entered", "failsafe_motor_stops_airborne", "failsafe_descent_rate_mps",
     "failsafe_descent_rate_rel_error", "failsafe_touchdown_speed_mps", "failsafe_time_to_motors_off_s",
 };
@@ -35,12 +36,14 @@ double sim_metric_value(const sim_metrics *m, int index)
     case 8: return m->bounces;
     case 9: return m->max_tilt_deg;
     case 10: return m->nan_outputs;
-    case 11: return m->failsafe_entered;
-    case 12: return m->failsafe_motor_stops_airborne;
-    case 13: return m->failsafe_descent_rate_mps;
-    case 14: return m->failsafe_descent_rate_rel_error;
-    case 15: return m->failsafe_touchdown_speed_mps;
-    case 16: return m->failsafe_time_to_motors_off_s;
+    case 11: return m->touchdown_rel_tilt_deg;
+    case 12: return m->early_contact;
+    case 13: return m->failsafe_entered;
+    case 14: return m->failsafe_motor_stops_airborne;
+    case 15: return m->failsafe_descent_rate_mps;
+    case 16: return m->failsafe_descent_rate_rel_error;
+    case 17: return m->failsafe_touchdown_speed_mps;
+    case 18: return m->failsafe_time_to_motors_off_s;
     default: return (double)NAN;
     }
 }
@@ -322,6 +325,8 @@ typedef struct acc {
      * controller step, which then sees only its rebound */
     bool plant_contact_seen;
     double plant_touchdown_time, plant_touchdown_speed;
+    double plant_touchdown_rel_tilt; /* deg */
+    bool plant_touchdown_early;      /* before the touchdown window opened */
     long bounces;
     double max_position_error;
     double settled_position_error; /* after the transient */
@@ -496,6 +501,11 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         in.pad_az_mps2 = pad.az_mps2;
         in.position_setpoint_m[0] = mission->setpoint_x_m;
         in.position_setpoint_m[1] = mission->setpoint_y_m;
+        const quat q_pad = pad_attitude(&pad);
+        in.pad_attitude_q[0] = q_pad.w;
+        in.pad_attitude_q[1] = q_pad.x;
+        in.pad_attitude_q[2] = q_pad.y;
+        in.pad_attitude_q[3] = q_pad.z;
         in.yaw_setpoint_rad = scenario_yaw_setpoint_rad(mission, t);
         in.yaw_rate_setpoint_radps = scenario_yaw_rate_setpoint_radps(mission, t);
         const int armed_command = !land ? FSW_COMMAND_TRACK_PAD
@@ -705,6 +715,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             row[SIM_COL_velocity_cmd_y_mps] = out.velocity_cmd_mps[1];
             row[SIM_COL_velocity_cmd_z_mps] = out.velocity_cmd_mps[2];
             row[SIM_COL_yaw_rate_cmd_radps] = out.yaw_rate_cmd_radps;
+            row[SIM_COL_pad_roll_deg] = pad.roll_rad * RAD2DEG;
+            row[SIM_COL_pad_pitch_deg] = pad.pitch_rad * RAD2DEG;
+            row[SIM_COL_descent_shaping_mps] = out.descent_shaping_mps;
             trace->rows++;
         }
 
@@ -721,6 +734,11 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
                     a.plant_contact_seen = true;
                     a.plant_touchdown_time = pl.t;
                     a.plant_touchdown_speed = fabs(pl.s.v.z - pad_now.vz_mps);
+                    double rm[3][3];
+                    quat_to_matrix(pl.s.q, rm);
+                    const double c = v3_dot(v3_make(rm[0][2], rm[1][2], rm[2][2]), pad_normal(&pad_now));
+                    a.plant_touchdown_rel_tilt = acos(c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c)) * RAD2DEG;
+                    a.plant_touchdown_early = land && isnan(res->touchdown_planned_s);
                 }
             }
         }
@@ -753,6 +771,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->bounces = landing && a.contact_ever ? (double)a.bounces : (landing ? 0.0 : (double)NAN);
     m->max_tilt_deg = a.max_tilt;
     m->nan_outputs = (double)a.nan_outputs;
+    m->touchdown_rel_tilt_deg = landing && a.plant_contact_seen ? a.plant_touchdown_rel_tilt : (double)NAN;
+    m->early_contact = landing ? (a.plant_contact_seen && a.plant_touchdown_early ? 1.0 : 0.0) : (double)NAN;
     plant_diag d;
     plant_diagnose(&pl, &d);
     m->final_height_m = d.gear_clearance_m;

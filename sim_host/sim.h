@@ -32,6 +32,11 @@ typedef struct sim_metrics {
     double bounces;
     double max_tilt_deg;
     double nan_outputs;
+    /* landing runs: the angle between the vehicle's body z and the pad's
+     * normal at the first contact (plant step), and whether that contact came
+     * before the firmware's touchdown window opened (1) or not (0) */
+    double touchdown_rel_tilt_deg;
+    double early_contact;
     /* the failsafe (sim.c's failsafe_acc): NaN unless the firmware entered
      * FAILSAFE or the scenario injects an input loss (position-lost, imu-lost) */
     double failsafe_entered;                /* 1: landing_state became FAILSAFE, 0: never */
@@ -49,8 +54,8 @@ typedef struct sim_metrics {
 } sim_metrics;
 
 /* The metric names and their order (for JSON, tables, Monte-Carlo). */
-#define SIM_METRIC_COUNT 17
-#define SIM_METRIC_FAILSAFE_FIRST 11 /* failsafe_entered and after: the failsafe's */
+#define SIM_METRIC_COUNT 19
+#define SIM_METRIC_FAILSAFE_FIRST 13 /* failsafe_entered and after: the failsafe's */
 extern const char *const sim_metric_names[SIM_METRIC_COUNT];
 double sim_metric_value(const sim_metrics *m, int index);
 
@@ -65,7 +70,7 @@ double sim_metric_value(const sim_metrics *m, int index);
     X(att_int_x_rad_s) X(att_int_y_rad_s) X(att_int_z_rad_s) X(pos_int_x_mps2) X(pos_int_y_mps2)             \
     X(fsw_vz_est_mps) X(fsw_hover_thrust_n) X(fsw_accel_bias_mps2) X(land_state) X(failsafe_cause) \
     X(yaw_r_deg) X(k_h) X(accel_fb_x_mps2) X(accel_fb_y_mps2) X(velocity_cmd_x_mps) X(velocity_cmd_y_mps) \
-    X(velocity_cmd_z_mps) X(yaw_rate_cmd_radps)
+    X(velocity_cmd_z_mps) X(yaw_rate_cmd_radps) X(pad_roll_deg) X(pad_pitch_deg) X(descent_shaping_mps)
 
 enum {
 #define SIM_TRACE_ENUM(name) SIM_COL_##name,

@@ -7,7 +7,9 @@
 Prints, per landing metric, the runs that have it, the median, the p99 (p1
 for the clearance, where low is bad) and the worst value with its seed; then
 the goals: runs with a touchdown at or under --speed-max, runs with a contact
-before the planned touchdown (min_clearance_m < 0) and runs with a bounce.
+before the planned touchdown (early_contact: the first contact, at the
+plant's step, before the firmware's touchdown window opened; from files
+without it, min_clearance_m < 0) and runs with a bounce.
 The percentiles are nearest-rank, as fc-sil's own table.
 """
 import argparse
@@ -35,7 +37,8 @@ def main():
                     help="the touchdown relative speed goal, m/s")
     args = ap.parse_args()
     metrics = [("touchdown_rel_speed_mps", "high"), ("touchdown_time_s", "high"),
-               ("min_clearance_m", "low"), ("bounces", "high"), ("max_tilt_deg", "high")]
+               ("min_clearance_m", "low"), ("bounces", "high"), ("max_tilt_deg", "high"),
+               ("touchdown_rel_tilt_deg", "high")]
     for d in campaigns(args.json_files):
         runs = d["per_run"]
         print(f"## {d['scenario']} ({d['backend']}, {d['variant']}): {len(runs)} runs from seed {d['seed']}")
@@ -52,7 +55,10 @@ def main():
             print(f"| {name} | {len(pairs)} | {median:.4g} | {tail:.4g} | {worst[0]:.4g} ({worst[1]}) |")
         speeds = [r["touchdown_rel_speed_mps"] for r in runs if r.get("touchdown_rel_speed_mps") is not None]
         no_touchdown = [r["seed"] for r in runs if r.get("touchdown_rel_speed_mps") is None]
-        early = [r["seed"] for r in runs if r.get("min_clearance_m") is not None and r["min_clearance_m"] < 0]
+        if any("early_contact" in r for r in runs):
+            early = [r["seed"] for r in runs if (r.get("early_contact") or 0) > 0]
+        else:
+            early = [r["seed"] for r in runs if r.get("min_clearance_m") is not None and r["min_clearance_m"] < 0]
         bounced = [r["seed"] for r in runs if (r.get("bounces") or 0) > 0]
         diverged = [r["seed"] for r in runs if r.get("diverged")]
         if args.speed_max is not None:

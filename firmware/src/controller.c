@@ -69,6 +69,7 @@ static void telemetry_defaults(fc_controller_telemetry *tm)
     tm->allocation_status = FC_STEP_OK;
     tm->touchdown_window = false;
     tm->descent_blocked_by = FC_REASON_NONE;
+    tm->descent_shaping_mps = FC_INT(0, VEL);
     tm->land_state = FC_LAND_AIRBORNE;
     tm->failsafe_cause = FC_FAILSAFE_NONE;
     tm->arming_blocked_by = FC_ARMING_OK;
@@ -164,6 +165,7 @@ typedef struct step_context {
     bool attitude_ok;               /* the platform's attitude usable (always, with the filter) */
     fc_vec3 rate_radps;             /* RATE: for the attitude law's damping */
     fc_vec3 specific_force_mps2;    /* ACCEL: this step's accelerometer sample, body */
+    fc_quat pad_attitude;           /* UNIT: the pad's, pad -> world (the descent's shaping) */
     bool rate_known;                /* false: no rate, the attitude law does not run */
     bool imu_ok;                    /* gyro and accelerometer usable */
     fc_real tilt_cos;               /* RATIO: k_h */
@@ -258,6 +260,7 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
     c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &c->rate_radps);
     c->tilt_cos = tilt_cos_of(&ctl->ar, c->attitude);
     c->specific_force_mps2 = in->imu.accel_mps2;
+    c->pad_attitude = in->pad_attitude;
     ctl->guard.last_attitude = c->attitude;
     tm->attitude = c->attitude; /* and the setpoint's telemetry, on the paths without one */
     tm->rate_radps = c->rate_radps;
@@ -775,12 +778,15 @@ static fc_step_status landing_plan(fc_controller *ctl, const step_context *c, fc
     fc_arith *ar = &ctl->ar;
     const fc_landing_input lin = {landing_request_of(c->command), c->in.position_m.z,
                                   horizontal_error_m(ar, &c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
-                                  c->tilt_cos, ctl->pad.gear_height_m, c->range_fresh, ctl->last_thrust_n, &tm->pad};
+                                  c->tilt_cos, ctl->pad.gear_height_m, c->range_fresh, ctl->last_thrust_n, &tm->pad,
+                                  fc_sub(ar, c->in.position_m.x, c->in.position_setpoint_m.x),
+                                  fc_sub(ar, c->in.position_m.y, c->in.position_setpoint_m.y), c->pad_attitude};
     fc_landing_output lout;
     const fc_step_status status = passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
     tm->reference = lout.reference;
     tm->touchdown_window = lout.touchdown_window;
     tm->descent_blocked_by = lout.blocked_by;
+    tm->descent_shaping_mps = lout.shaping_mps;
     plan->fly_reference = lout.fly_reference;
     plan->motors_on = lout.motors_on;
     plan->thrust_n = lout.ramp_thrust_n;

@@ -76,6 +76,27 @@ static void landing_common_defaults(fc_controller_params *p)
     l->tilt_cos_abort = FC_C(0.906f, RATIO); /* 25 deg */
     l->range_timeout_s = FC_C(0.3f, TIME);
     l->abort_retries_max = 3u;
+    /* descent shaping (2.25)-(2.28), off unless asked for. Centred, (2.26)
+     * and (2.27) ask for k_r / delta_h + u_zbias = 0.4 m/s down, which
+     * (3.6)'s own rate caps near the pad; 0.1 m off centre, 0.2 m/s.
+     * (2.28): k_a |(d_h)_pad| / (|z| + delta_a), for a centred vehicle well
+     * above the pad about k_a sin(tilt): the descent slows on a tilted deck
+     * and holds at about 25 deg; off centre and near the pad it is the
+     * horizontal offset that counts, |d_h| / (|z| + delta_a). Climbs are
+     * slow (0.1 m/s): the field's climb while the deck rolls must not undo
+     * the descent of its level moments. The descent commits 8 cm above the
+     * surface, clear of a foot 0.3 m out on a deck tilted up to 15 deg */
+    l->descent_shaping = false;
+    l->shaping_commit_m = FC_C(0.08f, LENGTH);
+    l->shaping_filter_s = FC_C(0.3f, TIME);
+    l->shaping.k_r_m2ps = FC_C(0.03f, GAIN);
+    l->shaping.delta_h_m = FC_C(0.1f, LENGTH);
+    l->shaping.k_c_per_s = FC_C(0.5f, GAIN);
+    l->shaping.u_zbias_mps = FC_C(0.1f, VEL);
+    l->shaping.k_a_mps = FC_INT(1, GAIN);
+    l->shaping.delta_a_m = FC_C(0.1f, LENGTH);
+    l->shaping.max_descent_mps = FC_INT(1, VEL);
+    l->shaping.max_climb_mps = FC_C(0.1f, VEL);
 }
 
 /* The Crazyflie over a pad heaving 0-10 cm with periods of 2-10 s, a 50 Hz

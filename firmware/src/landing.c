@@ -47,6 +47,18 @@ fc_init_result fc_landing_init(fc_landing *lm, const fc_landing_params *p)
     lm->stuck_error_m = fc_mul(ar, p->touchdown_dip_m, FC_C(0.5f, UNIT), FC_SHIFT(LENGTH, UNIT, LENGTH));
     lm->inv_ramp_per_s = fc_div(ar, FC_INT(1, TIME), p->ramp_s, FC_DIV_SHIFT(TIME, TIME, GAIN));
     lm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    lm->shaping.ready = false;
+    lm->shaping_gain = FC_INT(0, UNIT);
+    lm->shaped_commit_offset_m = FC_INT(0, LENGTH);
+    if (p->descent_shaping) {
+        if (fc_descent_shaping_init(&lm->shaping, &p->shaping) != FC_INIT_OK ||
+            !fc_in_range(p->shaping_commit_m, FC_INT(0, LENGTH), FC_INT(1, LENGTH)) ||
+            !fc_in_range(p->shaping_filter_s, lm->step_s, FC_INT(10, TIME))) {
+            return FC_INIT_BAD_PARAM;
+        }
+        lm->shaping_gain = fc_div(ar, lm->step_s, p->shaping_filter_s, FC_DIV_SHIFT(TIME, TIME, UNIT));
+        lm->shaped_commit_offset_m = fc_add(ar, p->touchdown_dip_m, p->shaping_commit_m);
+    }
     if (ar->saturated != 0u) {
         return FC_INIT_BAD_PARAM;
     }
@@ -72,6 +84,10 @@ void fc_landing_reset(fc_landing *lm)
     lm->gear_height_m = FC_INT(100, LENGTH);
     lm->pressing = false;
     lm->aborts = 0u;
+    lm->shaped_offset_m = FC_INT(0, LENGTH);
+    lm->shaped_offset_max_m = FC_INT(0, LENGTH);
+    lm->shaped_rate_mps = FC_INT(0, VEL);
+    lm->shaping_committed = false;
 }
 
 /* Toward the hold point from height z: (3.6) restarted with the offset
@@ -190,9 +206,58 @@ static fc_step_status hold_reference(fc_landing *lm, const fc_landing_input *in,
     return fc_altitude_reference_step(&lm->hold_reference, &level, reference);
 }
 
-static fc_step_status descent_reference(fc_landing *lm, const fc_landing_input *in,
-                                        fc_vertical_trajectory *reference, bool *window)
+/* The band of the gear at the surface: 3 contact heights. */
+static fc_real contact_band_m(fc_landing *lm)
 {
+    return fc_mul(&lm->ar, lm->p.contact_height_m, FC_INT(3, RATIO), FC_SHIFT(LENGTH, RATIO, LENGTH));
+}
+
+/* The shaped descent (fc/landing.h): offset' = max(v_f, -offset / tau_d),
+ * v_f the filtered v_zd of (2.25) from the vehicle's position relative to
+ * the pad centre and the pad's attitude; (3.6)'s rate alone once committed. */
+static fc_step_status shaped_descent_reference(fc_landing *lm, const fc_landing_input *in,
+                                               fc_vertical_trajectory *reference, bool *window, fc_real *v_zd)
+{
+    fc_arith *ar = &lm->ar;
+    const fc_vertical_trajectory *pad = &in->pad->now;
+    const fc_real offset = lm->shaped_offset_m;
+    *window = offset <= lm->window_offset_m;
+    /* (3.6)'s rate from here: the fastest descent, the planned touchdown's */
+    const fc_real exp_rate =
+        fc_neg(ar, fc_mul(ar, offset, lm->descent_reference.inv_tau_per_s, FC_SHIFT(LENGTH, GAIN, VEL)));
+    const fc_descent_shaping_input din = {{in->offset_x_m, in->offset_y_m, fc_sub(ar, in->z_m, pad->z_m)},
+                                          in->pad_attitude};
+    fc_descent_shaping_output dout;
+    /* a clamped field is its design (the rate limits), not a fault to report */
+    const fc_step_status status =
+        fc_descent_shaping_step(&lm->shaping, &din, &dout) & (fc_step_status)~FC_STEP_OUTPUT_LIMITED;
+    *v_zd = dout.vz_mps;
+    /* v_f' = (v_zd - v_f) / shaping_filter_s */
+    lm->shaped_rate_mps = fc_add(
+        ar, lm->shaped_rate_mps,
+        fc_mul(ar, fc_sub(ar, dout.vz_mps, lm->shaped_rate_mps), lm->shaping_gain, FC_SHIFT(VEL, UNIT, VEL)));
+    if (offset <= lm->shaped_commit_offset_m || lm->gear_height_m <= contact_band_m(lm) ||
+        lm->state == FC_LANDING_TOUCHDOWN) {
+        lm->shaping_committed = true;
+    }
+    fc_real rate = lm->shaping_committed ? exp_rate : fc_max(lm->shaped_rate_mps, exp_rate);
+    if (rate > FC_INT(0, VEL) && offset >= lm->shaped_offset_max_m) {
+        rate = FC_INT(0, VEL); /* climbs no higher than where the descent started */
+    }
+    reference->z_m = fc_add(ar, fc_add(ar, pad->z_m, lm->descent_reference.bias_m), offset);
+    reference->vz_mps = fc_add(ar, pad->vz_mps, rate);
+    reference->az_mps2 = pad->az_mps2;
+    const fc_real next = fc_add(ar, offset, fc_mul(ar, rate, lm->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+    lm->shaped_offset_m = fc_clamp(next, FC_INT(0, LENGTH), fc_max(lm->shaped_offset_max_m, FC_INT(0, LENGTH)));
+    return status;
+}
+
+static fc_step_status descent_reference(fc_landing *lm, const fc_landing_input *in,
+                                        fc_vertical_trajectory *reference, bool *window, fc_real *v_zd)
+{
+    if (lm->p.descent_shaping) {
+        return shaped_descent_reference(lm, in, reference, window, v_zd);
+    }
     const fc_real offset_now =
         fc_mul(&lm->ar, lm->descent_reference.offset_m, lm->descent_reference.decay, FC_SHIFT(LENGTH, UNIT, LENGTH));
     *window = offset_now <= lm->window_offset_m;
@@ -213,11 +278,6 @@ static bool contact_seen(fc_landing *lm, const fc_landing_input *in, const fc_ve
 /* Contact lost, with hysteresis against the range finder's noise: the gear
  * clearly off the surface (3 contact heights), or the vehicle back on its
  * reference (flying again, not held by the pad). */
-static fc_real contact_band_m(fc_landing *lm)
-{
-    return fc_mul(&lm->ar, lm->p.contact_height_m, FC_INT(3, RATIO), FC_SHIFT(LENGTH, RATIO, LENGTH));
-}
-
 static bool contact_lost(fc_landing *lm, const fc_landing_input *in, const fc_vertical_trajectory *reference)
 {
     const fc_real behind_m = fc_sub(&lm->ar, in->z_m, reference->z_m);
@@ -257,6 +317,10 @@ static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *i
             const fc_real surface_offset =
                 fc_sub(ar, in->z_m, fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
             fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
+            lm->shaped_offset_m = fc_max(surface_offset, FC_INT(0, LENGTH));
+            lm->shaped_offset_max_m = lm->shaped_offset_m;
+            lm->shaped_rate_mps = FC_INT(0, VEL);
+            lm->shaping_committed = false;
             lm->gear_height_m = FC_INT(100, LENGTH);
             lm->pressing = false;
             enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
@@ -284,7 +348,8 @@ static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *i
 /* DESCEND and TOUCHDOWN: (3.6) around the pad's motion; aborts, contact, its confirmation. */
 static fc_step_status descent_states_step(fc_landing *lm, const fc_landing_input *in, fc_landing_output *out)
 {
-    const fc_step_status status = descent_reference(lm, in, &out->reference, &out->touchdown_window);
+    const fc_step_status status =
+        descent_reference(lm, in, &out->reference, &out->touchdown_window, &out->shaping_mps);
     out->fly_reference = true;
     out->motors_on = true;
     fc_landing_reason abort = descent_abort_reason(lm, in);

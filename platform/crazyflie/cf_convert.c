@@ -462,6 +462,7 @@ void cf_inputs_from_sample(const cf_sample *s, const cf_session *ss, const cf_tu
     in->velocity_mps = fc_vec3_make(F(s->vel_mps[0], VEL), F(s->vel_mps[1], VEL), F(s->vel_mps[2], VEL));
     in->pad = cf_track_trajectory(ss, t);
     in->position_setpoint_m = fc_vec3_make(F(ss->sp_x_m, LENGTH), F(ss->sp_y_m, LENGTH), FC_INT(0, LENGTH));
+    in->pad_attitude = fc_quat_identity(); /* no deck attitude on this path: a level pad */
     in->yaw_setpoint_rad = F(ss->sp_yaw_rad, ANGLE);
     in->yaw_rate_setpoint_radps = F(yaw_rate_feedforward_radps(s), RATE);
     in->range_m = F(ss->range_m, LENGTH);

@@ -316,6 +316,79 @@ static void test_params_rejected(void **state)
     assert_false(out.motors_on);
 }
 
+/* The shaped descent (descent_shaping, (2.25)-(2.28)) on a level pad: the
+ * same course to LANDED, the window before the contact. */
+static void test_shaped_full_landing(void **state)
+{
+    (void)state;
+    static world w;
+    world_init(&w);
+    w.p.descent_shaping = true;
+    assert_int_equal(fc_landing_init(&w.lm, &w.p), FC_INIT_OK);
+    w.in.pad_attitude = fc_quat_identity();
+    w.in.offset_x_m = len(0.02);
+    w.in.offset_y_m = len(-0.01);
+    bool window_before_contact = false;
+    bool shaped = false;
+    long k = 0;
+    for (; k < 100000 && w.out.state != FC_LANDING_LANDED; k++) {
+        step(&w, k);
+        if (w.out.state == FC_LANDING_DESCEND && w.out.touchdown_window) {
+            window_before_contact = true;
+        }
+        shaped = shaped || (w.out.state == FC_LANDING_DESCEND && w.out.shaping_mps < FC_INT(0, VEL));
+    }
+    assert_int_equal(w.out.state, FC_LANDING_LANDED);
+    assert_true(window_before_contact);
+    assert_true(shaped);
+    assert_int_equal(w.out.aborts, 0);
+}
+
+/* (2.28): a pad tilted 40 deg under a centred vehicle holds the shaped
+ * descent (no lower than where it started); level again, it goes on down. */
+static void test_shaped_descent_holds_on_tilted_pad(void **state)
+{
+    (void)state;
+    static world w;
+    world_init(&w);
+    w.p.descent_shaping = true;
+    assert_int_equal(fc_landing_init(&w.lm, &w.p), FC_INIT_OK);
+    /* 40 deg about x: q = (cos 20 deg, sin 20 deg, 0, 0) */
+    const fc_quat tilted = {FC_C(0.93969262f, UNIT), FC_C(0.34202014f, UNIT), FC_INT(0, UNIT), FC_INT(0, UNIT)};
+    w.in.pad_attitude = tilted;
+    assert_true(run_until(&w, FC_LANDING_DESCEND, 100000) >= 0);
+    const double start_m = w.z_m;
+    for (long k = 0; k < 1500; k++) { /* 3 s */
+        step(&w, k);
+        assert_int_equal(w.out.state, FC_LANDING_DESCEND);
+    }
+    assert_true(w.out.shaping_mps > FC_INT(0, VEL)); /* the field climbs ... */
+    assert_true(w.z_m >= start_m - 0.02);            /* ... capped where the descent started */
+    w.in.pad_attitude = fc_quat_identity();
+    for (long k = 0; k < 1500; k++) {
+        step(&w, k);
+    }
+    assert_true(w.z_m < start_m - 0.3);
+}
+
+/* The shaped descent's own parameters are checked only when it is on. */
+static void test_shaped_params_rejected(void **state)
+{
+    (void)state;
+    static world w;
+    world_init(&w);
+    fc_landing lm;
+    fc_landing_params p = w.p;
+    p.shaping_commit_m = len(2.0);
+    assert_int_equal(fc_landing_init(&lm, &p), FC_INIT_OK);
+    p.descent_shaping = true;
+    assert_int_equal(fc_landing_init(&lm, &p), FC_INIT_BAD_PARAM);
+    p = w.p;
+    p.descent_shaping = true;
+    p.shaping.delta_a_m = FC_INT(0, LENGTH);
+    assert_int_equal(fc_landing_init(&lm, &p), FC_INIT_BAD_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -323,7 +396,8 @@ int main(void)
         cmocka_unit_test(test_abort_causes),      cmocka_unit_test(test_descent_gated),
         cmocka_unit_test(test_retries_exhausted), cmocka_unit_test(test_request_none_is_idle),
         cmocka_unit_test(test_params_rejected),   cmocka_unit_test(test_press_at_contact),
-        cmocka_unit_test(test_no_press_by_default),
+        cmocka_unit_test(test_no_press_by_default), cmocka_unit_test(test_shaped_full_landing),
+        cmocka_unit_test(test_shaped_descent_holds_on_tilted_pad), cmocka_unit_test(test_shaped_params_rejected),
     };
     return cmocka_run_group_tests_name(FC_NUMERIC_FIXED ? "landing (fixed)" : "landing (float)", tests, NULL, NULL);
 }

@@ -205,6 +205,10 @@ typedef struct fc_controller_inputs {
     fc_real range_m;                    /* LENGTH: range finder, CG to the pad along body -z */
     bool range_fresh;                   /* range_m is a new sample this step */
     fc_vec3 position_setpoint_m;        /* LENGTH: x, y held over the pad (the pad's centre; z unused) */
+    fc_quat pad_attitude;               /* UNIT: the pad's attitude, pad -> world (a deck's roll and
+                                         * pitch, e.g. from its markers); read only by a shaped
+                                         * descent (landing.descent_shaping, the aversive term
+                                         * (2.28)); a zero quaternion counts as a level pad */
     fc_real yaw_setpoint_rad;           /* ANGLE */
     fc_controller_command command;
     fc_real yaw_rate_setpoint_radps;    /* RATE: the rate of yaw_setpoint_rad (0: none), fed
@@ -228,6 +232,7 @@ typedef struct fc_controller_telemetry {
     bool landing_changed;               /* a transition at this step */
     bool touchdown_window;              /* the landing plan expects contact from now on */
     fc_landing_reason descent_blocked_by; /* OBSERVE: what keeps the descent from starting */
+    fc_real descent_shaping_mps;        /* VEL: a shaped descent's v_zd of (2.25) (0 otherwise) */
     uint8_t aborts;
     fc_vertical_estimate vertical;      /* the failsafe's and the land detector's view */
     fc_land_state land_state;           /* the land detector's stage (in the failsafe) */

@@ -35,6 +35,28 @@
  *   vehicle pressed while a few mm up is on the surface before (3.6) has gone
  *   dip / 2 under it. Off where the ranger's noise is near contact_height_m
  *   (a press on a noisy sample drives the vehicle into the pad).
+ * DESCEND, shaped (descent_shaping): the offset of (3.6) above the surface
+ *   is no longer a fixed exponential of time but integrated from a rate,
+ *     offset' = max(v_f, -offset / tau_d),   0 <= offset <= its start,
+ *   v_f the descent field v_zd of (2.25)-(2.28) (fc/descent_shaping.h)
+ *   through 1/(shaping_filter_s s + 1) (the field follows the horizontal
+ *   error and its noise), v_zd at the vehicle's position relative to the pad
+ *   centre (x, y from the position setpoint, z the height above the pad's
+ *   estimate) and the pad's attitude. (3.6)'s own rate -offset / tau_d is
+ *   the fastest descent: the planned touchdown (dip / tau_d) stays as
+ *   unshaped; the field slows the descent, holds it or climbs (up to the
+ *   start) when the horizontal regulation is poor ((2.26), (2.27)) or when
+ *   the pad rolls or pitches, which moves the vehicle's position in the pad
+ *   frame off the pad's normal ((2.28), the aversive term): an asymmetric
+ *   touchdown on a tilted deck tips the vehicle towards its low side.
+ *   z_r = z_d + (gear - dip) + offset, z_r' = z_d' + offset', z_r'' = z_d''.
+ *   Committed: once the reference's gear is within shaping_commit_m of the
+ *   surface (offset <= dip + commit), or the range finder has put the gear
+ *   at the surface (3 contact heights), the rate is (3.6)'s to the end of
+ *   the descent. A vehicle that the field held just above a rolling deck
+ *   would be met by its rising side; above the commit height the deck's
+ *   swept volume is clear, and a committed final approach is as unshaped.
+ *   The window opens at the same offset as unshaped.
  * DISARM: the thrust ramps from its value at contact to 0 over ramp_s; then
  *   LANDED, motors off.
  * ABORT (from DESCEND; from TOUCHDOWN only by the operator): horizontal
@@ -50,6 +72,7 @@
 #define FC_LANDING_H
 
 #include "fc/altitude_reference.h"
+#include "fc/descent_shaping.h"
 #include "fc/pad_motion.h"
 #include "fc/status.h"
 
@@ -117,6 +140,11 @@ typedef struct fc_landing_params {
     fc_real pad_accel_max_mps2;     /* ACCEL: the pad's acceleration bound to start or go on, (0, 100] */
     fc_real range_timeout_s;        /* TIME: (0, 10] */
     uint8_t abort_retries_max;      /* descents after the first that an abort may lead to */
+    bool descent_shaping;           /* the descent's rate from (2.25)-(2.28) (above); false: (3.6) */
+    fc_descent_shaping_params shaping; /* checked at init only with descent_shaping */
+    fc_real shaping_commit_m;       /* LENGTH: the reference's gear above the surface where the shaped
+                                     * descent commits to (3.6), [0, 1] (with descent_shaping) */
+    fc_real shaping_filter_s;       /* TIME: the field's first-order filter, [dt, 10] (with descent_shaping) */
 } fc_landing_params;
 
 typedef struct fc_landing_input {
@@ -128,6 +156,8 @@ typedef struct fc_landing_input {
     bool range_fresh;               /* gear_height_m is a new sample */
     fc_real thrust_n;               /* FORCE: the thrust of the previous step (the ramp starts from it) */
     const fc_pad_motion_estimate *pad;
+    fc_real offset_x_m, offset_y_m; /* LENGTH: the vehicle minus the pad centre, world (read when shaped) */
+    fc_quat pad_attitude;           /* UNIT: the pad's attitude, pad -> world (read when shaped; zero: level) */
 } fc_landing_input;
 
 typedef struct fc_landing_output {
@@ -141,6 +171,7 @@ typedef struct fc_landing_output {
     bool touchdown_window;          /* the plan expects contact from now on */
     uint8_t aborts;                 /* since the mission started */
     fc_landing_reason blocked_by;   /* OBSERVE: what keeps the descent from starting (NONE: nothing) */
+    fc_real shaping_mps;            /* VEL: shaped DESCEND / TOUCHDOWN: v_zd of (2.25); 0 otherwise */
 } fc_landing_output;
 
 typedef struct fc_landing {
@@ -159,6 +190,13 @@ typedef struct fc_landing {
     fc_real gear_height_m;          /* LENGTH: the newest range sample in this descent (100 m: none yet) */
     bool pressing;                  /* the gear met the surface in the window: the reference at its end (dip below) */
     fc_real inv_ramp_per_s;         /* GAIN: 1 / ramp_s */
+    fc_descent_shaping shaping;     /* (2.25)-(2.28), with p.descent_shaping */
+    fc_real shaped_offset_m;        /* LENGTH: shaped: the offset above the surface's end point */
+    fc_real shaped_offset_max_m;    /* LENGTH: shaped: the offset the descent started from */
+    fc_real shaped_commit_offset_m; /* LENGTH: dip + shaping_commit_m */
+    fc_real shaped_rate_mps;        /* VEL: the filtered field v_f */
+    fc_real shaping_gain;           /* UNIT: dt / shaping_filter_s */
+    bool shaping_committed;         /* the rest of this descent is (3.6)'s */
     fc_real step_s;                 /* TIME: dt */
     uint8_t aborts;
     bool ready;
