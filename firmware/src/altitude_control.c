@@ -44,12 +44,6 @@ void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real d
     p->delta_n = fc_mul(&ar, FC_C(0.5f, FORCE), mass_ratio, FC_SHIFT(FORCE, RATIO, FORCE));
     p->k0_ns_per_m = fc_mul(&ar, FC_C(1.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     p->tau_f_s = FC_C(0.01f, DT);
-    /* eta majorant for tau_f = 0.01 s, kappa_m = 0.5 (4 kg), kp in [1/5, 1.1/3] (the
-     * impulse response computed over that range; tests/unit/test_altitude_control.c
-     * checks the bound in closed loop); c_s scales like 1/kappa_m */
-    p->eta_fast_rate_per_s = FC_C(30.0f, GAIN);
-    p->eta_slow_rate_per_s = FC_C(0.7f, GAIN);
-    p->eta_slow_gain_kg_per_s = fc_mul(&ar, FC_C(25.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     p->gamma = fc_mul(&ar, FC_C(5.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     /* baselines, tuned by the rules in the header for w_v = 8 rad/s, zeta = 1,
      * and the disturbance bounds of 4.4 */
@@ -69,7 +63,7 @@ static bool all_finite(const fc_altitude_control_params *p)
         p->dt_s, p->gravity_mps2, p->theta0_kg, p->mass_min_kg, p->mass_max_kg,
         p->ground_gain_max, p->tilt_cos_min, p->thrust_min_n, p->thrust_max_n, p->l0_per_s,
         p->tau_av_s, p->a_m_per_s, p->kappa_m_per_kg, p->rho_n, p->delta_n, p->k0_ns_per_m,
-        p->tau_f_s, p->eta_fast_rate_per_s, p->eta_slow_rate_per_s, p->eta_slow_gain_kg_per_s, p->gamma, p->boundary_layer_mps,
+        p->tau_f_s, p->gamma, p->boundary_layer_mps,
         p->stw_k1, p->stw_k2_nps, p->pid_kp_z_per_s, p->pid_ki_z_per_s2, p->pid_kp_v_n_per_mps,
         p->pid_ki_v_n_per_m, p->pid_vel_limit_mps};
     for (unsigned i = 0u; i < sizeof values / sizeof values[0]; i++) {
@@ -103,10 +97,9 @@ static bool relative_degree_two_minimum_phase(const fc_altitude_control_params *
 static bool gains_in_range(const fc_altitude_control_params *p)
 {
     const fc_real gain_max = FC_INT(30000, GAIN);
-    const fc_real gains[] = {p->l0_per_s, p->a_m_per_s, p->kappa_m_per_kg, p->k0_ns_per_m,
-                             p->eta_fast_rate_per_s, p->eta_slow_rate_per_s, p->eta_slow_gain_kg_per_s,
-                             p->gamma, p->stw_k1, p->stw_k2_nps, p->pid_kp_z_per_s, p->pid_ki_z_per_s2,
-                             p->pid_kp_v_n_per_mps, p->pid_ki_v_n_per_m};
+    const fc_real gains[] = {p->l0_per_s,      p->a_m_per_s,       p->kappa_m_per_kg,      p->k0_ns_per_m,
+                             p->gamma,         p->stw_k1,          p->stw_k2_nps,          p->pid_kp_z_per_s,
+                             p->pid_ki_z_per_s2, p->pid_kp_v_n_per_mps, p->pid_ki_v_n_per_m};
     for (unsigned i = 0u; i < sizeof gains / sizeof gains[0]; i++) {
         if (gains[i] > gain_max) {
             return false;
@@ -135,8 +128,7 @@ static bool altitude_params_valid(const fc_altitude_control_params *p)
            p->thrust_max_n > p->thrust_min_n && p->l0_per_s > zero && p->tau_av_s > zero &&
            p->a_m_per_s > zero && p->kappa_m_per_kg > zero && p->rho_n >= zero &&
            p->delta_n >= zero && p->k0_ns_per_m >= zero &&
-           (p->velocity_measured || p->tau_f_s > zero) && p->eta_fast_rate_per_s > zero &&
-           p->eta_slow_rate_per_s > zero && p->eta_slow_gain_kg_per_s >= zero && p->gamma >= zero && p->boundary_layer_mps > zero &&
+           (p->velocity_measured || p->tau_f_s > zero) && p->gamma >= zero && p->boundary_layer_mps > zero &&
            p->stw_k1 >= zero && p->stw_k2_nps >= zero && p->pid_kp_z_per_s >= zero &&
            p->pid_ki_z_per_s2 >= zero && p->pid_kp_v_n_per_mps >= zero &&
            p->pid_ki_v_n_per_m >= zero && p->pid_vel_limit_mps > zero &&
@@ -309,16 +301,6 @@ static void compute_discretisation(fc_altitude_control *c)
         c->lead_state_coeff =
             fc_sub(ar, FC_INT(1, RATIO), fc_mul(ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO)));
     }
-    /* eta norm observers: w' = -l w + |kp D|, ZOH input gain (1 - e^(-l dt))/l */
-    eta_observer_zoh(ar, p->eta_fast_rate_per_s, p->dt_s, &c->eta_fast_pole, &c->eta_fast_in_gain);
-    eta_observer_zoh(ar, p->eta_slow_rate_per_s, p->dt_s, &c->eta_slow_pole, &c->eta_slow_in_gain);
-    c->eta_fast_gain_kg_per_s = FC_INT(0, GAIN);
-    if (p->tau_f_s > FC_INT(0, DT)) {
-        /* c_f = h(0) = 1/(tau_f kappa_m) */
-        c->eta_fast_gain_kg_per_s =
-            fc_div(ar, FC_INT(1, GAIN), fc_mul(ar, p->tau_f_s, p->kappa_m_per_kg, FC_SHIFT(DT, GAIN, RATIO)),
-                   FC_DIV_SHIFT(GAIN, RATIO, GAIN));
-    }
     c->gamma_dt = fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
     adaptation_and_feed_forward_constants(c);
     c->l0_sq = fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
@@ -327,8 +309,164 @@ static void compute_discretisation(fc_altitude_control *c)
         fc_div(ar, FC_INT(1, PER_FORCE), p->thrust_authority_n, FC_DIV_SHIFT(PER_FORCE, FORCE, PER_FORCE));
 }
 
+/* The kp-independent coefficients of P(x) and M(x), x = tau_f s (header,
+ * NORM_OBSERVER, relative degree two), all RATIO. */
+typedef struct eta_coefficients {
+    fc_real c2;          /* 1 - l0 tau_f */
+    fc_real l0_tav_kappa; /* l0 tau_av kappa_m: c1 = (kp - this) q */
+    fc_real q;           /* tau_f / (tau_av kappa_m), kg */
+    fc_real am_tf_q;     /* a_m tau_f q: c0 = kp a_m tau_f q */
+    fc_real m1;          /* (1 + a_m tau_av) tau_f / tau_av */
+    fc_real m0;          /* a_m tau_f^2 / tau_av */
+} eta_coefficients;
+
+/* The majorant of g (h in the time scale x) for one kp:
+ * |g(theta)| <= fast_gain e^(-fast_rate theta) + slow_gain e^(-slow_rate theta), RATIO. */
+typedef struct eta_majorant {
+    fc_real fast_gain;
+    fc_real fast_rate;
+    fc_real slow_gain;
+    fc_real slow_rate;
+} eta_majorant;
+
+/* Products of two RATIO values, and (a x + b) x + c in RATIO: one copy each
+ * for the init-time root and residues below (flash on the ATmega). */
+static __attribute__((noinline)) fc_real ratio_mul(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_mul(ar, a, b, FC_SHIFT(RATIO, RATIO, RATIO));
+}
+
+static __attribute__((noinline)) fc_real ratio_quadratic(fc_arith *ar, fc_real x, fc_real a, fc_real b, fc_real c)
+{
+    return fc_add(ar, ratio_mul(ar, fc_add(ar, ratio_mul(ar, a, x), b), x), c);
+}
+
+/* The majorant of the header for one kp. false where the roots leave what the
+ * formats hold (c1, c0 <= 3, so every root is inside [-4, 0)) or the eta-dynamics
+ * are not stable: init then rejects the tuning in both backends. */
+static __attribute__((noinline)) bool eta_majorant_at(fc_arith *ar, const eta_coefficients *k, fc_real kp,
+                                                      eta_majorant *m)
+{
+    const fc_real one = FC_INT(1, RATIO);
+    const fc_real tiny = FC_C(1.0e-4f, RATIO);
+    const fc_real c1 = ratio_mul(ar, fc_sub(ar, kp, k->l0_tav_kappa), k->q);
+    const fc_real c0 = ratio_mul(ar, kp, k->am_tf_q);
+    if (!(c1 > FC_INT(0, RATIO) && c0 > FC_INT(0, RATIO) && c1 <= FC_INT(3, RATIO) && c0 <= FC_INT(3, RATIO))) {
+        return false;
+    }
+    /* Newton from -(1 + max c_i), left of every root (Cauchy's bound): where P is
+     * concave too (x < -c2/3, where the fast root of these dynamics lies) the
+     * iterates rise to the leftmost root without overshoot; elsewhere they pass it
+     * once and come back from the right. The residual is checked below. */
+    fc_real x = fc_neg(ar, fc_add(ar, one, fc_max(k->c2, fc_max(c1, c0))));
+    fc_real poly = FC_INT(0, RATIO);
+    for (unsigned i = 0u; i < 40u; i++) {
+        /* P(x) = ((x + c2) x + c1) x + c0, P'(x) = (3 x + 2 c2) x + c1 */
+        poly = fc_add(ar, ratio_mul(ar, ratio_quadratic(ar, x, one, k->c2, c1), x), c0);
+        const fc_real slope = ratio_quadratic(ar, x, FC_INT(3, RATIO), fc_add(ar, k->c2, k->c2), c1);
+        if (slope < tiny) {
+            return false;
+        }
+        x = fc_sub(ar, x, fc_div(ar, poly, slope, FC_DIV_SHIFT(RATIO, RATIO, RATIO)));
+    }
+    const fc_real r = x;
+    /* P(x) = (x - r)(x^2 + b1 x + b0): the pair's 2 s and s^2 + w^2 */
+    const fc_real b1 = fc_add(ar, k->c2, r);
+    if (!(fc_abs(ar, poly) < tiny && r < FC_INT(0, RATIO) && b1 > FC_INT(0, RATIO))) {
+        return false;
+    }
+    const fc_real b0 = fc_div(ar, c0, fc_neg(ar, r), FC_DIV_SHIFT(RATIO, RATIO, RATIO));
+    /* the fast residue M(r)/P'(r), P'(r) = r^2 + b1 r + b0 */
+    const fc_real m_r = ratio_quadratic(ar, r, one, k->m1, k->m0);
+    const fc_real p_r = ratio_quadratic(ar, r, one, b1, b0);
+    if (!(b0 > FC_INT(0, RATIO) && p_r > tiny)) {
+        return false;
+    }
+    const fc_real rho_f = fc_div(ar, m_r, p_r, FC_DIV_SHIFT(RATIO, RATIO, RATIO));
+    /* the pair's part of g: value A = 1 - rho_f and slope m1 - c2 - rho_f r at 0
+     * (g(0) = 1, g'(0) = m1 - c2 from M/P = 1/x + (m1 - c2)/x^2 + ...) */
+    const fc_real value = fc_sub(ar, one, rho_f);
+    const fc_real decay = ratio_mul(ar, b1, FC_C(0.5f, RATIO)); /* s */
+    const fc_real decay_sq = ratio_mul(ar, decay, decay);
+    const fc_real disc = fc_sub(ar, b0, decay_sq); /* w^2, or -nu^2 when overdamped */
+    const fc_real slope0 = fc_sub(ar, fc_sub(ar, k->m1, k->c2), ratio_mul(ar, rho_f, r));
+    const fc_real c_term = fc_add(ar, slope0, ratio_mul(ar, decay, value));
+    m->fast_gain = fc_abs(ar, rho_f);
+    m->fast_rate = fc_neg(ar, r);
+    if (ratio_mul(ar, FC_INT(4, RATIO), disc) >= decay_sq) {
+        /* w >= s/2: e^(-s t)(A cos wt + B sin wt), B = C/w, amplitude sqrt(A^2 + B^2) */
+        const fc_real w = fc_sqrt(ar, disc, FC_RATIO_FRAC);
+        const fc_real b = fc_div(ar, c_term, w, FC_DIV_SHIFT(RATIO, RATIO, RATIO));
+        m->slow_gain = fc_hypot3(ar, value, b, FC_INT(0, RATIO));
+        m->slow_rate = decay;
+    } else {
+        /* |part| <= e^(-s' t)(|A| + |C| t) <= (|A| + 2 |C|/(e s')) e^(-s' t/2),
+         * s' = s - nu the slower real part (nu = 0 for a complex pair) */
+        const fc_real nu = fc_sqrt(ar, fc_neg(ar, fc_min(disc, FC_INT(0, RATIO))), FC_RATIO_FRAC);
+        const fc_real slower = fc_sub(ar, decay, nu);
+        if (!(slower > tiny)) {
+            return false;
+        }
+        m->slow_gain = fc_add(ar, fc_abs(ar, value),
+                              fc_div(ar, ratio_mul(ar, FC_C(0.7357589f, RATIO), fc_abs(ar, c_term)), slower,
+                                     FC_DIV_SHIFT(RATIO, RATIO, RATIO)));
+        m->slow_rate = ratio_mul(ar, slower, FC_C(0.5f, RATIO));
+    }
+    return true;
+}
+
+/* The eta norm observer's constants (header, NORM_OBSERVER, relative degree two):
+ * the grid kp_j over [kp_min, kp_max], and for each cell the larger gains and the
+ * smaller rates of the majorants at its ends, c = gain/(tau_f kappa_m) and
+ * l = rate/tau_f, with the ZOH of w' = -l w + v. false: the tuning is rejected. */
+static __attribute__((noinline)) bool eta_observer_constants(fc_altitude_control *c)
+{
+    fc_arith *ar = &c->ar;
+    const fc_altitude_control_params *p = &c->p;
+    eta_coefficients k;
+    const fc_real tav_kappa = fc_mul(ar, p->tau_av_s, p->kappa_m_per_kg, FC_SHIFT(DT, GAIN, RATIO));
+    const fc_real tf_over_tav = fc_div(ar, p->tau_f_s, p->tau_av_s, FC_DIV_SHIFT(DT, DT, RATIO));
+    const fc_real am_tf = fc_mul(ar, p->a_m_per_s, p->tau_f_s, FC_SHIFT(GAIN, DT, RATIO));
+    k.c2 = fc_sub(ar, FC_INT(1, RATIO), fc_mul(ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO)));
+    k.l0_tav_kappa = fc_mul(ar, tav_kappa, p->l0_per_s, FC_SHIFT(RATIO, GAIN, RATIO));
+    k.q = fc_div(ar, p->tau_f_s, tav_kappa, FC_DIV_SHIFT(DT, RATIO, RATIO));
+    k.am_tf_q = ratio_mul(ar, am_tf, k.q);
+    k.m1 = ratio_mul(ar, fc_add(ar, FC_INT(1, RATIO), fc_mul(ar, p->a_m_per_s, p->tau_av_s, FC_SHIFT(GAIN, DT, RATIO))),
+                     tf_over_tav);
+    k.m0 = ratio_mul(ar, am_tf, tf_over_tav);
+    /* h(t) = g(t/tau_f) / (tau_f kappa_m) */
+    const fc_real h0 = fc_div(ar, FC_INT(1, GAIN), fc_mul(ar, p->tau_f_s, p->kappa_m_per_kg, FC_SHIFT(DT, GAIN, RATIO)),
+                              FC_DIV_SHIFT(GAIN, RATIO, GAIN));
+    const fc_real kp_step =
+        ratio_mul(ar, fc_sub(ar, c->kp_max_per_kg, c->kp_min_per_kg), FC_C(1.0f / (float)FC_ALT_ETA_CELLS, RATIO));
+    eta_majorant previous = {0};
+    for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
+        const fc_real kp = j == FC_ALT_ETA_CELLS
+                               ? c->kp_max_per_kg
+                               : fc_add(ar, c->kp_min_per_kg, ratio_mul(ar, FC_INT((int32_t)j, RATIO), kp_step));
+        eta_majorant m;
+        if (!eta_majorant_at(ar, &k, kp, &m)) {
+            return false;
+        }
+        c->eta_kp_per_kg[j] = kp;
+        if (j > 0u) {
+            const unsigned cell = j - 1u;
+            const int rate_shift = FC_DIV_SHIFT(RATIO, DT, GAIN);
+            const int gain_shift = FC_SHIFT(RATIO, GAIN, GAIN);
+            const fc_real fast_rate = fc_div(ar, fc_min(m.fast_rate, previous.fast_rate), p->tau_f_s, rate_shift);
+            const fc_real slow_rate = fc_div(ar, fc_min(m.slow_rate, previous.slow_rate), p->tau_f_s, rate_shift);
+            c->eta_fast_gain_kg_per_s[cell] = fc_mul(ar, fc_max(m.fast_gain, previous.fast_gain), h0, gain_shift);
+            c->eta_slow_gain_kg_per_s[cell] = fc_mul(ar, fc_max(m.slow_gain, previous.slow_gain), h0, gain_shift);
+            eta_observer_zoh(ar, fast_rate, p->dt_s, &c->eta_fast_pole[cell], &c->eta_fast_in_gain[cell]);
+            eta_observer_zoh(ar, slow_rate, p->dt_s, &c->eta_slow_pole[cell], &c->eta_slow_in_gain[cell]);
+        }
+        previous = m;
+    }
+    return true;
+}
+
 /* The constants the modulation rho is built from (kp_max = k_g_max/m_min,
- * kp_max/kappa_m, 1/kappa_m, a_m/kappa_m, the norm observer's input gain, c_f)
+ * kp_max/kappa_m, 1/kappa_m, a_m/kappa_m, the norm observer's input gain)
  * must fit their fixed formats (RATIO, MASS +-128, GAIN +-32768), with a margin
  * below the saturated value. In fixed a larger one has saturated (and init
  * fails on ar.saturated); in float nothing saturates, and a tiny but positive
@@ -341,7 +479,7 @@ static bool derived_in_range(const fc_altitude_control *c)
     const fc_real mass_max = FC_INT(100, MASS);
     return fc_within(c->kp_max_per_kg, ratio_max) && fc_within(c->kp_max_over_kappa, ratio_max) &&
            fc_within(c->obs_gain, ratio_max) && fc_within(c->inv_kappa_kg, mass_max) &&
-           fc_within(c->a_m_over_kappa, mass_max) && fc_within(c->eta_fast_gain_kg_per_s, FC_INT(30000, GAIN));
+           fc_within(c->a_m_over_kappa, mass_max);
 }
 
 void fc_altitude_control_reset(fc_altitude_control *c)
@@ -350,8 +488,14 @@ void fc_altitude_control_reset(fc_altitude_control *c)
     c->sigma_bar_mps = FC_INT(0, VEL);
     c->omega5_n = FC_INT(0, FORCE);
     c->last_omega4_n = FC_INT(0, FORCE);
-    c->omega_eta_fast_mps = FC_INT(0, VEL);
-    c->omega_eta_slow_mps = FC_INT(0, VEL);
+    for (unsigned j = 0u; j < FC_ALT_ETA_CELLS; j++) {
+        c->omega_eta_fast_mps[j] = FC_INT(0, VEL);
+        c->omega_eta_slow_mps[j] = FC_INT(0, VEL);
+    }
+    for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
+        c->eta_last_kp_d_mps2[j] = FC_INT(0, ACCEL);
+    }
+    c->eta_primed = false;
     c->lead_state_m = FC_INT(0, LENGTH);
     c->theta_kg = c->p.theta0_kg;
     c->sigma_phi_lp = FC_INT(0, SIGMA_PHI);
@@ -379,7 +523,24 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
     }
     compute_discretisation(c);
     fc_altitude_control_reset(c);
-    if (c->ar.saturated != 0u || !derived_in_range(c)) {
+    /* the eta norm observer's constants, only where it runs (SSC, relative degree
+     * two, NORM_OBSERVER): another law does not depend on its ranges */
+    bool eta_ok = true;
+    for (unsigned j = 0u; j < FC_ALT_ETA_CELLS; j++) {
+        c->eta_fast_gain_kg_per_s[j] = FC_INT(0, GAIN);
+        c->eta_slow_gain_kg_per_s[j] = FC_INT(0, GAIN);
+        c->eta_fast_pole[j] = FC_INT(0, UNIT);
+        c->eta_slow_pole[j] = FC_INT(0, UNIT);
+        c->eta_fast_in_gain[j] = FC_INT(0, DT);
+        c->eta_slow_in_gain[j] = FC_INT(0, DT);
+    }
+    for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
+        c->eta_kp_per_kg[j] = FC_INT(0, RATIO);
+    }
+    if (p->law == FC_ALT_LAW_SSC && !p->velocity_measured && p->modulation == FC_SSC_MODULATION_NORM_OBSERVER) {
+        eta_ok = eta_observer_constants(c);
+    }
+    if (c->ar.saturated != 0u || !eta_ok || !derived_in_range(c)) {
         return FC_INIT_BAD_PARAM;
     }
     c->ready = true;
@@ -457,15 +618,44 @@ static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input 
     return fc_add(ar, from_omega3, from_sigma);
 }
 
-/* The bound of |kp D| driving the eta norm observer (4.3.2), D of (4.62):
- * max over kp of |kp u_nom - (g + z_r'' + l0^2 e)|. */
-static fc_real eta_input_bound_mps2(fc_altitude_control *c, const fc_altitude_control_input *in,
+/* The eta norm observers (4.3.2) on the cells of the kp range (header): the bound
+ * of |d_eq3| (4.81) over the step ahead, and their advance. kp_j D = kp_j u_nom - psi,
+ * psi = g + z_r'' + l0^2 e (D of (4.62)). */
+static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_control_input *in,
                                     const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
     const fc_real l0_sq_e = fc_mul(ar, c->l0_sq, t->e_m, FC_SHIFT(GAIN, LENGTH, ACCEL));
     const fc_real psi = fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e);
-    return plant_gain_bound_mps2(c, u_nom_n, psi);
+    fc_real size[FC_ALT_ETA_CELLS + 1];   /* ACCEL: |kp_j D| */
+    fc_real change[FC_ALT_ETA_CELLS + 1]; /* ACCEL: |kp_j D[k] - kp_j D[k-1]| */
+    for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
+        const fc_real kp_d =
+            fc_sub(ar, fc_mul(ar, c->eta_kp_per_kg[j], u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi);
+        size[j] = fc_abs(ar, kp_d);
+        change[j] = c->eta_primed ? fc_abs(ar, fc_sub(ar, kp_d, c->eta_last_kp_d_mps2[j])) : FC_INT(0, ACCEL);
+        c->eta_last_kp_d_mps2[j] = kp_d;
+    }
+    c->eta_primed = true;
+    fc_real bound = FC_INT(0, FORCE);
+    for (unsigned j = 0u; j < FC_ALT_ETA_CELLS; j++) {
+        /* |kp D| over the cell and over the step ahead (kp D linear in kp) */
+        const fc_real v = fc_add(ar, fc_max(size[j], size[j + 1u]), fc_max(change[j], change[j + 1u]));
+        /* Lemma 11 on each term, ZOH with v held; w between the samples lies
+         * between w[k] and w[k+1] */
+        _Static_assert(FC_SHIFT(UNIT, VEL, VEL) == FC_SHIFT(DT, ACCEL, VEL), "one shift for both products");
+        const fc_real fast = fc_dot2(ar, c->eta_fast_pole[j], c->omega_eta_fast_mps[j], c->eta_fast_in_gain[j], v,
+                                     FC_SHIFT(UNIT, VEL, VEL));
+        const fc_real slow = fc_dot2(ar, c->eta_slow_pole[j], c->omega_eta_slow_mps[j], c->eta_slow_in_gain[j], v,
+                                     FC_SHIFT(UNIT, VEL, VEL));
+        const fc_real cell = fc_dot2(ar, c->eta_fast_gain_kg_per_s[j], fc_max(fast, c->omega_eta_fast_mps[j]),
+                                     c->eta_slow_gain_kg_per_s[j], fc_max(slow, c->omega_eta_slow_mps[j]),
+                                     FC_SHIFT(GAIN, VEL, FORCE));
+        c->omega_eta_fast_mps[j] = fast;
+        c->omega_eta_slow_mps[j] = slow;
+        bound = fc_max(bound, cell);
+    }
+    return bound;
 }
 
 /* The modulation rho of the relay, and the advance of its observers. */
@@ -497,17 +687,9 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
                                  fc_mul(ar, c->obs_gain, omega4, FC_SHIFT(RATIO, FORCE, FORCE)));
             return rho;
         }
-        /* eta norm observers (4.3.2): rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde| */
-        const fc_real bound = eta_input_bound_mps2(c, in, t, u_nom_n);
-        const fc_real rho_bar = fc_add(
-            ar, fc_mul(ar, c->eta_fast_gain_kg_per_s, c->omega_eta_fast_mps, FC_SHIFT(GAIN, VEL, FORCE)),
-            fc_mul(ar, p->eta_slow_gain_kg_per_s, c->omega_eta_slow_mps, FC_SHIFT(GAIN, VEL, FORCE)));
-        c->omega_eta_fast_mps =
-            fc_add(ar, fc_mul(ar, c->eta_fast_pole, c->omega_eta_fast_mps, FC_SHIFT(UNIT, VEL, VEL)),
-                   fc_mul(ar, c->eta_fast_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
-        c->omega_eta_slow_mps =
-            fc_add(ar, fc_mul(ar, c->eta_slow_pole, c->omega_eta_slow_mps, FC_SHIFT(UNIT, VEL, VEL)),
-                   fc_mul(ar, c->eta_slow_in_gain, bound, FC_SHIFT(DT, ACCEL, VEL)));
+        /* eta norm observers (4.3.2): rho = max over cells (c_f w_f + c_s w_s)
+         * + delta + k0 |sigma_tilde| */
+        const fc_real rho_bar = eta_observer_bound_n(c, in, t, u_nom_n);
         *observer_bound = rho_bar;
         return fc_add(ar, rho_bar, fc_add(ar, p->delta_n, k0_term));
     case FC_SSC_MODULATION_EXTRA: {

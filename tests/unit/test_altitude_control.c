@@ -303,6 +303,121 @@ static void test_eta_norm_observer_bounds_d_eq3(void **state)
     print_message("eta norm observer (4.3.2): max |d_eq3| / bound over 20 random runs = %.3f\n", worst_ratio);
 }
 
+/* The impulse response h(t) from kp D to d_eq3 of the eta-dynamics (4.67)-(4.69),
+ * by RK4 from eta2(0+) = 1/tau_f; worst of |h(t)| / majorant(t) over [0, t_end]
+ * and the L1 norms of both. */
+typedef struct eta_tuning {
+    double tau_av, tau_f, kappa, a_m, l0;
+} eta_tuning;
+
+static double eta_majorant_ratio(const eta_tuning *e, double kp, double c_f, double l_f, double c_s, double l_s,
+                                 double *h_l1, double *majorant_l1)
+{
+    double eta[3] = {0.0, 1.0 / e->tau_f, 0.0};
+    const double h = 2e-5, t_end = 12.0;
+    double worst = 0.0, l1 = 0.0;
+    for (int k = 0; k * h < t_end; k++) {
+        const double t = k * h;
+        const double out = eta[0] + eta[1] / e->kappa + e->a_m / e->kappa * eta[2];
+        const double majorant = c_f * exp(-l_f * t) + c_s * exp(-l_s * t);
+        worst = fmax(worst, fabs(out) / majorant);
+        l1 += fabs(out) * h;
+        double k_sum[3] = {0.0, 0.0, 0.0}, stage[3], d[3];
+        static const double weight[4] = {1.0, 2.0, 2.0, 1.0}, at[4] = {0.0, 0.5, 0.5, 1.0};
+        for (int s = 0; s < 4; s++) {
+            for (int i = 0; i < 3; i++) {
+                stage[i] = eta[i] + (s == 0 ? 0.0 : at[s] * h * d[i]);
+            }
+            d[0] = (stage[1] + e->a_m * stage[2]) / (e->kappa * e->tau_av);
+            d[1] = (-kp * stage[0] + (e->l0 * e->tau_f - 1.0) * stage[1] + e->l0 * stage[2]) / e->tau_f;
+            d[2] = stage[1];
+            for (int i = 0; i < 3; i++) {
+                k_sum[i] += weight[s] * d[i];
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            eta[i] += h / 6.0 * k_sum[i];
+        }
+    }
+    *h_l1 = l1;
+    *majorant_l1 = c_f / l_f + c_s / l_s;
+    return worst;
+}
+
+/* The majorant computed at init (header, NORM_OBSERVER, relative degree two)
+ * covers h(t) for every kp of a fine grid over [kp_min, kp_max], with the
+ * constants of the cell that holds it, for the default tuning and another one;
+ * and it is tight: its integral is within a factor 1.6 of the L1 norm of h at
+ * the cell's worst end (pi/2 is what an exponential envelope of a damped
+ * oscillation costs). */
+static void test_eta_majorant_covers_impulse_response(void **state)
+{
+    (void)state;
+    for (int tuning = 0; tuning < 2; tuning++) {
+        fc_altitude_control c;
+        fc_altitude_control_params p;
+        fc_altitude_control_variant_params(&p, FC_ALT_VARIANT_SSC_REL2_NORM, dt_of(DT_500HZ), mass_of(4.0));
+        eta_tuning e = {0.1, 0.01, 0.5, 5.0, 2.0};
+        if (tuning == 1) {
+            e.tau_f = 0.02;
+            e.a_m = 8.0;
+            e.kappa = 0.3;
+            p.tau_f_s = fc_from_float((float)e.tau_f, FC_DT_FRAC);
+            p.a_m_per_s = fc_from_float((float)e.a_m, FC_GAIN_FRAC);
+            p.kappa_m_per_kg = fc_from_float((float)e.kappa, FC_GAIN_FRAC);
+        }
+        assert_int_equal(fc_altitude_control_init(&c, &p), FC_INIT_OK);
+        const double kp_min = (double)fc_to_float(c.eta_kp_per_kg[0], FC_RATIO_FRAC);
+        const double kp_max = (double)fc_to_float(c.eta_kp_per_kg[FC_ALT_ETA_CELLS], FC_RATIO_FRAC);
+        assert_true(fabs(kp_min - 1.0 / 5.0) < 1e-4 && fabs(kp_max - 1.1 / 3.0) < 1e-4);
+        double worst = 0.0, worst_l1_ratio = 0.0;
+        const int points = 24;
+        for (int i = 0; i <= points; i++) {
+            const double kp = kp_min + (kp_max - kp_min) * i / points;
+            int cell = 0;
+            while (cell + 1 < FC_ALT_ETA_CELLS &&
+                   kp > (double)fc_to_float(c.eta_kp_per_kg[cell + 1], FC_RATIO_FRAC)) {
+                cell++;
+            }
+            const double c_f = (double)fc_to_float(c.eta_fast_gain_kg_per_s[cell], FC_GAIN_FRAC);
+            const double c_s = (double)fc_to_float(c.eta_slow_gain_kg_per_s[cell], FC_GAIN_FRAC);
+            const double l_f = -log((double)fc_to_float(c.eta_fast_pole[cell], FC_UNIT_FRAC)) / DT_500HZ;
+            const double l_s = -log((double)fc_to_float(c.eta_slow_pole[cell], FC_UNIT_FRAC)) / DT_500HZ;
+            double h_l1, majorant_l1;
+            const double ratio = eta_majorant_ratio(&e, kp, c_f, l_f, c_s, l_s, &h_l1, &majorant_l1);
+            worst = fmax(worst, ratio);
+            const bool cell_end = fabs(kp - (double)fc_to_float(c.eta_kp_per_kg[cell], FC_RATIO_FRAC)) < 1e-6 &&
+                                  (cell == 0 || i == 0);
+            if (i == 0 || cell_end) {
+                worst_l1_ratio = fmax(worst_l1_ratio, majorant_l1 / h_l1);
+            }
+        }
+        print_message("tuning %d: max |h| / majorant over kp %.3f; majorant L1 / h L1 at kp_min %.3f\n", tuning,
+                      worst, worst_l1_ratio);
+        assert_true(worst <= 1.0 + 2e-3);
+        assert_true(worst_l1_ratio <= 1.6);
+    }
+}
+
+/* A tuning whose eta-dynamics leave the range the majorant is computed in
+ * (c1 = (kp - l0 tau_av kappa_m) tau_f/(tau_av kappa_m) > 3) is rejected in both
+ * backends, only where the eta observer runs. */
+static void test_eta_majorant_range_rejected(void **state)
+{
+    (void)state;
+    fc_altitude_control c;
+    fc_altitude_control_params p;
+    fc_altitude_control_variant_params(&p, FC_ALT_VARIANT_SSC_REL2_NORM, dt_of(DT_500HZ), mass_of(4.0));
+    p.tau_f_s = fc_from_float(0.1f, FC_DT_FRAC);
+    p.tau_av_s = fc_from_float(0.002f, FC_DT_FRAC);
+    p.l0_per_s = fc_from_float(0.5f, FC_GAIN_FRAC);
+    p.a_m_per_s = fc_from_float(1.0f, FC_GAIN_FRAC);
+    p.kappa_m_per_kg = fc_from_float(0.5f, FC_GAIN_FRAC);
+    assert_int_equal(fc_altitude_control_init(&c, &p), FC_INIT_BAD_PARAM);
+    p.modulation = FC_SSC_MODULATION_CONSTANT;
+    assert_int_equal(fc_altitude_control_init(&c, &p), FC_INIT_OK);
+}
+
 /* ---------------------------------------------------------------------- */
 /* closed loop on the 4.4 altitude plant                                    */
 /* ---------------------------------------------------------------------- */
@@ -384,6 +499,20 @@ static void test_norm_observer_pays(void **state)
                   norm.control_tv_per_s);
     assert_true(norm.rms_error_m <= constant.rms_error_m);
     assert_true(norm.control_tv_per_s <= 0.5 * constant.control_tv_per_s);
+}
+
+/* Issue 29's target for relative degree two: the eta norm observer's rho is no
+ * larger than needed, so ssc-rel2-norm tracks within twice ssc-rel2's rms. */
+static void test_rel2_norm_observer_within_twice_constant(void **state)
+{
+    (void)state;
+    const seed44_metrics constant = fly(FC_ALT_VARIANT_SSC_REL2, 500.0);
+    const seed44_metrics norm = fly(FC_ALT_VARIANT_SSC_REL2_NORM, 500.0);
+    print_message("rel2 constant rho: rms %.3f mm tv %.0f N/s | eta norm observer: rms %.3f mm tv %.0f N/s\n",
+                  constant.rms_error_m * 1e3, constant.control_tv_per_s, norm.rms_error_m * 1e3,
+                  norm.control_tv_per_s);
+    assert_int_equal(norm.nan_outputs, 0);
+    assert_true(norm.rms_error_m <= 2.0 * constant.rms_error_m);
 }
 
 static void test_seed44_every_variant_flies(void **state)
@@ -597,10 +726,13 @@ int main(void)
         cmocka_unit_test(test_lead_filter_realisation),
         cmocka_unit_test(test_norm_observer_bounds_d_eq2),
         cmocka_unit_test(test_eta_norm_observer_bounds_d_eq3),
+        cmocka_unit_test(test_eta_majorant_covers_impulse_response),
+        cmocka_unit_test(test_eta_majorant_range_rejected),
         cmocka_unit_test(test_seed44_ssc_adaptive_meets_spec),
         cmocka_unit_test(test_adaptation_settles_at_500_and_250_hz),
         cmocka_unit_test(test_start_respects_thrust_limits),
         cmocka_unit_test(test_norm_observer_pays),
+        cmocka_unit_test(test_rel2_norm_observer_within_twice_constant),
         cmocka_unit_test(test_seed44_every_variant_flies),
         cmocka_unit_test(test_quasi_sliding_band_against_rate),
         cmocka_unit_test(test_adaptation_frozen_while_clamped),

@@ -36,18 +36,56 @@
  *                     signals smooth at the step (modulo vanishing terms, as (4.34)).
  *                   relative degree two: the eta norm observer of 4.3.2 instead:
  *                   d_eq3 = eta1 + eta2/kappa_m + a_m eta3/kappa_m (4.81) is the output of
- *                   the eta-dynamics driven by kp D, |kp D| <= max |kp u_nom - (g + z_r'' + l0^2 e)|
- *                   over kp in [kp_min, kp_max] (the tight form, as w3 above);
- *                   its impulse response h(t) from kp D to d_eq3 is majorised over the
- *                   kp range by two exponentials, |h(t)| <= c_f e^(-l_f t) + c_s e^(-l_s t):
- *                   the fast term is the lead filter's direct path, c_f = h(0) = 1/(tau_f kappa_m),
- *                   the slow one the lightly damped pair of the eta-dynamics. Lemma 11 on
- *                   each: w_f' = -l_f w_f + |kp D|, w_s' = -l_s w_s + |kp D|, and
- *                   rho = c_f w_f + c_s w_s + delta + k0 |sigma_tilde|.
+ *                   the eta-dynamics tau_bar eta' = A_eta eta + B_eta kp D driven by
+ *                   kp D = kp u_nom - psi, psi = g + z_r'' + l0^2 e. From (4.67)-(4.69) its
+ *                   transfer function is
+ *                     H(s) = (tau_av s^2 + (1 + a_m tau_av) s + a_m)
+ *                            / (tau_bar s^3 + (1 - l0 tau_f) tau_av kappa_m s^2
+ *                               + (kp - l0 tau_av kappa_m) s + kp a_m),
+ *                   H(0) = 1/kp, h(0+) = 1/(tau_f kappa_m). In the time scale of the lead
+ *                   filter, x = tau_f s, h(t) = g(t/tau_f)/(tau_f kappa_m) with g the impulse
+ *                   response of M(x)/P(x), both monic:
+ *                     P(x) = x^3 + c2 x^2 + c1 x + c0,  c2 = 1 - l0 tau_f,
+ *                            c1 = (kp - l0 tau_av kappa_m) q, c0 = kp a_m tau_f q,
+ *                            q = tau_f/(tau_av kappa_m),
+ *                     M(x) = x^2 + m1 x + m0,  m1 = (1 + a_m tau_av) tau_f/tau_av,
+ *                            m0 = a_m tau_f^2/tau_av.
+ *                   Computed at init for each kp of a grid over [kp_min, kp_max]: the real
+ *                   root r of P (Newton from the left of every root) and its residue
+ *                   rho_f = M(r)/P'(r), the fast term; the rest of g, g - rho_f e^(r x), is
+ *                   the pair of P(x)/(x - r) = x^2 + b1 x + b0, with value A = 1 - rho_f and
+ *                   slope g'(0) - rho_f r = m1 - c2 - rho_f r at 0; as a damped oscillation
+ *                   e^(-s t)(A cos(w t) + B sin(w t)) it is majorised by sqrt(A^2 + B^2) e^(-s t),
+ *                   otherwise (overdamped or w < s/2) by (|A| + 2 |C|/(e s')) e^(-s' t/2),
+ *                   s' the slower real part, C = slope + s A (t e^(-s' t/2) <= 2/(e s')).
+ *                   So |h(t)| <= c_f e^(-l_f t) + c_s e^(-l_s t), the tightest pair of
+ *                   exponentials of this form, exact at t = 0 (c_f + c_s >= h(0)).
+ *                   The kp range is cut into FC_ALT_ETA_CELLS cells; on each, the majorant
+ *                   takes the larger c and the smaller l of its two ends, and |kp D| <= the
+ *                   larger of |kp_j u_nom - psi| at the ends (kp D is linear in kp). This
+ *                   keeps apart what the dissertation's bound couples: h is largest at
+ *                   kp_min, |kp D| at kp_max (u_nom ~ Theta0 psi makes kp D vanish near
+ *                   1/Theta0), and their product is bounded cell by cell. Lemma 11 on each
+ *                   term: w' = -l w + v, v the cell's input bound, and
+ *                   rho_bar = max over cells of (c_f w_f + c_s w_s).
+ *                   The terms the discretisation adds: the relay is held over the step ahead
+ *                   while d_eq3 moves on. (1) kp D moves within the step: its change over the
+ *                   last step, |kp_j D[k] - kp_j D[k-1]| at the ends, bounds its change over the
+ *                   next one for signals smooth at the step, so v = max |kp_j D| + max |delta
+ *                   kp_j D| bounds |kp D| over the whole step ahead; (2) a state w between
+ *                   samples lies between w[k] and w[k+1] (first order, input held), so
+ *                   rho_bar uses max(w[k], w[k+1]) of each: the bound holds at every instant
+ *                   of the step, not only at its samples.
  *                   Relative degree two also needs the eta-dynamics minimum phase over
  *                   the kp range (Remark 9): tau_f l0 < 1, tau_av kappa_m l0 < kp_min and
  *                   tau_av kappa_m l0 (1 - tau_f l0) + tau_f kp_min (a_m + l0) < kp_min;
- *                   init rejects a tuning that breaks them.
+ *                   init rejects a tuning that breaks them, and, with the eta norm
+ *                   observer, one whose c1 or c0 exceeds 3 over the kp range (the roots
+ *                   then stay inside [-4, 0), what RATIO holds through the cubic) or whose
+ *                   root finding does not settle. The majorant's constants are taken at
+ *                   the cells' ends: that they cover h for every kp inside a cell is not
+ *                   proven but checked (tests/unit/test_altitude_control.c samples kp
+ *                   across the range for two tunings).
  *   EXTRA           (4.54)-(4.56): rho = c_eta |u0_av| + w4 + delta (c_eta, w4 as above)
  * Nominal control (4.4): u_nom = Theta phi, phi = g + z_r'' - l0 e'. The start of (3.6)
  * asks for z_r'' = z_r_init/tau_zr^2 and z_r' = -z_r_init/tau_zr, more than the thrust
@@ -116,6 +154,7 @@
  *               when a_m = 1/tau_av)
  *   w5       <- p w5 + (1 - p) (kappa_m / kp_min) w4,  p = e^(-kp_min dt/(kappa_m tau_av))
  *   x_f      <- f x_f + (1 - f) e,                     f = e^(-dt/tau_f)
+ *   w_f, w_s <- e^(-l dt) w + ((1 - e^(-l dt))/l) v    each cell of the eta norm observer, v held
  *   Theta_I  <- Theta_I - gamma dt sigma phi           (integrator: Euler is its ZOH; before u_nom)
  * With a discrete relay the ideal sliding mode becomes a quasi-sliding band of
  * about rho dt / tau_av in u0_av: a modulation only as large as needed keeps
@@ -146,6 +185,12 @@
 /* Damping ratio of the adaptive mode (sigma, Theta) with the proportional part
  * of the adaptation ("Adaptation in discrete time" above). */
 #define FC_ALT_THETA_DAMPING 0.7f
+
+/* Cells of the kp range on which the eta norm observer (relative degree two)
+ * majorises the impulse response to d_eq3 (header comment, NORM_OBSERVER). */
+#ifndef FC_ALT_ETA_CELLS
+#define FC_ALT_ETA_CELLS 3
+#endif
 
 typedef enum fc_altitude_law {
     FC_ALT_LAW_SSC = 0,
@@ -189,9 +234,6 @@ typedef struct fc_altitude_control_params {
     fc_real delta_n;             /* FORCE: margin delta of (4.39) */
     fc_real k0_ns_per_m;         /* GAIN: k0 of rho = rho_bar + k0 |sigma_tilde| */
     fc_real tau_f_s;             /* DT: lead filter (4.18), relative degree two */
-    fc_real eta_fast_rate_per_s; /* GAIN: l_f of the eta majorant (relative degree two) */
-    fc_real eta_slow_rate_per_s; /* GAIN: l_s */
-    fc_real eta_slow_gain_kg_per_s; /* GAIN: c_s, N per m/s (c_f = 1/(tau_f kappa_m) is computed) */
     fc_real gamma;               /* GAIN: adaptation gain (4.83), kg s^2/m^2 */
 
     /* baselines */
@@ -244,11 +286,14 @@ typedef struct fc_altitude_control {
     fc_real lead_gain;           /* UNIT: 1 - f */
     fc_real lead_inv_tau_per_s;  /* GAIN: 1/tau_f */
     fc_real lead_state_coeff;    /* RATIO: 1 - tau_f l0 */
-    fc_real eta_fast_pole;       /* UNIT: e^(-l_f dt) */
-    fc_real eta_fast_in_gain;    /* DT: (1 - e^(-l_f dt))/l_f, s */
-    fc_real eta_slow_pole;       /* UNIT: e^(-l_s dt) */
-    fc_real eta_slow_in_gain;    /* DT */
-    fc_real eta_fast_gain_kg_per_s; /* GAIN: c_f = 1/(tau_f kappa_m) */
+    /* eta norm observer (relative degree two), computed at init (header comment) */
+    fc_real eta_kp_per_kg[FC_ALT_ETA_CELLS + 1]; /* RATIO: the grid's kp, kp_min .. kp_max */
+    fc_real eta_fast_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_f of each cell */
+    fc_real eta_fast_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_f dt) */
+    fc_real eta_fast_in_gain[FC_ALT_ETA_CELLS]; /* DT: (1 - e^(-l_f dt))/l_f, s */
+    fc_real eta_slow_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_s */
+    fc_real eta_slow_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_s dt) */
+    fc_real eta_slow_in_gain[FC_ALT_ETA_CELLS]; /* DT */
     fc_real kp_max_over_kappa;   /* RATIO: kp_max / kappa_m */
     fc_real inv_kappa_kg;        /* MASS: 1 / kappa_m */
     fc_real a_m_over_kappa;      /* MASS: a_m / kappa_m, kg/s */
@@ -271,8 +316,9 @@ typedef struct fc_altitude_control {
     fc_real sigma_bar_mps;       /* VEL */
     fc_real omega5_n;            /* FORCE: norm observer (4.40) */
     fc_real last_omega4_n;       /* FORCE: w4 of the last step */
-    fc_real omega_eta_fast_mps;  /* VEL: eta norm observer states (integrals of |kp D|) */
-    fc_real omega_eta_slow_mps;  /* VEL */
+    fc_real omega_eta_fast_mps[FC_ALT_ETA_CELLS]; /* VEL: eta norm observer states (of |kp D|) */
+    fc_real omega_eta_slow_mps[FC_ALT_ETA_CELLS]; /* VEL */
+    fc_real eta_last_kp_d_mps2[FC_ALT_ETA_CELLS + 1]; /* ACCEL: kp_j D of the last step */
     fc_real lead_state_m;        /* LENGTH: x_f of (4.18) */
     fc_real theta_kg;            /* MASS: Theta_I, the integral part of the adaptation */
     fc_real sigma_phi_lp;        /* SIGMA_PHI: sigma phi low-passed for the proportional part */
@@ -283,6 +329,7 @@ typedef struct fc_altitude_control {
     fc_real last_error_m;        /* LENGTH */
     fc_real last_thrust_n;       /* FORCE */
     bool lead_primed;
+    bool eta_primed;             /* eta_last_kp_d_mps2 holds a step's values */
     bool hold;                   /* fc_altitude_control_hold */
     bool ready;
     fc_arith ar;
