@@ -939,6 +939,32 @@ static void print_metric_table(const run_record *records, int count, bool compar
     }
 }
 
+/* --compare --runs N: the figures the variants are compared by (rms error,
+ * control total variation, Theta error), each as median and p95 over the
+ * runs: the spread the median table above leaves out. */
+static void print_compare_spread(const run_record *records, int count)
+{
+    static const int compared[] = {0, 3, 4}; /* rms_error_m, control_tv_per_s, theta_rel_error */
+    printf("\nmedian and p95 over the runs\n%-18s %-6s", "variant", "numeric");
+    for (unsigned c = 0u; c < sizeof compared / sizeof compared[0]; c++) {
+        printf(" %10s %10s", short_names[compared[c]], "p95");
+    }
+    printf("\n");
+    for (int i = 0; i < count; i++) {
+        const run_record *r = &records[i];
+        if (r->failed) {
+            continue;
+        }
+        printf("%-18s %-6s", sim_variant_names[r->variant], r->backend);
+        for (unsigned c = 0u; c < sizeof compared / sizeof compared[0]; c++) {
+            const int k = compared[c];
+            print_value(r->stats[k].median, scales[k]);
+            print_value(r->stats[k].p95, scales[k]);
+        }
+        printf("\n");
+    }
+}
+
 void output_print(const run_record *records, int count, bool compare)
 {
     if (count == 0) {
@@ -968,6 +994,9 @@ void output_print(const run_record *records, int count, bool compare)
             printf("  %8.3f s  %-10s %s\n", res->events[e].t_s, sim_landing_state_names[res->events[e].state],
                    sim_landing_reason_names[res->events[e].reason]);
         }
+    }
+    if (mc && compare) {
+        print_compare_spread(records, count);
     }
     if (!mc || compare) {
         return;
