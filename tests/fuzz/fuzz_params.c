@@ -193,6 +193,7 @@ static void run_controller(fuzz_bytes *b, const fc_controller_params *d, uint8_t
     fix_bool(&p.altitude.adaptive);
     fix_bool(&p.altitude.velocity_measured);
     fix_bool(&p.landing.press_at_contact);
+    fix_bool(&p.landing.descent_shaping);
     static fc_controller ctl;
     const fc_init_result r = fc_controller_init(&ctl, &p);
     fc_controller_inputs in;

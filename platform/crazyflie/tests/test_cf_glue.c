@@ -337,11 +337,11 @@ static void test_glue_boot_and_platform(void **state)
     assert_int_equal(log_u8("cmd"), 1u);
     app_task_runs(); /* the app task starts: the spare */
     assert_int_equal(log_u8("init"), 0u);
-    near_abs(param_float("theta0"), (double)CF_MASS, 0.05 * (double)CF_MASS);
+    near_abs((double)param_float("theta0"), (double)CF_MASS, 0.05 * (double)CF_MASS);
     v.calls_no_thrust = 0;
     stabilizer_tick(&v);
     /* tracking begins where the vehicle is, on the ground, toward 0.5 m */
-    near_abs(log_float("zRef"), 0.0, 1e-3);
+    near_abs((double)log_float("zRef"), 0.0, 1e-3);
     ticks(&v, 5999);
     assert_int_equal(v.calls_no_thrust, 0);
     near_abs(v.pl.p[2], 0.5, 0.03);
@@ -553,7 +553,7 @@ static void test_glue_in_flight_switch(void **state)
         stabilizer_tick(v);
         const int gap_calls = v->calls_no_thrust;
         const double first_thrust = (double)v->control.thrustSi / (v->pl.mass_kg * PLANT_G);
-        near_abs(log_float("zRef"), starts[k], 1e-3);
+        near_abs((double)log_float("zRef"), starts[k], 1e-3);
         double z_min = 1e9, z_max = -1e9;
         for (int i = 0; i < 6000; i++) {
             stabilizer_tick(v);
@@ -592,8 +592,8 @@ static void test_glue_hold_track_land(void **state)
         param_set_u8("track", 1u);
         ticks(v, 2); /* a step falls in these two calls */
         assert_int_equal(log_u8("cmd"), commands[m]);
-        near_abs(log_float("zRef"), z_ref_before, 0.01);
-        near_abs(log_float("zRef"), v->pl.p[2], 0.02);
+        near_abs((double)log_float("zRef"), (double)z_ref_before, 0.01);
+        near_abs((double)log_float("zRef"), (double)v->pl.p[2], 0.02);
         ticks(v, 3000);
         assert_true(horizontal_distance(v, 0.0, 0.0) < 0.05);
     }
