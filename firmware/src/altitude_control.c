@@ -643,7 +643,8 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
         const fc_real v = fc_add(ar, fc_max(size[j], size[j + 1u]), fc_max(change[j], change[j + 1u]));
         /* Lemma 11 on each term, ZOH with v held; w between the samples lies
          * between w[k] and w[k+1] */
-        _Static_assert(FC_SHIFT(UNIT, VEL, VEL) == FC_SHIFT(DT, ACCEL, VEL), "one shift for both products");
+        _Static_assert(FC_UNIT_FRAC == FC_DT_FRAC && FC_VEL_FRAC == FC_ACCEL_FRAC,
+                       "pole x w (UNIT x VEL) and gain x v (DT x ACCEL) take one shift");
         const fc_real fast = fc_dot2(ar, c->eta_fast_pole[j], c->omega_eta_fast_mps[j], c->eta_fast_in_gain[j], v,
                                      FC_SHIFT(UNIT, VEL, VEL));
         const fc_real slow = fc_dot2(ar, c->eta_slow_pole[j], c->omega_eta_slow_mps[j], c->eta_slow_in_gain[j], v,

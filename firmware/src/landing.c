@@ -229,8 +229,8 @@ static fc_step_status shaped_descent_reference(fc_landing *lm, const fc_landing_
                                           in->pad_attitude};
     fc_descent_shaping_output dout;
     /* a clamped field is its design (the rate limits), not a fault to report */
-    const fc_step_status status =
-        fc_descent_shaping_step(&lm->shaping, &din, &dout) & (fc_step_status)~FC_STEP_OUTPUT_LIMITED;
+    const fc_step_status status = fc_descent_shaping_step(&lm->shaping, &din, &dout) &
+                                  (FC_STEP_NOT_READY | FC_STEP_BAD_INPUT | FC_STEP_ARITH_SATURATED | FC_STEP_DEGRADED);
     *v_zd = dout.vz_mps;
     /* v_f' = (v_zd - v_f) / shaping_filter_s */
     lm->shaped_rate_mps = fc_add(
