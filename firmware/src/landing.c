@@ -75,6 +75,16 @@ static void enter(fc_landing *lm, fc_landing_state state, fc_landing_reason reas
     lm->settled_s = FC_INT(0, TIME);
 }
 
+/* The shaped descent (fc/landing.h) from offset_m above the surface's end
+ * point (none below it), its field filter at rest, not committed. */
+static void shaped_descent_start(fc_landing *lm, fc_real offset_m)
+{
+    lm->shaped_offset_m = fc_max(offset_m, FC_INT(0, LENGTH));
+    lm->shaped_offset_max_m = lm->shaped_offset_m;
+    lm->shaped_rate_mps = FC_INT(0, VEL);
+    lm->shaping_committed = false;
+}
+
 void fc_landing_reset(fc_landing *lm)
 {
     enter(lm, FC_LANDING_IDLE, lm->state == FC_LANDING_IDLE ? lm->reason : FC_REASON_COMMANDED);
@@ -84,10 +94,7 @@ void fc_landing_reset(fc_landing *lm)
     lm->gear_height_m = FC_INT(100, LENGTH);
     lm->pressing = false;
     lm->aborts = 0u;
-    lm->shaped_offset_m = FC_INT(0, LENGTH);
-    lm->shaped_offset_max_m = FC_INT(0, LENGTH);
-    lm->shaped_rate_mps = FC_INT(0, VEL);
-    lm->shaping_committed = false;
+    shaped_descent_start(lm, FC_INT(0, LENGTH));
 }
 
 /* Toward the hold point from height z: (3.6) restarted with the offset
@@ -317,10 +324,7 @@ static fc_step_status hold_states_step(fc_landing *lm, const fc_landing_input *i
             const fc_real surface_offset =
                 fc_sub(ar, in->z_m, fc_add(ar, in->pad->now.z_m, lm->descent_reference.bias_m));
             fc_altitude_reference_restart(&lm->descent_reference, surface_offset);
-            lm->shaped_offset_m = fc_max(surface_offset, FC_INT(0, LENGTH));
-            lm->shaped_offset_max_m = lm->shaped_offset_m;
-            lm->shaped_rate_mps = FC_INT(0, VEL);
-            lm->shaping_committed = false;
+            shaped_descent_start(lm, surface_offset);
             lm->gear_height_m = FC_INT(100, LENGTH);
             lm->pressing = false;
             enter(lm, FC_LANDING_DESCEND, FC_REASON_PAD_LEARNT);
