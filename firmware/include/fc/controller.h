@@ -133,6 +133,13 @@ typedef enum fc_output_kind {
     FC_OUTPUT_KIND_COUNT
 } fc_output_kind;
 
+/* FC_VELOCITY_OUTPUT 0 builds the library without the velocity output (an
+ * image that only drives rotors, the ATmega's: the tracking law is not
+ * linked); fc_controller_init then refuses FC_OUTPUT_VELOCITY. */
+#ifndef FC_VELOCITY_OUTPUT
+#define FC_VELOCITY_OUTPUT 1
+#endif
+
 /* The velocity output (FC_OUTPUT_VELOCITY). The vehicle takes a world
  * velocity command u per axis and follows it as v' = -a_P v + k_P u
  * (2.18)-(2.23); fc_controller_step forms u by the tracking law (2.24)
@@ -150,13 +157,6 @@ typedef enum fc_output_kind {
  * clamped to yaw_rate_max, 0 in the failsafe and on the pad. The thrust
  * checks of fc_controller_init (1.5 x weight, the rotors' sum) are the
  * vehicle autopilot's and are not made. */
-/* FC_VELOCITY_OUTPUT 0 builds the library without the velocity output (an
- * image that only drives rotors, the ATmega's: the tracking law is not
- * linked); fc_controller_init then refuses FC_OUTPUT_VELOCITY. */
-#ifndef FC_VELOCITY_OUTPUT
-#define FC_VELOCITY_OUTPUT 1
-#endif
-
 typedef struct fc_velocity_output_params {
     fc_trajectory_tracking_params tracking; /* (2.24): k_P, a_P, zeta, w_n, |u| limit per axis */
     fc_real yaw_gain_per_s;             /* RATIO: [0, 20] 1/s */
