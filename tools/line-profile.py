@@ -60,7 +60,9 @@ def main():
     for line in subprocess.run([args.nm, "-n", "--defined-only", args.elf], check=True, capture_output=True,
                                text=True).stdout.splitlines():
         fields = line.split()
-        if len(fields) == 3 and fields[1] in "tTwW":
+        # the linker's weak markers (__stack, __heap_end) are addresses in RAM,
+        # not code: as symbols they would split the function that holds them
+        if len(fields) == 3 and fields[1] in "tTwW" and fields[2] not in ("__stack", "__heap_end"):
             symbols.append((int(fields[0], 16), fields[2]))
     starts = [a for a, _ in symbols]
     per_line = collections.Counter()
