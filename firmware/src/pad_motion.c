@@ -123,7 +123,7 @@ static void step_sin_cos(fc_arith *ar, fc_real x_rad, fc_real *sin_out, fc_real 
 }
 
 /* cos and sin of w_k dt for the modes whose w_k changed: the sine and cosine
- * of the step, out of the sample's step (fc_pad_motion_work_ahead, piece 1). */
+ * of the step, out of the sample's step (FC_PAD_WORK_COVARIANCE_HEAD). */
 static void update_rotations(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -144,7 +144,7 @@ static void covariance_restart(fc_pad_motion *pm)
             pm->s[i][j] = (i == j && i < pm->n) ? pm->p.covariance_init : FC_INT(0, MAT);
         }
     }
-    pm->sample_prepared = false; /* of the S before */
+    pm->deferred |= (uint8_t)FC_PAD_WORK_SAMPLE_GAIN; /* the gain of the S before is void */
 }
 
 void fc_pad_motion_reset(fc_pad_motion *pm)
@@ -162,9 +162,9 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
     pm->snapshots = 0u;
     pm->outliers_in_row = 0u;
     pm->learning = false;
-    pm->summary_stale = true;
-    pm->covariance_pending = false; /* S starts again from s0 I */
-    pm->covariance_rows_done = 0u;
+    /* S starts again from s0 I: no update of it left */
+    pm->deferred &= (uint8_t)~(FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL);
+    pm->deferred |= (uint8_t)FC_PAD_WORK_SUMMARY;
     pm->covariance_inflate = false;
 }
 
@@ -174,7 +174,7 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
     pm->ar.saturated = 0u;
     pm->n = 1u;
     pm->rotation_stale = 0u;
-    pm->phases_behind = false;
+    pm->deferred = 0u;
     /* phases start at t = 0: sin 0, cos 0 (and zero past n) */
     pm->phi[0] = LEVEL_REGRESSOR;
     for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
@@ -263,7 +263,7 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
     *c = c_new;
 }
 
-/* One step of every phase (then they are not behind), renormalised by one
+/* One step of every phase, renormalised by one
  * Newton step of 1/sqrt: (s, c) (3 - s^2 - c^2) / 2, which keeps s^2 + c^2
  * at 1 to second order. */
 static void advance_phases(fc_pad_motion *pm)
@@ -280,7 +280,6 @@ static void advance_phases(fc_pad_motion *pm)
         *sin_k = fc_mul(ar, *sin_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
         *cos_k = fc_mul(ar, *cos_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
     }
-    pm->phases_behind = false;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -310,7 +309,8 @@ static bool covariance_usable(const fc_pad_motion *pm)
  * RLS gain g (it depends on phi and S only) with the S phi that S's update
  * needs too, and the model's values the sample is checked against
  * (fc_pad_motion_work_ahead may do this before the sample comes: theta, its
- * snapshots and S only change when a step takes a sample). */
+ * snapshots and S only change when a step takes a sample):
+ * FC_PAD_WORK_SAMPLE_GAIN. */
 static void prepare_sample(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -341,12 +341,11 @@ static void prepare_sample(fc_pad_motion *pm)
     pm->prepared_z_m = model_value(ar, pm->theta, phi);
     /* what theta_old (H..2H old) predicted for now, once there is one */
     pm->prepared_z_old_m = pm->snapshots >= 2u ? model_value(ar, pm->theta_old, phi) : FC_INT(0, LENGTH);
-    pm->sample_prepared = true;
 }
 
 /* The RLS update of theta with the a-priori residual e (see the header): theta
  * += g e; the update of S that goes with it is left pending
- * (update_covariance), with the gain g and S phi it needs. */
+ * (update_covariance_rows), with the gain g and S phi it needs. */
 static void rls_update(fc_pad_motion *pm, fc_real residual_m)
 {
     fc_arith *ar = &pm->ar;
@@ -354,67 +353,52 @@ static void rls_update(fc_pad_motion *pm, fc_real residual_m)
         pm->theta[i] =
             fc_add(ar, pm->theta[i], fc_mul(ar, pm->pending_gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
     }
-    pm->covariance_pending = true;
+    pm->deferred |= (uint8_t)(FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL);
 }
 
-/* Piece 1 of the work ahead updates S's rows [0, COVARIANCE_SPLIT_ROW) (with
- * trace(S)), piece 2 the rest (with the phases): for 3 modes (n = 7) 13 and 15
- * of the 28 entries of the upper triangle. Piece 1 is the lighter because the
- * controller's arming step, which resets its loops, falls in its minor frame
- * (so that every minor frame of the Crazyflie's step fits the Cortex-M4F's
- * budget, tools/bench.sh). */
+/* FC_PAD_WORK_COVARIANCE_HEAD updates S's rows [0, COVARIANCE_SPLIT_ROW)
+ * (with trace(S)), FC_PAD_WORK_COVARIANCE_TAIL the rest: for 3 modes (n = 7)
+ * 13 and 15 of the 28 entries of the upper triangle. The head is the lighter
+ * because the controller's arming step, which resets its loops, falls in its
+ * minor frame (so that every minor frame of the Crazyflie's step fits the
+ * Cortex-M4F's budget, tools/bench.sh). */
 #define COVARIANCE_SPLIT_ROW 2u
 
-/* The pending S = (S - g phi' S) / lambda of the newest sample, the upper
- * triangle mirrored (2 n (n + 1) / 2 = 56 products for 3 modes); no inflation
- * while trace(S) is above its bound (a scratch sum: past the format is past
- * the bound). S is next used by the next sample, so this may wait for the
- * minor frames before it (fc_pad_motion_work_ahead, pieces 1 and 2): rows
- * [covariance_rows_done, row_end) here, the whole update once row_end is
- * FC_PAD_MAX_PARAMS. Each entry reads only its own old value, so the update
- * in parts is the update in one, bit for bit; the bound is checked on S
- * before its first row changes. */
-static fc_step_status update_covariance(fc_pad_motion *pm, unsigned row_end)
+/* Whether S's update of the newest sample inflates: not while trace(S) is
+ * above its bound (a scratch sum: past the format is past the bound),
+ * decided on S before its first row changes. */
+static bool covariance_inflates(const fc_pad_motion *pm)
 {
-    if (!pm->covariance_pending) {
-        return FC_STEP_OK;
+    fc_arith scratch = {0u};
+    fc_real trace = FC_INT(0, MAT);
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) { /* PARAMETERS_PAST_N */
+        trace = fc_add(&scratch, trace, pm->s[i][i]);
     }
+    return scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
+}
+
+/* Rows [row_begin, row_end) of the newest sample's S = (S - g phi' S) /
+ * lambda, the upper triangle mirrored (2 n (n + 1) / 2 = 56 products for 3
+ * modes in all). Each entry reads only its own old value, so the update in
+ * parts is the update in one, bit for bit. */
+static void update_covariance_rows(fc_pad_motion *pm, unsigned row_begin, unsigned row_end)
+{
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *gain = pm->pending_gain;
     const fc_real *s_phi = pm->pending_s_phi;
-    if (pm->covariance_rows_done == 0u) {
-        fc_arith scratch = {0u};
-        fc_real trace = FC_INT(0, MAT);
-        for (unsigned i = 0u; i < n; i++) {
-            trace = fc_add(&scratch, trace, pm->s[i][i]);
-        }
-        pm->covariance_inflate = scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
-    }
-    const bool inflate = pm->covariance_inflate;
     /* the products inlined on the ATmega too: two sites run 28 times an
      * update (fc/scalar.h, fc_mul_inline) */
-    for (unsigned i = pm->covariance_rows_done; i < row_end && i < n; i++) {
+    for (unsigned i = row_begin; i < row_end; i++) {
         for (unsigned j = i; j < n; j++) {
             fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
-            if (inflate) {
+            if (pm->covariance_inflate) {
                 sij = fc_add(ar, sij, fc_mul_inline(ar, sij, pm->inflation, FC_SHIFT(MAT, UNIT, MAT)));
             }
             pm->s[i][j] = sij;
             pm->s[j][i] = sij;
         }
     }
-    if (row_end < n) {
-        pm->covariance_rows_done = (uint8_t)row_end;
-        return FC_STEP_OK;
-    }
-    pm->covariance_pending = false;
-    pm->covariance_rows_done = 0u;
-    if (!covariance_usable(pm)) {
-        covariance_restart(pm);
-        return FC_STEP_DEGRADED;
-    }
-    return FC_STEP_OK;
 }
 
 /* w_k += kappa d_arg / T_sample, d_arg = (a_prev b - b_prev a) / |C|^2 (the header). */
@@ -443,18 +427,98 @@ static void adapt_frequencies(fc_pad_motion *pm, const fc_real *amplitude_before
     }
 }
 
+/* What the estimate says of the fit itself: the bounds, the dominant mode and
+ * the confidence's error ratio. They change only with theta, w_k or the error
+ * mean, i.e. when a sample is taken or the estimate restarts, and are worked
+ * out after that step, not on every step (FC_PAD_WORK_SUMMARY). */
+static void summarise_fit(fc_pad_motion *pm)
+{
+    fc_arith summary_ar = {0u}; /* its own record: a saturation here stands for every step until the next */
+    fc_arith *ar = &summary_ar;
+    fc_pad_motion_summary *f = &pm->summary;
+    f->heave_bound_m = FC_INT(0, LENGTH);
+    f->accel_bound_mps2 = FC_INT(0, ACCEL);
+    f->dominant_mode = 0u;
+    fc_real largest = FC_INT(-1, LENGTH);
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
+        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
+        f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
+        f->accel_bound_mps2 =
+            fc_add(ar, f->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+        if (size > largest) {
+            largest = size;
+            f->dominant_mode = (uint8_t)k;
+        }
+    }
+    f->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
+    f->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[f->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
+    /* mean / tolerance for the confidence 1 - mean / tolerance */
+    f->error_ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
+    f->saturated = summary_ar.saturated; /* reported on every step the summary stands for */
+}
+
+/* ---------------------------------------------------------------------- */
+/* deferred work: the pieces of the next step that need no sample          */
+/* ---------------------------------------------------------------------- */
+
+/* What a step needs done before it starts: all but the sample's gain, which
+ * only a sample needs. */
+#define PIECES_BEFORE_A_STEP                                                                                 \
+    (FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY)
+
+/* Whether piece is deferred and among those of mask; if so it is taken off
+ * the list, to be done now. */
+static bool take_piece(fc_pad_motion *pm, unsigned mask, unsigned piece)
+{
+    if ((pm->deferred & mask & piece) == 0u) {
+        return false;
+    }
+    pm->deferred &= (uint8_t)~piece;
+    return true;
+}
+
+/* The deferred pieces among those of mask, in their order. */
+static fc_step_status run_deferred(fc_pad_motion *pm, unsigned mask)
+{
+    fc_step_status status = FC_STEP_OK;
+    if ((pm->deferred & mask) == 0u) {
+        return status; /* the common case once the spare minor frames have done it all */
+    }
+    if (take_piece(pm, mask, FC_PAD_WORK_COVARIANCE_HEAD)) {
+        update_rotations(pm);
+        pm->covariance_inflate = covariance_inflates(pm);
+        update_covariance_rows(pm, 0u, COVARIANCE_SPLIT_ROW);
+    }
+    if (take_piece(pm, mask, FC_PAD_WORK_COVARIANCE_TAIL)) {
+        update_covariance_rows(pm, COVARIANCE_SPLIT_ROW, FC_PAD_MAX_PARAMS);
+        if (!covariance_usable(pm)) {
+            covariance_restart(pm);
+            status = FC_STEP_DEGRADED;
+        }
+    }
+    if (take_piece(pm, mask, FC_PAD_WORK_PHASES)) {
+        advance_phases(pm);
+    }
+    if (take_piece(pm, mask, FC_PAD_WORK_SUMMARY)) {
+        summarise_fit(pm);
+    }
+    /* (while not learning the next sample restarts the estimate, no RLS) */
+    if (take_piece(pm, mask, FC_PAD_WORK_SAMPLE_GAIN) && pm->learning) {
+        prepare_sample(pm);
+    }
+    return status;
+}
+
 /* A sample: used (RLS and the prediction check), or an outlier. */
 static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
 {
     fc_arith *ar = &pm->ar;
-    pm->summary_stale = true; /* theta, w_k or the error mean change on every path below */
+    pm->deferred |= (uint8_t)FC_PAD_WORK_SUMMARY; /* theta, w_k or the error mean change on every path below */
     if (!pm->learning) {
         restart_from(pm, height_m);
         return FC_STEP_OK;
     }
-    if (!pm->sample_prepared) {
-        prepare_sample(pm);
-    }
+    (void)run_deferred(pm, FC_PAD_WORK_SAMPLE_GAIN);
     const fc_real residual = fc_sub(ar, height_m, pm->prepared_z_m);
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
         pm->outliers_in_row++;
@@ -499,41 +563,9 @@ static void renew_snapshots(fc_pad_motion *pm)
         if (pm->snapshots == 2u) {
             /* the check starts pessimistic: confidence rises as predictions come true */
             pm->error_mean_m = pm->p.tolerance_m;
-            pm->summary_stale = true;
+            pm->deferred |= (uint8_t)FC_PAD_WORK_SUMMARY;
         }
     }
-}
-
-/* What the estimate says of the fit itself: the bounds, the dominant mode and
- * the confidence's error ratio. They change only with theta, w_k or the error
- * mean, i.e. when a sample is taken or the estimate restarts (summary_stale),
- * and are worked out after that step, not on every step: by the work ahead
- * (piece 3) or at the start of the next step. */
-static void summarise_fit(fc_pad_motion *pm)
-{
-    fc_arith summary_ar = {0u}; /* its own record: a saturation here stands for every step until the next */
-    fc_arith *ar = &summary_ar;
-    fc_pad_motion_summary *f = &pm->summary;
-    f->heave_bound_m = FC_INT(0, LENGTH);
-    f->accel_bound_mps2 = FC_INT(0, ACCEL);
-    f->dominant_mode = 0u;
-    fc_real largest = FC_INT(-1, LENGTH);
-    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
-        f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
-        f->accel_bound_mps2 =
-            fc_add(ar, f->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
-        if (size > largest) {
-            largest = size;
-            f->dominant_mode = (uint8_t)k;
-        }
-    }
-    f->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
-    f->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[f->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
-    /* mean / tolerance for the confidence 1 - mean / tolerance */
-    f->error_ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
-    f->saturated = summary_ar.saturated; /* reported on every step the summary stands for */
-    pm->summary_stale = false;
 }
 
 static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
@@ -561,33 +593,22 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
 
 fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
 {
+    /* the slices of the header, about the same work each */
+    static const uint8_t slices[] = {
+        FC_PAD_WORK_COVARIANCE_HEAD,
+        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES,
+        FC_PAD_WORK_SUMMARY | FC_PAD_WORK_SAMPLE_GAIN,
+    };
     if (!pm->ready) {
         return FC_STEP_NOT_READY;
     }
     pm->ar.saturated = 0u;
     fc_step_status status = FC_STEP_OK;
-    /* (while not learning the next sample restarts the estimate, no RLS) */
-    const bool sample_due = pm->learning && !pm->sample_prepared;
-    if (pm->covariance_pending && pm->covariance_rows_done == 0u) {
-        /* 1 */
-        update_rotations(pm);
-        status = update_covariance(pm, COVARIANCE_SPLIT_ROW);
-    } else if (pm->covariance_pending || pm->phases_behind) {
-        /* 2 */
-        status = update_covariance(pm, FC_PAD_MAX_PARAMS);
-        if (pm->phases_behind) {
-            advance_phases(pm);
+    for (size_t i = 0u; i < sizeof slices / sizeof slices[0]; i++) {
+        if ((pm->deferred & slices[i]) != 0u) {
+            status = run_deferred(pm, slices[i]);
+            break;
         }
-    } else if (pm->summary_stale || sample_due) {
-        /* 3 */
-        if (pm->summary_stale) {
-            summarise_fit(pm);
-        }
-        if (sample_due) {
-            prepare_sample(pm);
-        }
-    } else {
-        /* all done ahead */
     }
     if (pm->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
@@ -626,16 +647,11 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     }
     fc_arith *ar = &pm->ar;
     ar->saturated = 0u;
-    /* the previous sample's covariance update and summary, if no minor frame did them */
-    fc_step_status status = update_covariance(pm, FC_PAD_MAX_PARAMS);
-    if (pm->summary_stale) {
-        summarise_fit(pm);
-    }
-    /* the phases from the previous step's time to this one's (with the
-     * rotation of the frequencies the previous sample left) */
-    if (pm->phases_behind) {
-        advance_phases(pm);
-    }
+    /* what no minor frame did of the previous step's pieces: its sample's
+     * covariance update, the summary, and the phases turned to this step's
+     * time (with the rotations of the frequencies that sample left); the
+     * sample's gain when a sample comes */
+    fc_step_status status = run_deferred(pm, PIECES_BEFORE_A_STEP);
     if (sample->fresh) {
         if (fc_within(sample->height_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH))) {
             status |= take_sample(pm, sample->height_m);
@@ -645,9 +661,9 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     }
     fill_estimate(pm, out);
     /* the phases turn to the next step's time when it comes: what its sample
-     * changes in between (the rotations) can wait for a minor frame */
-    pm->phases_behind = true;
-    pm->sample_prepared = false; /* of this step's phases and theta; the next step has its own */
+     * changes in between (the rotations) can wait for a minor frame; the
+     * gain is of the next step's phases */
+    pm->deferred |= (uint8_t)(FC_PAD_WORK_PHASES | FC_PAD_WORK_SAMPLE_GAIN);
     if (pm->learning) {
         pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
         pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));

@@ -272,9 +272,9 @@ static void test_bad_samples(void **state)
 }
 
 /* The work of the next step done ahead of it (fc_pad_motion_work_ahead, in
- * the controller's spare minor frames), 0 to 3 pieces between two steps in
+ * the controller's spare minor frames), 0 to 3 slices between two steps in
  * turn (so also a step that finds S half updated), gives the same estimates, bit for bit, as leaving it all to the next
- * step; each piece is the one the header names, in its order. */
+ * step; each slice does the pieces the header names, in its order. */
 static void test_work_ahead_between_steps(void **state)
 {
     (void)state;
@@ -282,7 +282,7 @@ static void test_work_ahead_between_steps(void **state)
     fc_pad_motion inline_model, split_model;
     assert_int_equal(fc_pad_motion_init(&inline_model, &p), FC_INIT_OK);
     assert_int_equal(fc_pad_motion_init(&split_model, &p), FC_INIT_OK);
-    assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK); /* nothing to do before a step */
+    assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK); /* the summary of the empty fit */
     const heave h = {1, {0.05}, {2.0 * TS_PI / 3.1}, {0.4}, 0.3};
     uint32_t rng = 99u;
     int covariance_ahead = 0, prepared_samples = 0;
@@ -290,7 +290,7 @@ static void test_work_ahead_between_steps(void **state)
         double z, vz, az;
         heave_eval(&h, (double)k * DT_S, &z, &vz, &az);
         const fc_pad_motion_sample s = {fc_from_float((float)(z + noise(&rng, 0.002)), FC_LENGTH_FRAC), k % 5 == 0};
-        if (s.fresh && split_model.sample_prepared) {
+        if (s.fresh && (split_model.deferred & FC_PAD_WORK_SAMPLE_GAIN) == 0u) {
             prepared_samples++;
         }
         fc_pad_motion_estimate a, b;
@@ -303,27 +303,20 @@ static void test_work_ahead_between_steps(void **state)
         assert_memory_equal(inline_model.theta, split_model.theta, sizeof inline_model.theta);
         const long pieces = k % 4; /* 0 to 3 calls: every count after every step of the 5 (coprime) */
         for (long c = 0; c < pieces; c++) {
-            const bool covariance_was_pending = split_model.covariance_pending;
-            const uint8_t rows_done_before = split_model.covariance_rows_done;
-            const bool phases_were_behind = split_model.phases_behind;
+            const unsigned before = split_model.deferred;
             assert_int_equal(fc_pad_motion_work_ahead(&split_model), FC_STEP_OK);
-            if (covariance_was_pending && rows_done_before == 0u) {
-                /* piece 1 first: S's first rows (2: COVARIANCE_SPLIT_ROW) and the rotations, not the phases */
+            const unsigned done = before & ~(unsigned)split_model.deferred;
+            if ((before & FC_PAD_WORK_COVARIANCE_HEAD) != 0u) {
+                /* slice 1 first: S's first rows and the rotations, nothing else */
                 covariance_ahead++;
-                assert_true(split_model.covariance_pending);
-                assert_int_equal(split_model.covariance_rows_done, 2);
+                assert_int_equal(done, FC_PAD_WORK_COVARIANCE_HEAD);
                 assert_int_equal(split_model.rotation_stale, 0);
-                assert_int_equal(split_model.phases_behind, phases_were_behind);
-            } else if (covariance_was_pending || phases_were_behind) {
-                /* piece 2: the rest of S and the phases */
-                assert_false(split_model.covariance_pending);
-                assert_int_equal(split_model.covariance_rows_done, 0);
-                assert_false(split_model.phases_behind);
-                assert_false(split_model.sample_prepared);
+            } else if ((before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES)) != 0u) {
+                /* slice 2: the rest of S and the phases */
+                assert_int_equal(done, before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES));
             } else {
-                /* piece 3, or already done: the summary, and the next sample's gain */
-                assert_false(split_model.summary_stale);
-                assert_true(split_model.sample_prepared || !split_model.learning);
+                /* slice 3, or nothing left: the summary, and the next sample's gain */
+                assert_int_equal(split_model.deferred, 0);
             }
         }
     }

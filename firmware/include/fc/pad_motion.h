@@ -113,6 +113,18 @@ typedef struct fc_pad_motion_summary {
     uint8_t saturated;               /* its arithmetic saturated */
 } fc_pad_motion_summary;
 
+/* The pieces of the next step that need no sample (pad_motion.c), the bits
+ * of fc_pad_motion.deferred: a step leaves them to be done before the
+ * next one, by fc_pad_motion_work_ahead in a spare minor frame or else by
+ * that step itself. They run in the order of their bits, the order the
+ * algorithm needs. */
+#define FC_PAD_WORK_COVARIANCE_HEAD 0x01u /* the rotations w_k dt of the newest sample's frequencies,
+                                              and S's update of that sample, its first rows */
+#define FC_PAD_WORK_COVARIANCE_TAIL 0x02u /* the rest of S's update */
+#define FC_PAD_WORK_PHASES 0x04u          /* phi turned from the last step's time to the next's */
+#define FC_PAD_WORK_SUMMARY 0x08u         /* the fit's bounds, dominant mode and error ratio */
+#define FC_PAD_WORK_SAMPLE_GAIN 0x10u     /* the RLS gain and model values at the next phases */
+
 typedef struct fc_pad_motion {
     fc_pad_motion_params p;
     uint8_t n;                                   /* 1 + 2K parameters */
@@ -121,7 +133,7 @@ typedef struct fc_pad_motion {
     fc_real step_cos[FC_PAD_MAX_MODES];          /* UNIT: cos w_k dt */
     fc_real step_sin[FC_PAD_MAX_MODES];          /* UNIT: sin w_k dt */
     uint8_t rotation_stale;                      /* bit k: step_cos/sin of mode k to form again */
-    bool phases_behind;                          /* the phases are the previous step's: turn them first */
+    uint8_t deferred;                            /* FC_PAD_WORK_* bits: the pieces not yet done */
     fc_real omega_min_radps[FC_PAD_MAX_MODES];   /* RATE: the band of each mode */
     fc_real omega_max_radps[FC_PAD_MAX_MODES];   /* RATE */
     fc_real amplitude_min_sq;                    /* RATIO: adapt_amplitude_min^2 */
@@ -134,20 +146,16 @@ typedef struct fc_pad_motion {
     fc_real theta_old[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot H..2H old */
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
     fc_real s[FC_PAD_MAX_PARAMS][FC_PAD_MAX_PARAMS]; /* MAT: scaled covariance S */
-    fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: the RLS gain g of the newest (or the next)
-                                                    sample, for S's update */
+    fc_real pending_gain[FC_PAD_MAX_PARAMS];     /* MAT: the RLS gain g of the newest sample (for S's
+                                                    update), or of the next once FC_PAD_WORK_SAMPLE_GAIN
+                                                    is done */
     fc_real pending_s_phi[FC_PAD_MAX_PARAMS];    /* MAT: its S phi */
-    bool covariance_pending;                     /* S's update of the newest sample not yet done */
-    uint8_t covariance_rows_done;                /* rows of it done ahead (fc_pad_motion_work_ahead) */
-    bool covariance_inflate;                     /* its inflation, decided on S before its first row */
-    bool sample_prepared;                        /* at the next step's phases (work ahead, piece 3):
-                                                    pending_gain and pending_s_phi hold the next
-                                                    sample's g and S phi, and the two below */
-    fc_real prepared_z_m;                        /* LENGTH: theta' phi, what the model expects */
+    bool covariance_inflate;                     /* S's update inflates: decided on S before its first row */
+    fc_real prepared_z_m;                        /* LENGTH: theta' phi at the next phases, what the
+                                                    model expects of the next sample */
     fc_real prepared_z_old_m;                    /* LENGTH: theta_old' phi (with two snapshots) */
     fc_real error_mean_m;                        /* LENGTH */
     fc_pad_motion_summary summary;               /* of theta, w_k and the error mean */
-    bool summary_stale;                          /* they changed since it was made */
     fc_real observed_s;                          /* TIME */
     fc_real since_snapshot_s;                    /* TIME */
     fc_real step_s;                              /* TIME: dt */
@@ -174,19 +182,14 @@ void fc_pad_motion_reset(fc_pad_motion *pm);
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,
                                   fc_pad_motion_estimate *out);
 
-/* The work of the next step that needs no sample, done ahead of it, one
- * piece per call, in this order (a piece with nothing to do is passed over):
- *   1. the sine and cosine of the step of each frequency the newest sample
- *      adapted, and the first two rows of the update of S of that sample
- *      (13 of the 28 entries of its upper triangle for 3 modes), which only
- *      the next sample needs
- *   2. the rest of S's update, and the phases turned to the next step's time
- *   3. the summary of the newest fit (its bounds, dominant mode and error
- *      ratio), and the RLS gain for the next step's phases (S phi and
- *      phi' S phi: 49 + 7 products; g), all of the RLS update of a sample
- *      the next step may take but theta += g e, and the model's value there
- *      (of theta, and of the snapshot the sample checks)
- * The pieces are about the same size (the controller calls one per spare
+/* The deferred pieces (FC_PAD_WORK_*) of the next step done ahead of it, one
+ * slice per call, the first slice with a piece left of:
+ *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
+ *      triangle for 3 modes)
+ *   2. FC_PAD_WORK_COVARIANCE_TAIL and FC_PAD_WORK_PHASES
+ *   3. FC_PAD_WORK_SUMMARY and FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S
+ *      phi: 49 + 7 products; g; all of a sample's RLS update but theta += g e)
+ * The slices are about the same size (the controller calls one per spare
  * minor frame; fc/controller.h). A caller with spare minor frames calls this
  * in them, between two steps; what is not done ahead the next
  * fc_pad_motion_step does first. The same values either way, bit for bit.
