@@ -307,6 +307,49 @@ static void apply_input_loss(fault_kind kind, fsw_inputs *in)
 /* one flight                                                              */
 /* ---------------------------------------------------------------------- */
 
+/* abs(Theta - Theta*)/Theta* over the last THETA_WINDOW_S of flight, for
+ * theta_rel_error (SPEC.md): a ring of samples, their 95th percentile at the
+ * end (nearest rank). */
+#define THETA_WINDOW_S 10.0
+
+typedef struct theta_window {
+    double *samples;
+    long capacity, count, next;
+} theta_window;
+
+static bool theta_window_init(theta_window *w, double dt_s)
+{
+    w->capacity = (long)ceil(THETA_WINDOW_S / dt_s);
+    w->count = w->next = 0;
+    w->samples = malloc((size_t)w->capacity * sizeof(double));
+    return w->samples != NULL;
+}
+
+static void theta_window_push(theta_window *w, double rel_error)
+{
+    w->samples[w->next] = rel_error;
+    w->next = (w->next + 1) % w->capacity;
+    w->count = w->count < w->capacity ? w->count + 1 : w->capacity;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The 95th percentile of the samples (sorts them); NaN without any. */
+static double theta_window_p95(theta_window *w)
+{
+    if (w->count == 0) {
+        return (double)NAN;
+    }
+    qsort(w->samples, (size_t)w->count, sizeof(double), compare_doubles);
+    long rank = (long)ceil(0.95 * (double)w->count);
+    rank = rank < 1 ? 1 : rank;
+    return w->samples[rank - 1];
+}
+
 /* Metric accumulators. */
 typedef struct acc {
     double sum_sq;
@@ -416,6 +459,12 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     fsw_outputs out;
     memset(&out, 0, sizeof out);
     double last_theta = (double)NAN, last_theta_star = (double)NAN;
+    theta_window theta_errors;
+    if (!theta_window_init(&theta_errors, dt)) {
+        snprintf(err, err_len, "out of memory for the Theta window");
+        opt->backend->destroy(fsw);
+        return false;
+    }
     /* range freshness, wind, the fault (at start_s, or in a landing run from the first DESCEND) */
     const bool land = mission->command == MISSION_LAND;
     double last_range_t = (double)NAN;
@@ -635,6 +684,10 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
             /* Theta against Theta* at the end of the flight (a landing run: the last armed step) */
             last_theta = out.theta_kg;
             last_theta_star = theta_star;
+            /* theta_rel_error: in flight only; on the pad Theta* is the ground's, not the airframe's */
+            if (!a.contact_ever) {
+                theta_window_push(&theta_errors, fabs(out.theta_kg - theta_star) / theta_star);
+            }
         }
 
         if (trace != NULL && opt->want_trace && k % trace->decimation == 0 && trace->rows < trace->capacity) {
@@ -761,8 +814,8 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->control_tv_per_s = a.tv / ((double)steps_run * dt);
     m->theta_end_kg = last_theta;
     m->theta_star_end_kg = last_theta_star;
-    m->theta_rel_error =
-        sim_variant_is_adaptive(opt->variant) ? fabs(last_theta - last_theta_star) / last_theta_star : (double)NAN;
+    m->theta_rel_error = sim_variant_is_adaptive(opt->variant) ? theta_window_p95(&theta_errors) : (double)NAN;
+    free(theta_errors.samples);
     const bool landing = mission->landing;
     m->min_clearance_m = landing ? a.min_clearance : (double)NAN;
     m->touchdown_rel_speed_mps =
