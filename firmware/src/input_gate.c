@@ -144,32 +144,59 @@ static bool vec3_equal(fc_vec3 a, fc_vec3 b)
     return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
-/* The position and yaw setpoints, moved towards the command at their rates
- * (a command already reached, the usual case, stays as it is). */
-static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in, fc_gated_inputs *out)
+/* The accepted position and yaw setpoints moved towards the command at their
+ * rates (a command already reached, the usual case, stays as it is). */
+static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in)
 {
     fc_arith *ar = &g->ar;
-    const fc_vec3 last = g->accepted.position_setpoint_m;
-    if (!vec3_equal(in->position_setpoint_m, last)) {
+    fc_gated_inputs *accepted = &g->accepted;
+    if (!vec3_equal(in->position_setpoint_m, accepted->position_setpoint_m)) {
         const fc_real step_m = g->per_step.setpoint_step_m;
-        out->position_setpoint_m = fc_vec3_make(toward(ar, last.x, in->position_setpoint_m.x, step_m),
-                                                toward(ar, last.y, in->position_setpoint_m.y, step_m),
-                                                toward(ar, last.z, in->position_setpoint_m.z, step_m));
+        fc_vec3 *setpoint = &accepted->position_setpoint_m;
+        setpoint->x = toward(ar, setpoint->x, in->position_setpoint_m.x, step_m);
+        setpoint->y = toward(ar, setpoint->y, in->position_setpoint_m.y, step_m);
+        setpoint->z = toward(ar, setpoint->z, in->position_setpoint_m.z, step_m);
     }
-    if (in->yaw_setpoint_rad != g->accepted.yaw_setpoint_rad) {
+    if (in->yaw_setpoint_rad != accepted->yaw_setpoint_rad) {
         const fc_real step_rad = g->per_step.yaw_step_rad;
-        const fc_real last_yaw = wrapped(ar, g->accepted.yaw_setpoint_rad);
+        const fc_real last_yaw = wrapped(ar, accepted->yaw_setpoint_rad);
         const fc_real turn = wrapped(ar, fc_sub(ar, wrapped(ar, in->yaw_setpoint_rad), last_yaw));
-        out->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
+        accepted->yaw_setpoint_rad = wrapped(ar, fc_add(ar, last_yaw, fc_clamp(turn, fc_neg(ar, step_rad), step_rad)));
     }
 }
 
-/* The pad's speed and acceleration (feed-forward of the reference) at their rates. */
-static void limit_pad_feedforward(fc_input_gate *g, fc_gated_inputs *out)
+/* A sample taken: its measurements, and its commands (the pad's speed and
+ * acceleration, fed forward to the reference, among them) at their rates
+ * from the last accepted ones unless limit_commands is off or this is the
+ * first sample. Updates g->accepted in place. */
+static void accept(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands, bool first)
 {
     fc_arith *ar = &g->ar;
-    out->pad.vz_mps = toward(ar, g->accepted.pad.vz_mps, out->pad.vz_mps, g->per_step.pad_speed_step_mps);
-    out->pad.az_mps2 = toward(ar, g->accepted.pad.az_mps2, out->pad.az_mps2, g->per_step.pad_accel_step_mps2);
+    fc_gated_inputs *accepted = &g->accepted;
+    accepted->position_m = in->position_m;
+    accepted->velocity_mps = in->velocity_mps;
+    if (use_pad) {
+        if (g->pad_accepted && limit_commands) {
+            fc_vertical_trajectory *pad = &accepted->pad;
+            pad->z_m = in->pad.z_m;
+            pad->vz_mps = toward(ar, pad->vz_mps, in->pad.vz_mps, g->per_step.pad_speed_step_mps);
+            pad->az_mps2 = toward(ar, pad->az_mps2, in->pad.az_mps2, g->per_step.pad_accel_step_mps2);
+        } else {
+            accepted->pad = in->pad;
+        }
+    }
+    g->pad_accepted = use_pad;
+    if (first || !limit_commands) {
+        accepted->position_setpoint_m = in->position_setpoint_m;
+        accepted->yaw_setpoint_rad = in->yaw_setpoint_rad;
+    } else {
+        limit_setpoints(g, in);
+    }
+    /* the rate fed forward no faster than the setpoint may turn */
+    const fc_real yaw_rate_max = g->p.yaw_rate_max_radps;
+    accepted->yaw_rate_setpoint_radps = fc_clamp(in->yaw_rate_setpoint_radps, fc_neg(ar, yaw_rate_max), yaw_rate_max);
+    g->since_accepted_s = FC_INT(0, TIME);
+    g->have_accepted = true;
 }
 
 bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
@@ -193,33 +220,13 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     const bool first = !g->have_accepted;
     const bool accepted = absolute_ok && (first || consistent(g, in, use_pad));
     const bool reanchor = absolute_ok && !accepted && g->rejected_s >= g->p.reanchor_s;
-    *out = g->accepted;
     if (accepted || reanchor) {
-        out->position_m = in->position_m;
-        out->velocity_mps = in->velocity_mps;
-        if (use_pad) {
-            out->pad = in->pad;
-            if (g->pad_accepted && limit_commands) {
-                limit_pad_feedforward(g, out);
-            }
-        }
-        g->pad_accepted = use_pad;
-        if (first || !limit_commands) {
-            out->position_setpoint_m = in->position_setpoint_m;
-            out->yaw_setpoint_rad = in->yaw_setpoint_rad;
-        } else {
-            limit_setpoints(g, in, out);
-        }
-        /* the rate fed forward no faster than the setpoint may turn */
-        const fc_real yaw_rate_max = g->p.yaw_rate_max_radps;
-        out->yaw_rate_setpoint_radps = fc_clamp(in->yaw_rate_setpoint_radps, fc_neg(ar, yaw_rate_max), yaw_rate_max);
-        g->accepted = *out;
-        g->since_accepted_s = FC_INT(0, TIME);
-        g->have_accepted = true;
+        accept(g, in, use_pad, limit_commands, first);
     }
     g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(fc_add(ar, g->rejected_s, step_s), FC_INT(600, TIME));
     if (reanchor) {
         g->rejected_s = FC_INT(0, TIME);
     }
+    *out = g->accepted;
     return accepted;
 }
