@@ -31,6 +31,11 @@ _Static_assert(FC_NGAIN16_FRAC + FC_RATE16_FRAC == FC_NSUM_FRAC, "kd r is not th
 /* the narrowings of the step that drop 16 bits take the high half */
 _Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a high half");
 
+/* |q|^2 of a UNIT16 quaternion within 2^-13 + 2^-24 of 1 is unit at 16 bits
+ * (fc_quat16_normalize's test, quat.c), and 2 in the same format */
+#define UNIT16_LENGTH_SQ_TOLERANCE (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
+#define UNIT16_SQ_TWO FC_INT(2, UNIT16_SQ)
+
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
 /* A held moment below this (half a NORM16 LSB) is zero (fixed rounding would
@@ -39,6 +44,10 @@ _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE
 /* The largest normalised gain and inertia difference (their 16-bit formats). */
 #define MAX_NORM_GAIN FC_C(7.99f, RATIO)
 #define MAX_NORM_INERTIA_DIFF FC_C(0.99f, INERTIA)
+
+/* Inlined where the step calls it: a call on the ATmega saves and restores
+ * most of the register file, more than the body of these helpers costs. */
+#define STEP_INLINE static inline __attribute__((always_inline))
 
 static bool finite_in(fc_real x, fc_real lo, fc_real hi)
 {
@@ -184,17 +193,60 @@ void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real d
     p->moment_limit = fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO));
 }
 
-static bool rate_valid(fc_vec3 r)
+STEP_INLINE bool rate_valid(const fc_vec3 *r)
 {
-    return fc_vec3_within(r, MAX_RATE_RADPS);
+    return fc_vec3_within(*r, MAX_RATE_RADPS);
+}
+
+/* q in UNIT16, *ok as fc_quat16_normalize gives them. Fixed: q rounded as it
+ * is when it is unit at 16 bits (the usual case: the estimator's attitude and
+ * the position loop's setpoint arrive normalised), with the test and the
+ * rounding of fc_quat16_normalize inlined; else that function. */
+STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
+{
+#if FC_NUMERIC_FIXED
+    fc_arith probe = {0u};
+    const fc_quat16 r = {fc_narrow16(&probe, q->w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
+    /* two partial sums, each below 2^31; unit length needs both below 2 */
+    const fc_real wx = fc_dot2_16(r.w, r.w, r.x, r.x);
+    const fc_real yz = fc_dot2_16(r.y, r.y, r.z, r.z);
+    if (probe.saturated == 0u && wx <= UNIT16_SQ_TWO && yz <= UNIT16_SQ_TWO &&
+        fc_within(wx + yz - FC_INT(1, UNIT16_SQ), UNIT16_LENGTH_SQ_TOLERANCE)) {
+        *ok = true;
+        return r;
+    }
+#endif
+    return fc_quat16_normalize(ar, *q, ok);
+}
+
+/* p* (x) q with w >= 0: fc_quat16_conj_mul and fc_quat16_shortest (the same
+ * bits) inlined into the step. */
+STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_quat16 *q)
+{
+    const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+    fc_quat16 r = {
+        fc_dot4_16(ar, p->w, q->w, p->x, q->x, p->y, q->y, p->z, q->z, sq, to),
+        fc_dot4_16(ar, p->w, q->x, fc_neg16(p->x), q->w, fc_neg16(p->y), q->z, p->z, q->y, sq, to),
+        fc_dot4_16(ar, p->w, q->y, p->x, q->z, fc_neg16(p->y), q->w, fc_neg16(p->z), q->x, sq, to),
+        fc_dot4_16(ar, p->w, q->z, fc_neg16(p->x), q->y, p->y, q->x, fc_neg16(p->z), q->w, sq, to)};
+    if (r.w < FC_INT16(0, UNIT16)) {
+        r.w = fc_neg16(r.w);
+        r.x = fc_neg16(r.x);
+        r.y = fc_neg16(r.y);
+        r.z = fc_neg16(r.z);
+    }
+    return r;
 }
 
 /* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. In
  * fixed the quaternions are UNIT16: 16-bit products, each exact in 32 bits. */
-static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
+static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd, fc_real16 *s_out)
 {
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
-    const fc_quat16 e = fc_quat16_shortest(fc_quat16_conj_mul(ar, qd, q));
+    const fc_quat16 e = error_quat16(ar, &qd, &q);
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
     const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
@@ -207,6 +259,7 @@ static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
     const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
     const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
     const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
+    *s_out = s;
     return fc_vec3_make(fc_add(ar, half_tx, half_tx), fc_add(ar, half_ty, half_ty),
                         fc_add(ar, half_hz, half_hz));
 }
@@ -214,7 +267,7 @@ static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
 /* One axis of the law in the normalised units (header): -(Kp e + Ki I +
  * Kd r) + dJ w_i w_j with K = k J / authority, dJ = (J_k - J_j) / authority;
  * 16 x 16 -> 32 products summed in NSUM. */
-static fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
+STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
                            fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
 {
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
@@ -234,21 +287,22 @@ typedef struct axis_block {
     fc_real raw, moment;
 } axis_block;
 
-/* Conditional integration of one axis (header: anti-windup). The integral acts
- * as -ki I on the moment: a positive step of I pushes the moment negative.
- * Only the direction the step goes in is looked at. */
-static fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real e, fc_real dt, fc_real ki,
+/* Conditional integration of one axis (header: anti-windup): I + e dt with
+ * e as the products read it (ANGLE16), a 32 x 16-bit product. The integral
+ * acts as -ki I on the moment: a positive step of I pushes the moment
+ * negative. Only the direction the step goes in is looked at. */
+STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, fc_real dt, fc_real ki,
                               fc_real limit, const axis_block *b)
 {
     if (!(ki > FC_INT(0, GAIN))) {
         return FC_INT(0, ANGLE);
     }
-    const fc_real step = fc_mul(ar, e, dt, FC_SHIFT(ANGLE, DT, ANGLE));
-    const bool blocked_neg = step > FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_neg) != 0u || b->raw < b->moment);
-    const bool blocked_pos = step < FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_pos) != 0u || b->raw > b->moment);
+    const bool blocked_neg = e > FC_INT16(0, ANGLE16) && (b->hold || (b->sat & b->sat_neg) != 0u || b->raw < b->moment);
+    const bool blocked_pos = e < FC_INT16(0, ANGLE16) && (b->hold || (b->sat & b->sat_pos) != 0u || b->raw > b->moment);
     if (blocked_neg || blocked_pos) {
         return integral;
     }
+    const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
     return fc_clamp(fc_add(ar, integral, step), fc_neg(ar, limit), limit);
 }
 
@@ -280,16 +334,10 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 
 /* A rate as the products read it: RATE16, clamped to its range first (by
  * design, header: not an arithmetic saturation). */
-static fc_vec3_16 rate16(fc_arith *ar, fc_vec3 rate)
+STEP_INLINE fc_real16 rate16(fc_arith *ar, fc_real rate)
 {
-    const fc_real max = FC_C(31.999f, RATE);
-    const fc_real min = FC_C(-31.999f, RATE);
-    fc_vec3 clamped = rate;
-    if (!fc_vec3_within(rate, max)) {
-        /* (inside, the usual case, the clamp leaves every component as it is) */
-        clamped = fc_vec3_make(fc_clamp(rate.x, min, max), fc_clamp(rate.y, min, max), fc_clamp(rate.z, min, max));
-    }
-    return fc_vec3_narrow16(ar, clamped, FC_RATE_FRAC, FC_RATE16_FRAC);
+    const fc_real limit = FC_C(31.999f, RATE);
+    return fc_narrow16(ar, fc_clamp(rate, -limit, limit), FC_RATE_FRAC, FC_RATE16_FRAC);
 }
 
 static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
@@ -313,34 +361,37 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 
     bool q_ok = false;
     bool qd_ok = false;
-    const fc_quat16 q = fc_quat16_normalize(ar, in->attitude, &q_ok);
-    const fc_quat16 qd = fc_quat16_normalize(ar, in->attitude_desired, &qd_ok);
+    const fc_quat16 q = quat16_unit(ar, &in->attitude, &q_ok);
+    const fc_quat16 qd = quat16_unit(ar, &in->attitude_desired, &qd_ok);
     const fc_vec3 rate = in->rate_radps;
     fc_vec3 rate_ff = in->rate_ff_radps;
-    if (!rate_valid(rate_ff)) {
+    if (!rate_valid(&rate_ff)) {
         rate_ff = fc_vec3_zero(); /* ignored */
         status |= FC_STEP_BAD_INPUT;
     }
 
     fc_vec3 moment;
-    if (!q_ok || !qd_ok || !rate_valid(rate)) {
+    if (!q_ok || !qd_ok || !rate_valid(&rate)) {
         /* hold the last good moment, decaying to zero; integrals frozen */
         moment = fc_vec3_make(hold_decayed(ar, c->last_moment.x, c->hold_decay),
                               hold_decayed(ar, c->last_moment.y, c->hold_decay),
                               hold_decayed(ar, c->last_moment.z, c->hold_decay));
         status |= FC_STEP_BAD_INPUT;
     } else {
-        const fc_vec3 err = attitude_error(ar, q, qd);
+        fc_real16 s;
+        const fc_vec3 err = attitude_error(ar, q, qd, &s);
         c->last_error_rad = err;
-        const fc_vec3 e =
-            fc_vec3_make(err.x, err.y, fc_mul(ar, err.z, p->yaw_weight, FC_SHIFT(ANGLE, RATIO, ANGLE)));
+        /* the heading part weighted: 2 (yaw_weight s), a 32 x 16-bit product */
+        const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
+        const fc_vec3 e = fc_vec3_make(err.x, err.y, fc_add(ar, half_head, half_head));
         const fc_vec3 i = c->integral_rad_s;
         /* what the 16-bit products read: the error and the integral by their
          * high halves, the rates rounded to RATE16 */
         const fc_vec3_16 e16 = fc_vec3_narrow16(ar, e, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
         const fc_vec3_16 i16 = fc_vec3_narrow16(ar, i, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
-        const fc_vec3_16 w16 = rate16(ar, rate);
-        const fc_vec3_16 r16 = rate16(ar, fc_vec3_sub(ar, rate, rate_ff));
+        const fc_vec3_16 w16 = {rate16(ar, rate.x), rate16(ar, rate.y), rate16(ar, rate.z)};
+        const fc_vec3_16 r16 = {rate16(ar, fc_sub(ar, rate.x, rate_ff.x)), rate16(ar, fc_sub(ar, rate.y, rate_ff.y)),
+                                rate16(ar, fc_sub(ar, rate.z, rate_ff.z))};
         /* w_i w_j for w x J w (header) */
         const int ww_from = 2 * FC_RATE16_FRAC;
         const fc_vec3_16 ww = {fc_narrow16(ar, fc_mul16(w16.y, w16.z), ww_from, FC_WW16_FRAC),
@@ -369,9 +420,9 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         const axis_block roll = {hold, sat, FC_SAT_ROLL_POS, FC_SAT_ROLL_NEG, raw.x, moment.x};
         const axis_block pitch = {hold, sat, FC_SAT_PITCH_POS, FC_SAT_PITCH_NEG, raw.y, moment.y};
         const axis_block yaw = {hold, sat, FC_SAT_YAW_POS, FC_SAT_YAW_NEG, raw.z, moment.z};
-        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki_per_s3.x, lim.x, &roll),
-                                         integrate_axis(ar, i.y, e.y, dt, ki_per_s3.y, lim.y, &pitch),
-                                         integrate_axis(ar, i.z, e.z, dt, ki_per_s3.z, lim.z, &yaw));
+        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e16.x, dt, ki_per_s3.x, lim.x, &roll),
+                                         integrate_axis(ar, i.y, e16.y, dt, ki_per_s3.y, lim.y, &pitch),
+                                         integrate_axis(ar, i.z, e16.z, dt, ki_per_s3.z, lim.z, &yaw));
     }
     c->last_moment = moment;
     out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);

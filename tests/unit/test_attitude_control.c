@@ -416,7 +416,8 @@ static ref_out ref_core(const ref_params *p, const double err[3], double etol, c
         const double r = w[i] - wff[i];
         o.raw[i] = -(p->gp[i] * e[i] + p->gi[i] * integral[i] + p->gd[i] * r) + p->dj[i] * ww;
         /* what the step reads, against e, I, r and w_j w_k */
-        const double de = (i == 2 ? p->yaw_weight * etol + half_lsb(FC_ANGLE_FRAC) : etol) +
+        /* (yaw: 2 (yaw_weight s) with the product rounded, one ANGLE LSB) */
+        const double de = (i == 2 ? p->yaw_weight * etol + 2.0 * half_lsb(FC_ANGLE_FRAC) : etol) +
                           q16_err(e[i], ANGLE16_FRAC);
         const double di = q16_err(integral[i], ANGLE16_FRAC);
         const double dr = q16_err(r, RATE16_FRAC);
@@ -1263,12 +1264,15 @@ static void test_integral_anti_windup(void **state)
     assert_true(c.integral_rad_s.x == FC_INT(0, ANGLE));
     /* yaw and pitch bits do not stop roll... */
     step_with(&c, q, FC_SAT_PITCH_NEG | FC_SAT_YAW_NEG | FC_SAT_ROLL_POS, &out);
-    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - ex * r.dt) < r.dt * ERROR_TOL_RAD + 1e-7);
+    /* it integrates the error as the products read it (ANGLE16): its
+     * rounding on top of the error's tolerance */
+    const double e_tol = ERROR_TOL_RAD + half_lsb(ANGLE16_FRAC);
+    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - ex * r.dt) < r.dt * e_tol + 1e-7);
     /* ...and without any bit it integrates e dt per step */
     for (int k = 0; k < 9; k++) {
         step_with(&c, q, 0u, &out);
     }
-    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 10.0 * r.dt * ERROR_TOL_RAD + 1e-6);
+    assert_true(fabs(D(c.integral_rad_s.x, FC_ANGLE_FRAC) - 10.0 * ex * r.dt) < 10.0 * r.dt * e_tol + 1e-6);
     const double m_before = DN(out.moment.x);
     /* the moment includes -Ki I (Ki = ki Jx / authority), with I the integral
      * the step starts from */

@@ -45,8 +45,8 @@
  *     I    <- clamp(I + e dt, +-integral_limit)                 (rad s, ANGLE)
  *
  * I is the exact integral of the error held over the step (the error is
- * sampled once per step); the moment of step k uses I[k], the update gives
- * I[k+1].
+ * sampled once per step, as the products read it); the moment of step k uses
+ * I[k], the update gives I[k+1].
  * w x J w is ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for the diagonal
  * J. Init divides J and the differences by the authority, per axis: J /
  * authority (s^2/rad, the inverse of the angular acceleration the axis can
@@ -92,7 +92,11 @@
  * (fc/quat.h: fc_quat16, 16-bit products: the error within 4.5 UNIT16 LSB /
  * N, 2.7e-4 rad / N, of the exact one; test_attitude_control); the error
  * ANGLE (telemetry) and, as the products read it, ANGLE16 (Q3.12, +-8 rad,
- * 2.4e-4 rad); the integral ANGLE (rad s), read as ANGLE16; rates RATE, read
+ * 2.4e-4 rad; the weighted heading part is 2 (yaw_weight s), a 32 x 16-bit
+ * product, within one ANGLE LSB of the unweighted one times yaw_weight); the
+ * integral ANGLE (rad s), read as ANGLE16 and advanced by the ANGLE16 error
+ * times dt, a 32 x 16-bit product (exact but for its rounding to ANGLE);
+ * rates RATE, read
  * as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999 rad/s: beyond that
  * every gain of a flyable airframe has saturated the moment already);
  * w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
