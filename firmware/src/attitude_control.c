@@ -241,12 +241,13 @@ STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_qu
     return r;
 }
 
-/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. In
+/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE, into
+ * *err; returns s = sin(psi_e/2) (UNIT16) for the weighted heading part. In
  * fixed the quaternions are UNIT16: 16-bit products, each exact in 32 bits. */
-static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd, fc_real16 *s_out)
+STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_quat16 *qd, fc_vec3 *err)
 {
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
-    const fc_quat16 e = error_quat16(ar, &qd, &q);
+    const fc_quat16 e = error_quat16(ar, qd, q);
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
     const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
@@ -259,9 +260,10 @@ static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd, fc_real16
     const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
     const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
     const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
-    *s_out = s;
-    return fc_vec3_make(fc_add(ar, half_tx, half_tx), fc_add(ar, half_ty, half_ty),
-                        fc_add(ar, half_hz, half_hz));
+    err->x = fc_add(ar, half_tx, half_tx);
+    err->y = fc_add(ar, half_ty, half_ty);
+    err->z = fc_add(ar, half_hz, half_hz);
+    return s;
 }
 
 /* One axis of the law in the normalised units (header): -(Kp e + Ki I +
@@ -277,29 +279,19 @@ STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_
     return fc_sub(ar, gyro, fc_add(ar, pi, d));
 }
 
-/* What stops an axis integrating (header: anti-windup): a hold, the
- * allocation's report for that direction (sat_pos, sat_neg: its FC_SAT_* bits),
- * or this step's own clamp of the moment (raw beyond moment). */
-typedef struct axis_block {
-    bool hold;
-    uint8_t sat;
-    uint8_t sat_pos, sat_neg;
-    fc_real raw, moment;
-} axis_block;
-
 /* Conditional integration of one axis (header: anti-windup): I + e dt with
  * e as the products read it (ANGLE16), a 32 x 16-bit product. The integral
  * acts as -ki I on the moment: a positive step of I pushes the moment
- * negative. Only the direction the step goes in is looked at. */
+ * negative, which stop_neg forbids (the allocation reported that direction
+ * saturated, or this step clamped the moment there), and stop_pos the
+ * other way. Only the direction the step goes in is looked at. */
 STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, fc_real dt, fc_real ki,
-                              fc_real limit, const axis_block *b)
+                                   fc_real limit, bool stop_neg, bool stop_pos)
 {
     if (!(ki > FC_INT(0, GAIN))) {
         return FC_INT(0, ANGLE);
     }
-    const bool blocked_neg = e > FC_INT16(0, ANGLE16) && (b->hold || (b->sat & b->sat_neg) != 0u || b->raw < b->moment);
-    const bool blocked_pos = e < FC_INT16(0, ANGLE16) && (b->hold || (b->sat & b->sat_pos) != 0u || b->raw > b->moment);
-    if (blocked_neg || blocked_pos) {
+    if ((e > FC_INT16(0, ANGLE16) && stop_neg) || (e < FC_INT16(0, ANGLE16) && stop_pos)) {
         return integral;
     }
     const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
@@ -340,6 +332,16 @@ STEP_INLINE fc_real16 rate16(fc_arith *ar, fc_real rate)
     return fc_narrow16(ar, fc_clamp(rate, -limit, limit), FC_RATE_FRAC, FC_RATE16_FRAC);
 }
 
+/* w - w_ff as RATE16; w16 = rate16(w) where there is no feed-forward (the
+ * same value: roll and pitch, mostly) */
+STEP_INLINE fc_real16 rate_error16(fc_arith *ar, fc_real rate, fc_real16 rate16_of_rate, fc_real rate_ff)
+{
+    if (rate_ff == FC_INT(0, RATE)) {
+        return rate16_of_rate;
+    }
+    return rate16(ar, fc_sub(ar, rate, rate_ff));
+}
+
 static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
 {
     const fc_real d = fc_mul(ar, m, decay, FC_SHIFT(NSUM, UNIT, NSUM));
@@ -363,44 +365,45 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
     bool qd_ok = false;
     const fc_quat16 q = quat16_unit(ar, &in->attitude, &q_ok);
     const fc_quat16 qd = quat16_unit(ar, &in->attitude_desired, &qd_ok);
-    const fc_vec3 rate = in->rate_radps;
-    fc_vec3 rate_ff = in->rate_ff_radps;
-    if (!rate_valid(&rate_ff)) {
-        rate_ff = fc_vec3_zero(); /* ignored */
-        status |= FC_STEP_BAD_INPUT;
+    const fc_vec3 *rate = &in->rate_radps;
+    const fc_vec3 *rate_ff = &in->rate_ff_radps;
+    const bool rate_ff_ok = rate_valid(rate_ff);
+    if (!rate_ff_ok) {
+        status |= FC_STEP_BAD_INPUT; /* and the feed-forward is taken as zero */
     }
 
     fc_vec3 moment;
-    if (!q_ok || !qd_ok || !rate_valid(&rate)) {
+    if (!q_ok || !qd_ok || !rate_valid(rate)) {
         /* hold the last good moment, decaying to zero; integrals frozen */
         moment = fc_vec3_make(hold_decayed(ar, c->last_moment.x, c->hold_decay),
                               hold_decayed(ar, c->last_moment.y, c->hold_decay),
                               hold_decayed(ar, c->last_moment.z, c->hold_decay));
         status |= FC_STEP_BAD_INPUT;
     } else {
-        fc_real16 s;
-        const fc_vec3 err = attitude_error(ar, q, qd, &s);
-        c->last_error_rad = err;
+        const fc_real16 s = attitude_error(ar, &q, &qd, &c->last_error_rad);
+        const fc_vec3 *err = &c->last_error_rad;
         /* the heading part weighted: 2 (yaw_weight s), a 32 x 16-bit product */
         const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
-        const fc_vec3 e = fc_vec3_make(err.x, err.y, fc_add(ar, half_head, half_head));
-        const fc_vec3 i = c->integral_rad_s;
         /* what the 16-bit products read: the error and the integral by their
          * high halves, the rates rounded to RATE16 */
-        const fc_vec3_16 e16 = fc_vec3_narrow16(ar, e, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
-        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, i, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
-        const fc_vec3_16 w16 = {rate16(ar, rate.x), rate16(ar, rate.y), rate16(ar, rate.z)};
-        const fc_vec3_16 r16 = {rate16(ar, fc_sub(ar, rate.x, rate_ff.x)), rate16(ar, fc_sub(ar, rate.y, rate_ff.y)),
-                                rate16(ar, fc_sub(ar, rate.z, rate_ff.z))};
+        const fc_vec3_16 e16 = {fc_narrow16(ar, err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_narrow16(ar, err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_narrow16(ar, fc_add(ar, half_head, half_head), FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
+        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, c->integral_rad_s, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+        const fc_vec3_16 w16 = {rate16(ar, rate->x), rate16(ar, rate->y), rate16(ar, rate->z)};
+        const fc_real zero = FC_INT(0, RATE);
+        const fc_vec3_16 r16 = {rate_error16(ar, rate->x, w16.x, rate_ff_ok ? rate_ff->x : zero),
+                                rate_error16(ar, rate->y, w16.y, rate_ff_ok ? rate_ff->y : zero),
+                                rate_error16(ar, rate->z, w16.z, rate_ff_ok ? rate_ff->z : zero)};
         /* w_i w_j for w x J w (header) */
         const int ww_from = 2 * FC_RATE16_FRAC;
         const fc_vec3_16 ww = {fc_narrow16(ar, fc_mul16(w16.y, w16.z), ww_from, FC_WW16_FRAC),
                                fc_narrow16(ar, fc_mul16(w16.z, w16.x), ww_from, FC_WW16_FRAC),
                                fc_narrow16(ar, fc_mul16(w16.x, w16.y), ww_from, FC_WW16_FRAC)};
-        const fc_vec3_16 kp = c->gain_p, ki = c->gain_i, kd = c->gain_d, dj = c->inertia_diff16;
-        const fc_vec3 raw = fc_vec3_make(axis_moment(ar, kp.x, e16.x, ki.x, i16.x, kd.x, r16.x, dj.x, ww.x),
-                                         axis_moment(ar, kp.y, e16.y, ki.y, i16.y, kd.y, r16.y, dj.y, ww.y),
-                                         axis_moment(ar, kp.z, e16.z, ki.z, i16.z, kd.z, r16.z, dj.z, ww.z));
+        const fc_vec3_16 *kp = &c->gain_p, *ki = &c->gain_i, *kd = &c->gain_d, *dj = &c->inertia_diff16;
+        const fc_vec3 raw = fc_vec3_make(axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, dj->x, ww.x),
+                                         axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, dj->y, ww.y),
+                                         axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, dj->z, ww.z));
         moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
@@ -410,19 +413,22 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
             status |= FC_STEP_OUTPUT_LIMITED;
         }
-        /* anti-windup: the allocation's report and this step's own clamp; a
-         * hold blocks both directions */
-        const bool hold = c->integral_hold != 0u;
-        const uint8_t sat = in->allocation_saturation;
-        const fc_vec3 lim = p->integral_limit_rad;
-        const fc_real dt = p->dt_s;
-        const fc_vec3 ki_per_s3 = p->ki_per_s3;
-        const axis_block roll = {hold, sat, FC_SAT_ROLL_POS, FC_SAT_ROLL_NEG, raw.x, moment.x};
-        const axis_block pitch = {hold, sat, FC_SAT_PITCH_POS, FC_SAT_PITCH_NEG, raw.y, moment.y};
-        const axis_block yaw = {hold, sat, FC_SAT_YAW_POS, FC_SAT_YAW_NEG, raw.z, moment.z};
-        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e16.x, dt, ki_per_s3.x, lim.x, &roll),
-                                         integrate_axis(ar, i.y, e16.y, dt, ki_per_s3.y, lim.y, &pitch),
-                                         integrate_axis(ar, i.z, e16.z, dt, ki_per_s3.z, lim.z, &yaw));
+        /* anti-windup: the allocation's report and this step's own clamp;
+         * a hold keeps all three (with ki = 0 an integral is zero anyway) */
+        if (c->integral_hold == 0u) {
+            const uint8_t sat = in->allocation_saturation;
+            const fc_real dt = p->dt_s;
+            fc_vec3 *i = &c->integral_rad_s;
+            i->x = integrate_axis(ar, i->x, e16.x, dt, p->ki_per_s3.x, p->integral_limit_rad.x,
+                                  (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x,
+                                  (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x);
+            i->y = integrate_axis(ar, i->y, e16.y, dt, p->ki_per_s3.y, p->integral_limit_rad.y,
+                                  (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y,
+                                  (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y);
+            i->z = integrate_axis(ar, i->z, e16.z, dt, p->ki_per_s3.z, p->integral_limit_rad.z,
+                                  (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z,
+                                  (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z);
+        }
     }
     c->last_moment = moment;
     out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);
