@@ -16,6 +16,16 @@
 #define MAX_RATE_RADPS FC_C(100.0f, RATE)
 /* Below this |w^2 + z^2| of the error the heading is undefined (header). */
 #define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT16_SQ)
+/* Up to this d = 1 - (w^2 + z^2) the half heading (c, s) = (w, z) / sqrt(1 - d)
+ * takes the series 1 + d/2 of the root (attitude_error): what it leaves out,
+ * 3 d^2/8 (1 + 2 d) at most, stays below 0.4 of the backend's resolution
+ * (fixed: a UNIT16 LSB at d = 2^-7, tilt errors up to 10 deg; float: 2^-24
+ * at d = 2^-12), where fc_unit2_16 is within 1.32 LSB (4 2^-24 in float). */
+#if FC_NUMERIC_FIXED
+#define SERIES_MAX_D FC_C(0.0078125f, UNIT16_SQ)
+#else
+#define SERIES_MAX_D FC_C(2.44140625e-4f, UNIT16_SQ)
+#endif
 
 /* The 16-bit law's own Q-formats (fc/attitude_control.h, Formats): what its
  * products read, each chosen from the range the law can reach (and RATE16,
@@ -35,6 +45,8 @@ _Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a
  * (fc_quat16_normalize's test, quat.c), and 2 in the same format */
 #define UNIT16_LENGTH_SQ_TOLERANCE (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
 #define UNIT16_SQ_TWO FC_INT(2, UNIT16_SQ)
+/* 1/2 in UNIT16 (folded: the narrowing of a constant) */
+#define HALF_UNIT16 fc_narrow16(&(fc_arith){0u}, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC)
 
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
@@ -241,6 +253,13 @@ STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_qu
     return r;
 }
 
+/* v k for a UNIT16 v and a 32-bit k in UNIT16_SQ, as UNIT16 (|v k| < 2). */
+STEP_INLINE fc_real16 scaled16(fc_arith *ar, fc_real16 v, fc_real k)
+{
+    return fc_narrow16(ar, fc_mul_by16(ar, k, v, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16)), FC_UNIT16_FRAC,
+                       FC_UNIT16_FRAC);
+}
+
 /* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE, into
  * *err; returns s = sin(psi_e/2) (UNIT16) for the weighted heading part. In
  * fixed the quaternions are UNIT16: 16-bit products, each exact in 32 bits. */
@@ -252,7 +271,14 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
-    if (n_sq >= MIN_HEADING_NORM_SQ) {
+    const fc_real d = fc_sub(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
+    if (fc_within(d, SERIES_MAX_D)) {
+        /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
+        const fc_real half_d = fc_mul_by16(ar, d, HALF_UNIT16, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
+        const fc_real inv_n = fc_add(ar, FC_INT(1, UNIT16_SQ), half_d);
+        c = scaled16(ar, e.w, inv_n);
+        s = scaled16(ar, e.z, inv_n);
+    } else if (n_sq >= MIN_HEADING_NORM_SQ) {
         fc_unit2_16(ar, e.w, e.z, n_sq, &c, &s);
     }
     /* tilt: the vector part (x, y) turned by -psi_e/2, i.e. the vector part of
