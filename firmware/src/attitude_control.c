@@ -41,12 +41,12 @@ _Static_assert(FC_NGAIN16_FRAC + FC_RATE16_FRAC == FC_NSUM_FRAC, "kd r is not th
 /* the narrowings of the step that drop 16 bits take the high half */
 _Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a high half");
 
+#if FC_NUMERIC_FIXED
 /* |q|^2 of a UNIT16 quaternion within 2^-13 + 2^-24 of 1 is unit at 16 bits
- * (fc_quat16_normalize's test, quat.c), and 2 in the same format */
-#define UNIT16_LENGTH_SQ_TOLERANCE (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
-#define UNIT16_SQ_TWO FC_INT(2, UNIT16_SQ)
-/* 1/2 in UNIT16 (folded: the narrowing of a constant) */
-#define HALF_UNIT16 fc_narrow16(&(fc_arith){0u}, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC)
+ * (fc_quat16_normalize's test, quat.c) */
+#define UNIT16_LENGTH_SQ_TOLERANCE \
+    (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
+#endif
 
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
@@ -225,7 +225,8 @@ STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
     /* two partial sums, each below 2^31; unit length needs both below 2 */
     const fc_real wx = fc_dot2_16(r.w, r.w, r.x, r.x);
     const fc_real yz = fc_dot2_16(r.y, r.y, r.z, r.z);
-    if (probe.saturated == 0u && wx <= UNIT16_SQ_TWO && yz <= UNIT16_SQ_TWO &&
+    const fc_real two = FC_INT(2, UNIT16_SQ);
+    if (probe.saturated == 0u && wx <= two && yz <= two &&
         fc_within(wx + yz - FC_INT(1, UNIT16_SQ), UNIT16_LENGTH_SQ_TOLERANCE)) {
         *ok = true;
         return r;
@@ -274,7 +275,9 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real d = fc_sub(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
     if (fc_within(d, SERIES_MAX_D)) {
         /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
-        const fc_real half_d = fc_mul_by16(ar, d, HALF_UNIT16, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
+        fc_arith never = {0u};
+        const fc_real16 half = fc_narrow16(&never, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC); /* folds */
+        const fc_real half_d = fc_mul_by16(ar, d, half, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
         const fc_real inv_n = fc_add(ar, FC_INT(1, UNIT16_SQ), half_d);
         c = scaled16(ar, e.w, inv_n);
         s = scaled16(ar, e.z, inv_n);
@@ -296,7 +299,7 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
  * Kd r) + dJ w_i w_j with K = k J / authority, dJ = (J_k - J_j) / authority;
  * 16 x 16 -> 32 products summed in NSUM. */
 STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
-                           fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
+                                fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
 {
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
     const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
@@ -408,13 +411,18 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
     } else {
         const fc_real16 s = attitude_error(ar, &q, &qd, &c->last_error_rad);
         const fc_vec3 *err = &c->last_error_rad;
-        /* the heading part weighted: 2 (yaw_weight s), a 32 x 16-bit product */
-        const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
+        /* the heading part weighted: 2 (yaw_weight s), a 32 x 16-bit product
+         * (at the usual weight 1 the unweighted part, the same value) */
+        fc_real head = err->z;
+        if (p->yaw_weight != FC_INT(1, RATIO)) {
+            const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
+            head = fc_add(ar, half_head, half_head);
+        }
         /* what the 16-bit products read: the error and the integral by their
          * high halves, the rates rounded to RATE16 */
         const fc_vec3_16 e16 = {fc_narrow16(ar, err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
                                 fc_narrow16(ar, err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
-                                fc_narrow16(ar, fc_add(ar, half_head, half_head), FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
+                                fc_narrow16(ar, head, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
         const fc_vec3_16 i16 = fc_vec3_narrow16(ar, c->integral_rad_s, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
         const fc_vec3_16 w16 = {rate16(ar, rate->x), rate16(ar, rate->y), rate16(ar, rate->z)};
         const fc_real zero = FC_INT(0, RATE);

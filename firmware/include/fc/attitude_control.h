@@ -31,11 +31,14 @@
  * is on 2 x (vector part), not on the rotation vector: identical to first order
  * (2 sin(a/2) = a (1 - a^2/24): 4.5 % short at 60 deg), no trigonometry in the
  * step, and the error saturates by itself at large angles, so a big error asks
- * for a bounded angular acceleration. The split costs one 1/sqrt
- * (division-free in fixed: fc_unit2_16); the only division in the step is the
- * budget's ratio, and only when the roll/pitch moment is clamped. N^2 < 1e-4 (tilt error
- * within 1.2 deg of upside down) leaves the heading undefined: the heading part
- * is then zero and the tilt part is 2 (x, y, 0).
+ * for a bounded angular acceleration. The split costs one 1/N: at small tilt
+ * errors (1 - N^2 <= 2^-7 in fixed, tilt_e up to 10 deg; 2^-12 in float) the
+ * series 1/N = 1 + (1 - N^2)/2, whose remainder stays below 0.4 of the
+ * format's resolution, else fc_unit2_16 (division-free in fixed); the only
+ * division in the step is the budget's ratio, and only when the roll/pitch
+ * moment is clamped. N^2 < 1e-4 (tilt error within 1.2 deg of upside down)
+ * leaves the heading undefined: the heading part is then zero and the tilt
+ * part is 2 (x, y, 0).
  *
  * Law, per body axis (angular acceleration, then moment through the inertia):
  *
@@ -96,10 +99,9 @@
  * product, within one ANGLE LSB of the unweighted one times yaw_weight); the
  * integral ANGLE (rad s), read as ANGLE16 and advanced by the ANGLE16 error
  * times dt, a 32 x 16-bit product (exact but for its rounding to ANGLE);
- * rates RATE, read
- * as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999 rad/s: beyond that
- * every gain of a flyable airframe has saturated the moment already);
- * w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
+ * rates RATE, read as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999
+ * rad/s: beyond that every gain of a flyable airframe has saturated the
+ * moment already); w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
  * 0.03 within 0.4 %); dJ NINERTIA16 (Q0.15); the moment summed in NSUM (Q9.22)
  * and out in NORM16; gains as parameters GAIN, inertia and J / authority
  * INERTIA, the authority MOMENT.
