@@ -295,32 +295,46 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     return s;
 }
 
+/* dJ w_j w_k, one axis' share of w x J w (header), in NSUM; none where the
+ * inertia difference is zero (roll and pitch alike: yaw on a symmetric quad) */
+STEP_INLINE fc_real gyroscopic(fc_arith *ar, fc_real16 inertia_diff, fc_real16 w_j, fc_real16 w_k)
+{
+    if (inertia_diff == FC_INT16(0, NINERTIA16)) {
+        return FC_INT(0, NSUM);
+    }
+    const fc_real16 ww = fc_narrow16(ar, fc_mul16(w_j, w_k), 2 * FC_RATE16_FRAC, FC_WW16_FRAC);
+    return fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
+}
+
 /* One axis of the law in the normalised units (header): -(Kp e + Ki I +
- * Kd r) + dJ w_i w_j with K = k J / authority, dJ = (J_k - J_j) / authority;
+ * Kd r) + dJ w_j w_k with K = k J / authority, dJ = (J_k - J_j) / authority;
  * 16 x 16 -> 32 products summed in NSUM. */
 STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
-                                fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
+                                fc_real16 gain_d, fc_real16 rate_err, fc_real gyro)
 {
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
     const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
     const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
-    const fc_real gyro = fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
     return fc_sub(ar, gyro, fc_add(ar, pi, d));
 }
 
 /* Conditional integration of one axis (header: anti-windup): I + e dt with
  * e as the products read it (ANGLE16), a 32 x 16-bit product. The integral
  * acts as -ki I on the moment: a positive step of I pushes the moment
- * negative, which stop_neg forbids (the allocation reported that direction
- * saturated, or this step clamped the moment there), and stop_pos the
+ * negative, which the allocation's report of that direction (sat & sat_neg)
+ * or this step's own clamp there (raw below moment) forbids; the same the
  * other way. Only the direction the step goes in is looked at. */
 STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, fc_real dt, fc_real ki,
-                                   fc_real limit, bool stop_neg, bool stop_pos)
+                                   fc_real limit, uint8_t sat, uint8_t sat_neg, uint8_t sat_pos, fc_real raw,
+                                   fc_real moment)
 {
     if (!(ki > FC_INT(0, GAIN))) {
         return FC_INT(0, ANGLE);
     }
-    if ((e > FC_INT16(0, ANGLE16) && stop_neg) || (e < FC_INT16(0, ANGLE16) && stop_pos)) {
+    if (e > FC_INT16(0, ANGLE16) && ((sat & sat_neg) != 0u || raw < moment)) {
+        return integral;
+    }
+    if (e < FC_INT16(0, ANGLE16) && ((sat & sat_pos) != 0u || raw > moment)) {
         return integral;
     }
     const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
@@ -429,15 +443,11 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         const fc_vec3_16 r16 = {rate_error16(ar, rate->x, w16.x, rate_ff_ok ? rate_ff->x : zero),
                                 rate_error16(ar, rate->y, w16.y, rate_ff_ok ? rate_ff->y : zero),
                                 rate_error16(ar, rate->z, w16.z, rate_ff_ok ? rate_ff->z : zero)};
-        /* w_i w_j for w x J w (header) */
-        const int ww_from = 2 * FC_RATE16_FRAC;
-        const fc_vec3_16 ww = {fc_narrow16(ar, fc_mul16(w16.y, w16.z), ww_from, FC_WW16_FRAC),
-                               fc_narrow16(ar, fc_mul16(w16.z, w16.x), ww_from, FC_WW16_FRAC),
-                               fc_narrow16(ar, fc_mul16(w16.x, w16.y), ww_from, FC_WW16_FRAC)};
         const fc_vec3_16 *kp = &c->gain_p, *ki = &c->gain_i, *kd = &c->gain_d, *dj = &c->inertia_diff16;
-        const fc_vec3 raw = fc_vec3_make(axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, dj->x, ww.x),
-                                         axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, dj->y, ww.y),
-                                         axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, dj->z, ww.z));
+        const fc_vec3 raw = fc_vec3_make(
+            axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
+            axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
+            axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
         moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
@@ -453,15 +463,12 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
             const uint8_t sat = in->allocation_saturation;
             const fc_real dt = p->dt_s;
             fc_vec3 *i = &c->integral_rad_s;
-            i->x = integrate_axis(ar, i->x, e16.x, dt, p->ki_per_s3.x, p->integral_limit_rad.x,
-                                  (sat & FC_SAT_ROLL_NEG) != 0u || raw.x < moment.x,
-                                  (sat & FC_SAT_ROLL_POS) != 0u || raw.x > moment.x);
-            i->y = integrate_axis(ar, i->y, e16.y, dt, p->ki_per_s3.y, p->integral_limit_rad.y,
-                                  (sat & FC_SAT_PITCH_NEG) != 0u || raw.y < moment.y,
-                                  (sat & FC_SAT_PITCH_POS) != 0u || raw.y > moment.y);
-            i->z = integrate_axis(ar, i->z, e16.z, dt, p->ki_per_s3.z, p->integral_limit_rad.z,
-                                  (sat & FC_SAT_YAW_NEG) != 0u || raw.z < moment.z,
-                                  (sat & FC_SAT_YAW_POS) != 0u || raw.z > moment.z);
+            i->x = integrate_axis(ar, i->x, e16.x, dt, p->ki_per_s3.x, p->integral_limit_rad.x, sat, FC_SAT_ROLL_NEG,
+                                  FC_SAT_ROLL_POS, raw.x, moment.x);
+            i->y = integrate_axis(ar, i->y, e16.y, dt, p->ki_per_s3.y, p->integral_limit_rad.y, sat, FC_SAT_PITCH_NEG,
+                                  FC_SAT_PITCH_POS, raw.y, moment.y);
+            i->z = integrate_axis(ar, i->z, e16.z, dt, p->ki_per_s3.z, p->integral_limit_rad.z, sat, FC_SAT_YAW_NEG,
+                                  FC_SAT_YAW_POS, raw.z, moment.z);
         }
     }
     c->last_moment = moment;
