@@ -20,7 +20,9 @@
  * takes the series 1 + d/2 of the root (attitude_error): what it leaves out,
  * 3 d^2/8 (1 + 2 d) at most, stays below 0.4 of the backend's resolution
  * (fixed: a UNIT16 LSB at d = 2^-7, tilt errors up to 10 deg; float: 2^-24
- * at d = 2^-12), where fc_unit2_16 is within 1.32 LSB (4 2^-24 in float). */
+ * at d = 2^-12), so that with the roundings (c, s) stays within the bound of
+ * fc_unit2_16 (1.32 UNIT16 LSB; 4 2^-24 in float) that the error's accuracy
+ * rests on (test_attitude_control.error_tol_at). */
 #if FC_NUMERIC_FIXED
 #define SERIES_MAX_D FC_C(0.0078125f, UNIT16_SQ)
 #else
