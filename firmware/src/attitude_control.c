@@ -16,6 +16,18 @@
 #define MAX_RATE_RADPS FC_C(100.0f, RATE)
 /* Below this |w^2 + z^2| of the error the heading is undefined (header). */
 #define MIN_HEADING_NORM_SQ FC_C(1.0e-4f, UNIT16_SQ)
+/* Up to this d = 1 - (w^2 + z^2) the half heading (c, s) = (w, z) / sqrt(1 - d)
+ * takes the series 1 + d/2 of the root (attitude_error): what it leaves out,
+ * 3 d^2/8 (1 + 2 d) at most, stays below 0.4 of the backend's resolution
+ * (fixed: a UNIT16 LSB at d = 2^-7, tilt errors up to 10 deg; float: 2^-24
+ * at d = 2^-12), so that with the roundings (c, s) stays within the bound of
+ * fc_unit2_16 (1.32 UNIT16 LSB; 4 2^-24 in float) that the error's accuracy
+ * rests on (test_attitude_control.error_tol_at). */
+#if FC_NUMERIC_FIXED
+#define SERIES_MAX_D FC_C(0.0078125f, UNIT16_SQ)
+#else
+#define SERIES_MAX_D FC_C(2.44140625e-4f, UNIT16_SQ)
+#endif
 
 /* The 16-bit law's own Q-formats (fc/attitude_control.h, Formats): what its
  * products read, each chosen from the range the law can reach (and RATE16,
@@ -31,6 +43,13 @@ _Static_assert(FC_NGAIN16_FRAC + FC_RATE16_FRAC == FC_NSUM_FRAC, "kd r is not th
 /* the narrowings of the step that drop 16 bits take the high half */
 _Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a high half");
 
+#if FC_NUMERIC_FIXED
+/* |q|^2 of a UNIT16 quaternion within 2^-13 + 2^-24 of 1 is unit at 16 bits
+ * (fc_quat16_normalize's test, quat.c) */
+#define UNIT16_LENGTH_SQ_TOLERANCE \
+    (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
+#endif
+
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
 /* A held moment below this (half a NORM16 LSB) is zero (fixed rounding would
@@ -39,6 +58,10 @@ _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE
 /* The largest normalised gain and inertia difference (their 16-bit formats). */
 #define MAX_NORM_GAIN FC_C(7.99f, RATIO)
 #define MAX_NORM_INERTIA_DIFF FC_C(0.99f, INERTIA)
+
+/* Inlined where the step calls it: a call on the ATmega saves and restores
+ * most of the register file, more than the body of these helpers costs. */
+#define STEP_INLINE static inline __attribute__((always_inline))
 
 static bool finite_in(fc_real x, fc_real lo, fc_real hi)
 {
@@ -184,22 +207,83 @@ void fc_attitude_control_default_params(fc_attitude_control_params *p, fc_real d
     p->moment_limit = fc_vec3_make(FC_INT(1, RATIO), FC_INT(1, RATIO), FC_INT(1, RATIO));
 }
 
-static bool rate_valid(fc_vec3 r)
+STEP_INLINE bool rate_valid(const fc_vec3 *r)
 {
-    return fc_vec3_within(r, MAX_RATE_RADPS);
+    return fc_vec3_within(*r, MAX_RATE_RADPS);
 }
 
-/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE. In
+/* q in UNIT16, *ok as fc_quat16_normalize gives them. Fixed: q rounded as it
+ * is when it is unit at 16 bits (the usual case: the estimator's attitude and
+ * the position loop's setpoint arrive normalised), with the test and the
+ * rounding of fc_quat16_normalize inlined; else that function. */
+STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
+{
+#if FC_NUMERIC_FIXED
+    fc_arith probe = {0u};
+    const fc_quat16 r = {fc_narrow16(&probe, q->w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
+                         fc_narrow16(&probe, q->z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
+    /* two partial sums, each below 2^31; unit length needs both below 2 */
+    const fc_real wx = fc_dot2_16(r.w, r.w, r.x, r.x);
+    const fc_real yz = fc_dot2_16(r.y, r.y, r.z, r.z);
+    const fc_real two = FC_INT(2, UNIT16_SQ);
+    if (probe.saturated == 0u && wx <= two && yz <= two &&
+        fc_within(wx + yz - FC_INT(1, UNIT16_SQ), UNIT16_LENGTH_SQ_TOLERANCE)) {
+        *ok = true;
+        return r;
+    }
+#endif
+    return fc_quat16_normalize(ar, *q, ok);
+}
+
+/* p* (x) q with w >= 0: fc_quat16_conj_mul and fc_quat16_shortest (the same
+ * bits) inlined into the step. */
+STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_quat16 *q)
+{
+    const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+    fc_quat16 r = {
+        fc_dot4_16(ar, p->w, q->w, p->x, q->x, p->y, q->y, p->z, q->z, sq, to),
+        fc_dot4_16(ar, p->w, q->x, fc_neg16(p->x), q->w, fc_neg16(p->y), q->z, p->z, q->y, sq, to),
+        fc_dot4_16(ar, p->w, q->y, p->x, q->z, fc_neg16(p->y), q->w, fc_neg16(p->z), q->x, sq, to),
+        fc_dot4_16(ar, p->w, q->z, fc_neg16(p->x), q->y, p->y, q->x, fc_neg16(p->z), q->w, sq, to)};
+    if (r.w < FC_INT16(0, UNIT16)) {
+        r.w = fc_neg16(r.w);
+        r.x = fc_neg16(r.x);
+        r.y = fc_neg16(r.y);
+        r.z = fc_neg16(r.z);
+    }
+    return r;
+}
+
+/* v k for a UNIT16 v and a 32-bit k in UNIT16_SQ, as UNIT16 (|v k| < 2). */
+STEP_INLINE fc_real16 scaled16(fc_arith *ar, fc_real16 v, fc_real k)
+{
+    return fc_narrow16(ar, fc_mul_by16(ar, k, v, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16)), FC_UNIT16_FRAC,
+                       FC_UNIT16_FRAC);
+}
+
+/* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE, into
+ * *err; returns s = sin(psi_e/2) (UNIT16) for the weighted heading part. In
  * fixed the quaternions are UNIT16: 16-bit products, each exact in 32 bits. */
-static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
+STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_quat16 *qd, fc_vec3 *err)
 {
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
-    const fc_quat16 e = fc_quat16_shortest(fc_quat16_conj_mul(ar, qd, q));
+    const fc_quat16 e = error_quat16(ar, qd, q);
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
     const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
-    if (n_sq >= MIN_HEADING_NORM_SQ) {
+    const fc_real d = fc_sub(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
+    if (fc_within(d, SERIES_MAX_D)) {
+        /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
+        fc_arith never = {0u};
+        const fc_real16 half = fc_narrow16(&never, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC); /* folds */
+        const fc_real half_d = fc_mul_by16(ar, d, half, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
+        const fc_real inv_n = fc_add(ar, FC_INT(1, UNIT16_SQ), half_d);
+        c = scaled16(ar, e.w, inv_n);
+        s = scaled16(ar, e.z, inv_n);
+    } else if (n_sq >= MIN_HEADING_NORM_SQ) {
         fc_unit2_16(ar, e.w, e.z, n_sq, &c, &s);
     }
     /* tilt: the vector part (x, y) turned by -psi_e/2, i.e. the vector part of
@@ -207,48 +291,55 @@ static fc_vec3 attitude_error(fc_arith *ar, fc_quat16 q, fc_quat16 qd)
     const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
     const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
     const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
-    return fc_vec3_make(fc_add(ar, half_tx, half_tx), fc_add(ar, half_ty, half_ty),
-                        fc_add(ar, half_hz, half_hz));
+    err->x = fc_add(ar, half_tx, half_tx);
+    err->y = fc_add(ar, half_ty, half_ty);
+    err->z = fc_add(ar, half_hz, half_hz);
+    return s;
+}
+
+/* dJ w_j w_k, one axis' share of w x J w (header), in NSUM; none where the
+ * inertia difference is zero (roll and pitch alike: yaw on a symmetric quad) */
+STEP_INLINE fc_real gyroscopic(fc_arith *ar, fc_real16 inertia_diff, fc_real16 w_j, fc_real16 w_k)
+{
+    if (inertia_diff == FC_INT16(0, NINERTIA16)) {
+        return FC_INT(0, NSUM);
+    }
+    const fc_real16 ww = fc_narrow16(ar, fc_mul16(w_j, w_k), 2 * FC_RATE16_FRAC, FC_WW16_FRAC);
+    return fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
 }
 
 /* One axis of the law in the normalised units (header): -(Kp e + Ki I +
- * Kd r) + dJ w_i w_j with K = k J / authority, dJ = (J_k - J_j) / authority;
+ * Kd r) + dJ w_j w_k with K = k J / authority, dJ = (J_k - J_j) / authority;
  * 16 x 16 -> 32 products summed in NSUM. */
-static fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
-                           fc_real16 gain_d, fc_real16 rate_err, fc_real16 inertia_diff, fc_real16 ww)
+STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
+                                fc_real16 gain_d, fc_real16 rate_err, fc_real gyro)
 {
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
     const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
     const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
-    const fc_real gyro = fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
     return fc_sub(ar, gyro, fc_add(ar, pi, d));
 }
 
-/* What stops an axis integrating (header: anti-windup): a hold, the
- * allocation's report for that direction (sat_pos, sat_neg: its FC_SAT_* bits),
- * or this step's own clamp of the moment (raw beyond moment). */
-typedef struct axis_block {
-    bool hold;
-    uint8_t sat;
-    uint8_t sat_pos, sat_neg;
-    fc_real raw, moment;
-} axis_block;
-
-/* Conditional integration of one axis (header: anti-windup). The integral acts
- * as -ki I on the moment: a positive step of I pushes the moment negative.
- * Only the direction the step goes in is looked at. */
-static fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real e, fc_real dt, fc_real ki,
-                              fc_real limit, const axis_block *b)
+/* Conditional integration of one axis (header: anti-windup): I + e dt with
+ * e as the products read it (ANGLE16), a 32 x 16-bit product. The integral
+ * acts as -ki I on the moment: a positive step of I pushes the moment
+ * negative, which the allocation's report of that direction (sat & sat_neg)
+ * or this step's own clamp there (raw below moment) forbids; the same the
+ * other way. Only the direction the step goes in is looked at. */
+STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, fc_real dt, fc_real ki,
+                                   fc_real limit, uint8_t sat, uint8_t sat_neg, uint8_t sat_pos, fc_real raw,
+                                   fc_real moment)
 {
     if (!(ki > FC_INT(0, GAIN))) {
         return FC_INT(0, ANGLE);
     }
-    const fc_real step = fc_mul(ar, e, dt, FC_SHIFT(ANGLE, DT, ANGLE));
-    const bool blocked_neg = step > FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_neg) != 0u || b->raw < b->moment);
-    const bool blocked_pos = step < FC_INT(0, ANGLE) && (b->hold || (b->sat & b->sat_pos) != 0u || b->raw > b->moment);
-    if (blocked_neg || blocked_pos) {
+    if (e > FC_INT16(0, ANGLE16) && ((sat & sat_neg) != 0u || raw < moment)) {
         return integral;
     }
+    if (e < FC_INT16(0, ANGLE16) && ((sat & sat_pos) != 0u || raw > moment)) {
+        return integral;
+    }
+    const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
     return fc_clamp(fc_add(ar, integral, step), fc_neg(ar, limit), limit);
 }
 
@@ -280,16 +371,20 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 
 /* A rate as the products read it: RATE16, clamped to its range first (by
  * design, header: not an arithmetic saturation). */
-static fc_vec3_16 rate16(fc_arith *ar, fc_vec3 rate)
+STEP_INLINE fc_real16 rate16(fc_arith *ar, fc_real rate)
 {
-    const fc_real max = FC_C(31.999f, RATE);
-    const fc_real min = FC_C(-31.999f, RATE);
-    fc_vec3 clamped = rate;
-    if (!fc_vec3_within(rate, max)) {
-        /* (inside, the usual case, the clamp leaves every component as it is) */
-        clamped = fc_vec3_make(fc_clamp(rate.x, min, max), fc_clamp(rate.y, min, max), fc_clamp(rate.z, min, max));
+    const fc_real limit = FC_C(31.999f, RATE);
+    return fc_narrow16(ar, fc_clamp(rate, -limit, limit), FC_RATE_FRAC, FC_RATE16_FRAC);
+}
+
+/* w - w_ff as RATE16; w16 = rate16(w) where there is no feed-forward (the
+ * same value: roll and pitch, mostly) */
+STEP_INLINE fc_real16 rate_error16(fc_arith *ar, fc_real rate, fc_real16 rate16_of_rate, fc_real rate_ff)
+{
+    if (rate_ff == FC_INT(0, RATE)) {
+        return rate16_of_rate;
     }
-    return fc_vec3_narrow16(ar, clamped, FC_RATE_FRAC, FC_RATE16_FRAC);
+    return rate16(ar, fc_sub(ar, rate, rate_ff));
 }
 
 static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
@@ -313,13 +408,13 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 
     bool q_ok = false;
     bool qd_ok = false;
-    const fc_quat16 q = fc_quat16_normalize(ar, in->attitude, &q_ok);
-    const fc_quat16 qd = fc_quat16_normalize(ar, in->attitude_desired, &qd_ok);
-    const fc_vec3 rate = in->rate_radps;
-    fc_vec3 rate_ff = in->rate_ff_radps;
-    if (!rate_valid(rate_ff)) {
-        rate_ff = fc_vec3_zero(); /* ignored */
-        status |= FC_STEP_BAD_INPUT;
+    const fc_quat16 q = quat16_unit(ar, &in->attitude, &q_ok);
+    const fc_quat16 qd = quat16_unit(ar, &in->attitude_desired, &qd_ok);
+    const fc_vec3 *rate = &in->rate_radps;
+    const fc_vec3 *rate_ff = &in->rate_ff_radps;
+    const bool rate_ff_ok = rate_valid(rate_ff);
+    if (!rate_ff_ok) {
+        status |= FC_STEP_BAD_INPUT; /* and the feed-forward is taken as zero */
     }
 
     fc_vec3 moment;
@@ -330,26 +425,31 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
                               hold_decayed(ar, c->last_moment.z, c->hold_decay));
         status |= FC_STEP_BAD_INPUT;
     } else {
-        const fc_vec3 err = attitude_error(ar, q, qd);
-        c->last_error_rad = err;
-        const fc_vec3 e =
-            fc_vec3_make(err.x, err.y, fc_mul(ar, err.z, p->yaw_weight, FC_SHIFT(ANGLE, RATIO, ANGLE)));
-        const fc_vec3 i = c->integral_rad_s;
+        const fc_real16 s = attitude_error(ar, &q, &qd, &c->last_error_rad);
+        const fc_vec3 *err = &c->last_error_rad;
+        /* the heading part weighted: 2 (yaw_weight s), a 32 x 16-bit product
+         * (at the usual weight 1 the unweighted part, the same value) */
+        fc_real head = err->z;
+        if (p->yaw_weight != FC_INT(1, RATIO)) {
+            const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
+            head = fc_add(ar, half_head, half_head);
+        }
         /* what the 16-bit products read: the error and the integral by their
          * high halves, the rates rounded to RATE16 */
-        const fc_vec3_16 e16 = fc_vec3_narrow16(ar, e, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
-        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, i, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
-        const fc_vec3_16 w16 = rate16(ar, rate);
-        const fc_vec3_16 r16 = rate16(ar, fc_vec3_sub(ar, rate, rate_ff));
-        /* w_i w_j for w x J w (header) */
-        const int ww_from = 2 * FC_RATE16_FRAC;
-        const fc_vec3_16 ww = {fc_narrow16(ar, fc_mul16(w16.y, w16.z), ww_from, FC_WW16_FRAC),
-                               fc_narrow16(ar, fc_mul16(w16.z, w16.x), ww_from, FC_WW16_FRAC),
-                               fc_narrow16(ar, fc_mul16(w16.x, w16.y), ww_from, FC_WW16_FRAC)};
-        const fc_vec3_16 kp = c->gain_p, ki = c->gain_i, kd = c->gain_d, dj = c->inertia_diff16;
-        const fc_vec3 raw = fc_vec3_make(axis_moment(ar, kp.x, e16.x, ki.x, i16.x, kd.x, r16.x, dj.x, ww.x),
-                                         axis_moment(ar, kp.y, e16.y, ki.y, i16.y, kd.y, r16.y, dj.y, ww.y),
-                                         axis_moment(ar, kp.z, e16.z, ki.z, i16.z, kd.z, r16.z, dj.z, ww.z));
+        const fc_vec3_16 e16 = {fc_narrow16(ar, err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_narrow16(ar, err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_narrow16(ar, head, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
+        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, c->integral_rad_s, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+        const fc_vec3_16 w16 = {rate16(ar, rate->x), rate16(ar, rate->y), rate16(ar, rate->z)};
+        const fc_real zero = FC_INT(0, RATE);
+        const fc_vec3_16 r16 = {rate_error16(ar, rate->x, w16.x, rate_ff_ok ? rate_ff->x : zero),
+                                rate_error16(ar, rate->y, w16.y, rate_ff_ok ? rate_ff->y : zero),
+                                rate_error16(ar, rate->z, w16.z, rate_ff_ok ? rate_ff->z : zero)};
+        const fc_vec3_16 *kp = &c->gain_p, *ki = &c->gain_i, *kd = &c->gain_d, *dj = &c->inertia_diff16;
+        const fc_vec3 raw = fc_vec3_make(
+            axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
+            axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
+            axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
         moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
@@ -359,19 +459,19 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
             status |= FC_STEP_OUTPUT_LIMITED;
         }
-        /* anti-windup: the allocation's report and this step's own clamp; a
-         * hold blocks both directions */
-        const bool hold = c->integral_hold != 0u;
-        const uint8_t sat = in->allocation_saturation;
-        const fc_vec3 lim = p->integral_limit_rad;
-        const fc_real dt = p->dt_s;
-        const fc_vec3 ki_per_s3 = p->ki_per_s3;
-        const axis_block roll = {hold, sat, FC_SAT_ROLL_POS, FC_SAT_ROLL_NEG, raw.x, moment.x};
-        const axis_block pitch = {hold, sat, FC_SAT_PITCH_POS, FC_SAT_PITCH_NEG, raw.y, moment.y};
-        const axis_block yaw = {hold, sat, FC_SAT_YAW_POS, FC_SAT_YAW_NEG, raw.z, moment.z};
-        c->integral_rad_s = fc_vec3_make(integrate_axis(ar, i.x, e.x, dt, ki_per_s3.x, lim.x, &roll),
-                                         integrate_axis(ar, i.y, e.y, dt, ki_per_s3.y, lim.y, &pitch),
-                                         integrate_axis(ar, i.z, e.z, dt, ki_per_s3.z, lim.z, &yaw));
+        /* anti-windup: the allocation's report and this step's own clamp;
+         * a hold keeps all three (with ki = 0 an integral is zero anyway) */
+        if (c->integral_hold == 0u) {
+            const uint8_t sat = in->allocation_saturation;
+            const fc_real dt = p->dt_s;
+            fc_vec3 *i = &c->integral_rad_s;
+            i->x = integrate_axis(ar, i->x, e16.x, dt, p->ki_per_s3.x, p->integral_limit_rad.x, sat, FC_SAT_ROLL_NEG,
+                                  FC_SAT_ROLL_POS, raw.x, moment.x);
+            i->y = integrate_axis(ar, i->y, e16.y, dt, p->ki_per_s3.y, p->integral_limit_rad.y, sat, FC_SAT_PITCH_NEG,
+                                  FC_SAT_PITCH_POS, raw.y, moment.y);
+            i->z = integrate_axis(ar, i->z, e16.z, dt, p->ki_per_s3.z, p->integral_limit_rad.z, sat, FC_SAT_YAW_NEG,
+                                  FC_SAT_YAW_POS, raw.z, moment.z);
+        }
     }
     c->last_moment = moment;
     out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);

@@ -31,11 +31,14 @@
  * is on 2 x (vector part), not on the rotation vector: identical to first order
  * (2 sin(a/2) = a (1 - a^2/24): 4.5 % short at 60 deg), no trigonometry in the
  * step, and the error saturates by itself at large angles, so a big error asks
- * for a bounded angular acceleration. The split costs one 1/sqrt
- * (division-free in fixed: fc_unit2_16); the only division in the step is the
- * budget's ratio, and only when the roll/pitch moment is clamped. N^2 < 1e-4 (tilt error
- * within 1.2 deg of upside down) leaves the heading undefined: the heading part
- * is then zero and the tilt part is 2 (x, y, 0).
+ * for a bounded angular acceleration. The split costs one 1/N: at small tilt
+ * errors (1 - N^2 <= 2^-7 in fixed, tilt_e up to 10 deg; 2^-12 in float) the
+ * series 1/N = 1 + (1 - N^2)/2, whose remainder stays below 0.4 of the
+ * format's resolution, else fc_unit2_16 (division-free in fixed); the only
+ * division in the step is the budget's ratio, and only when the roll/pitch
+ * moment is clamped. N^2 < 1e-4 (tilt error within 1.2 deg of upside down)
+ * leaves the heading undefined: the heading part is then zero and the tilt
+ * part is 2 (x, y, 0).
  *
  * Law, per body axis (angular acceleration, then moment through the inertia):
  *
@@ -45,8 +48,8 @@
  *     I    <- clamp(I + e dt, +-integral_limit)                 (rad s, ANGLE)
  *
  * I is the exact integral of the error held over the step (the error is
- * sampled once per step); the moment of step k uses I[k], the update gives
- * I[k+1].
+ * sampled once per step, as the products read it); the moment of step k uses
+ * I[k], the update gives I[k+1].
  * w x J w is ((Jz - Jy) wy wz, (Jx - Jz) wz wx, (Jy - Jx) wx wy) for the diagonal
  * J. Init divides J and the differences by the authority, per axis: J /
  * authority (s^2/rad, the inverse of the angular acceleration the axis can
@@ -92,10 +95,13 @@
  * (fc/quat.h: fc_quat16, 16-bit products: the error within 4.5 UNIT16 LSB /
  * N, 2.7e-4 rad / N, of the exact one; test_attitude_control); the error
  * ANGLE (telemetry) and, as the products read it, ANGLE16 (Q3.12, +-8 rad,
- * 2.4e-4 rad); the integral ANGLE (rad s), read as ANGLE16; rates RATE, read
- * as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999 rad/s: beyond that
- * every gain of a flyable airframe has saturated the moment already);
- * w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
+ * 2.4e-4 rad; the weighted heading part is 2 (yaw_weight s), a 32 x 16-bit
+ * product, within one ANGLE LSB of the unweighted one times yaw_weight); the
+ * integral ANGLE (rad s), read as ANGLE16 and advanced by the ANGLE16 error
+ * times dt, a 32 x 16-bit product (exact but for its rounding to ANGLE);
+ * rates RATE, read as RATE16 (Q5.10, 9.8e-4 rad/s, clamped to +-31.999
+ * rad/s: beyond that every gain of a flyable airframe has saturated the
+ * moment already); w_i w_j WW16 (Q10.5, 0.031 rad^2/s^2); the gains NGAIN16 (Q3.12: a gain of
  * 0.03 within 0.4 %); dJ NINERTIA16 (Q0.15); the moment summed in NSUM (Q9.22)
  * and out in NORM16; gains as parameters GAIN, inertia and J / authority
  * INERTIA, the authority MOMENT.
