@@ -31,6 +31,8 @@ _Static_assert(FSW_AIRFRAME_HEXA_4KG == (int)FC_AIRFRAME_HEXA_4KG, "airframe num
 _Static_assert(FSW_COMMAND_TRACK_PAD == (int)FC_COMMAND_TRACK_PAD, "command numbering differs");
 _Static_assert(FSW_COMMAND_LAND == (int)FC_COMMAND_LAND && FSW_COMMAND_HOLD == (int)FC_COMMAND_HOLD,
                "command numbering differs");
+_Static_assert(FSW_SAT_THRUST_HIGH == FC_SAT_THRUST_HIGH && FSW_SAT_THRUST_LOW == FC_SAT_THRUST_LOW,
+               "saturation bits differ");
 _Static_assert(FSW_LANDING_STATE_COUNT == (int)FC_LANDING_STATE_COUNT, "landing states differ");
 _Static_assert(FSW_LANDING_REASON_COUNT == (int)FC_REASON_COUNT, "landing reasons differ");
 _Static_assert(FSW_LANDING_DESCEND == (int)FC_LANDING_DESCEND && FSW_LANDING_ABORT == (int)FC_LANDING_ABORT &&
@@ -69,6 +71,34 @@ static void scale(fc_real *field, double factor, int frac)
 
 static fc_vec3 vec_to_fc(const double v[3], int frac);
 
+/* The tuning knobs (sim_host/README.md, "Tuning the variants"), one pair for
+ * every law: bandwidth multiplies the gains that set how fast the error
+ * decays (l0 of the sliding surface; the pid's position loop), authority those
+ * that set the force spent on it (a constant rho; the design margins delta and
+ * k0 that a norm-observer or extra modulation adds to its computed bound; the
+ * super-twisting's k1 sqrt(s) and k2 s, a Lipschitz bound scaled by s; the
+ * pid's velocity loop). NaN: 1. */
+static void scale_law_gains(fc_altitude_control_params *a, double bandwidth, double authority)
+{
+    if (a->law == FC_ALT_LAW_PID) {
+        scale(&a->pid_kp_z_per_s, bandwidth, FC_GAIN_FRAC);
+        scale(&a->pid_ki_z_per_s2, bandwidth, FC_GAIN_FRAC);
+        scale(&a->pid_kp_v_n_per_mps, authority, FC_GAIN_FRAC);
+        scale(&a->pid_ki_v_n_per_m, authority, FC_GAIN_FRAC);
+        return;
+    }
+    scale(&a->l0_per_s, bandwidth, FC_GAIN_FRAC);
+    if (a->law == FC_ALT_LAW_SUPER_TWISTING) {
+        scale(&a->stw_k1, sqrt(authority), FC_GAIN_FRAC);
+        scale(&a->stw_k2_nps, authority, FC_GAIN_FRAC);
+    } else if (a->law == FC_ALT_LAW_SSC && a->modulation != FC_SSC_MODULATION_CONSTANT) {
+        scale(&a->delta_n, authority, FC_FORCE_FRAC);
+        scale(&a->k0_ns_per_m, authority, FC_GAIN_FRAC);
+    } else {
+        scale(&a->rho_n, authority, FC_FORCE_FRAC);
+    }
+}
+
 /* The firmware's parameters for cfg: its defaults, then the overrides. A
  * field overridden here must also be in the PIL wire's listing
  * (tools/pil/pil_wire.c), which carries it to the ATmega image. */
@@ -98,6 +128,7 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     scale(&p.altitude.rho_n, cfg->rho_scale, FC_FORCE_FRAC);
     scale(&p.altitude.gamma, cfg->gamma_scale, FC_GAIN_FRAC);
     scale(&p.altitude.kappa_m_per_kg, cfg->kappa_m_scale, FC_GAIN_FRAC);
+    scale_law_gains(&p.altitude, cfg->bandwidth_scale, cfg->authority_scale);
     override(&p.altitude.rho_n, cfg->rho_n, FC_FORCE_FRAC);
     override(&p.altitude.gamma, cfg->gamma, FC_GAIN_FRAC);
     override(&p.altitude.tau_av_s, cfg->tau_av_s, FC_DT_FRAC);
@@ -350,12 +381,6 @@ static void *pil_create(const fsw_config *cfg, fsw_info *info, char *err, size_t
     }
     if (cfg->target_image == NULL) {
         snprintf(err, err_len, "a PIL run needs the ATmega image (fc-sil --pil-image FILE)");
-        return NULL;
-    }
-    /* the wire carries no pid gains: the image would fly its defaults */
-    if (!isnan(cfg->pid_kp_z_per_s) || !isnan(cfg->pid_ki_z_per_s2) || !isnan(cfg->pid_kp_v_n_per_mps) ||
-        !isnan(cfg->pid_ki_v_n_per_m)) {
-        snprintf(err, err_len, "the PIL wire does not carry the pid gains ([controller] pid_*)");
         return NULL;
     }
     if (cfg->descent_shaping == 1) {

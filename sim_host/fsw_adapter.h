@@ -28,6 +28,9 @@ enum { FSW_COMMAND_DISARM = 0, FSW_COMMAND_TRACK_PAD = 1, FSW_COMMAND_HOLD = 2, 
 enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_LANDED = 6, FSW_LANDING_ABORT = 7, FSW_LANDING_FAILSAFE = 8 };
 /* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
 #define FSW_VARIANT_COUNT 12
+/* allocation_saturation's collective thrust bits (fc/status.h) */
+#define FSW_SAT_THRUST_HIGH (1u << 6)
+#define FSW_SAT_THRUST_LOW (1u << 7)
 
 /* What the simulator chooses; a NaN override (or -1 for the ints) keeps the
  * firmware default of fc_controller_default_params. */
@@ -46,12 +49,15 @@ typedef struct fsw_config {
     double rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg;
     /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
     double rho_scale, gamma_scale, kappa_m_scale;
+    /* the tuning knobs, factors on the law's own gains (NaN: 1; fsw_adapter.c's
+     * scale_law_gains says which): bandwidth the error dynamics', authority the force's */
+    double bandwidth_scale, authority_scale;
     double horizontal_kp_per_s2, horizontal_kd_per_s, tilt_max_rad;
     /* k_a of the acceleration feedback (2.10); NaN: the preset's, 0: none */
     double accel_fb_gain_per_s;
     /* the pid law's gains (fc/altitude_control.h, "Baselines"); with both
      * integral gains 0 it is a PD with gravity feed-forward: the dissertation's
-     * PD of section 4.5. Not carried by the PIL wire (pil_create refuses them). */
+     * PD of section 4.5. */
     double pid_kp_z_per_s, pid_ki_z_per_s2, pid_kp_v_n_per_mps, pid_ki_v_n_per_m;
     /* the landing mission */
     double landing_gear_height_m; /* CG to the bottom of the gear, as the firmware knows it */

@@ -854,8 +854,8 @@ bool output_plots(const char *dir, const run_record *records, int count, bool qu
 /* Column headings and scales of the printed tables. */
 static const char *const short_names[SIM_METRIC_COUNT] = {
     "rms[mm]", "max[mm]", "step[mm]", "tv[N/s]", "theta_err", "clr[mm]", "td_v[m/s]", "td_t[s]", "bounces",
-    "tilt[deg]", "nan", "td_tilt[deg]", "early", "entered", "air_stops", "fs_v[m/s]", "fs_v_err", "fs_td[m/s]", "off[s]"};
-static const double scales[SIM_METRIC_COUNT] = {1000.0, 1000.0, 1000.0, 1.0, 1.0, 1000.0, 1.0, 1.0, 1.0,
+    "tilt[deg]", "nan", "td_tilt[deg]", "early", "sat[s]", "entered", "air_stops", "fs_v[m/s]", "fs_v_err", "fs_td[m/s]", "off[s]"};
+static const double scales[SIM_METRIC_COUNT] = {1000.0, 1000.0, 1000.0, 1.0, 1.0, 1000.0, 1.0, 1.0, 1.0, 1.0,
                                                 1.0,    1.0,    1.0,    1.0, 1.0, 1.0,    1.0, 1.0, 1.0, 1.0};
 
 static void print_value(double v, double scale)

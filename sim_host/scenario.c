@@ -60,7 +60,7 @@ void fsw_config_defaults(fsw_config *c)
     c->mass_kg = c->ref_tau_s = c->ref_offset_init_m = c->ref_bias_m = (double)NAN;
     c->thrust_min_n = c->thrust_max_n = c->ground_gain_max = (double)NAN;
     c->rho_n = c->gamma = c->tau_av_s = c->l0_per_s = c->a_m_per_s = c->kappa_m_per_kg = (double)NAN;
-    c->rho_scale = c->gamma_scale = c->kappa_m_scale = (double)NAN;
+    c->rho_scale = c->gamma_scale = c->kappa_m_scale = c->bandwidth_scale = c->authority_scale = (double)NAN;
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
     c->accel_fb_gain_per_s = (double)NAN;
     c->pid_kp_z_per_s = c->pid_ki_z_per_s2 = c->pid_kp_v_n_per_mps = c->pid_ki_v_n_per_m = (double)NAN;
@@ -97,7 +97,7 @@ typedef struct raw {
     int airframe, variant, attitude_external;
     double rate_hz, nominal_mass_kg, z_r_tau_s, z_r_init_m, z_r_bias_m, thrust_min_n, thrust_max_n, ground_gain_max,
         rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg, hkp, hkd, tilt_max_deg, rho_scale, gamma_scale,
-        kappa_m_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
+        kappa_m_scale, bandwidth_scale, authority_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
     int figure;
     int output_velocity;
     v3 fsw_k_p, fsw_a_p;
@@ -226,6 +226,8 @@ static const key_def keys[] = {
     {"controller", "rho_scale", K_DOUBLE, R(rho_scale), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "gamma_scale", K_DOUBLE, R(gamma_scale), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "kappa_m_scale", K_DOUBLE, R(kappa_m_scale), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "bandwidth_scale", K_DOUBLE, R(bandwidth_scale), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
+    {"controller", "authority_scale", K_DOUBLE, R(authority_scale), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "horizontal_kp_per_s2", K_DOUBLE, R(hkp), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "horizontal_kd_per_s", K_DOUBLE, R(hkd), 0.0, 1000.0, NULL, OPTIONAL},
     {"controller", "tilt_max_deg", K_DOUBLE, R(tilt_max_deg), 0.0, 68.0, NULL, OPEN_LO | OPTIONAL},
@@ -459,7 +461,7 @@ static void raw_defaults(raw *r)
     r->mc.pad_amplitude_min_m = r->mc.pad_amplitude_max_m = (double)NAN;
     r->mc.pad_period_min_s = r->mc.pad_period_max_s = r->mc.gust_std_max_mps = (double)NAN;
     r->mc.mass_max_rel = (double)NAN;
-    r->rho_scale = r->gamma_scale = r->kappa_m_scale = (double)NAN;
+    r->rho_scale = r->gamma_scale = r->kappa_m_scale = r->bandwidth_scale = r->authority_scale = (double)NAN;
     r->fsw_k_p = r->fsw_a_p = r->plant_k_p = r->plant_a_p = v3_make(1.0, 1.0, 1.0);
     r->velocity_tilt_max_deg = 25.0;
     r->mass_kg = 4.0;
@@ -991,6 +993,8 @@ static bool build(parse_ctx *c, scenario *sc)
     f->rho_scale = r->rho_scale;
     f->gamma_scale = r->gamma_scale;
     f->kappa_m_scale = r->kappa_m_scale;
+    f->bandwidth_scale = r->bandwidth_scale;
+    f->authority_scale = r->authority_scale;
     f->horizontal_kp_per_s2 = r->hkp;
     f->horizontal_kd_per_s = r->hkd;
     f->tilt_max_rad = isnan(r->tilt_max_deg) ? (double)NAN : r->tilt_max_deg * DEG;

@@ -17,7 +17,7 @@ const char *const sim_metric_names[SIM_METRIC_COUNT] = {
     "rms_error_m",      "max_abs_error_m",         "mass_step_peak_error_m", "control_tv_per_s",
     "theta_rel_error",  "min_clearance_m",         "touchdown_rel_speed_mps", "touchdown_time_s",
     "bounces",          "max_tilt_deg",            "nan_outputs",            "touchdown_rel_tilt_deg",
-    "early_contact",
+    "early_contact",    "thrust_saturated_s",
     "failsafe_entered", "failsafe_motor_stops_airborne", "failsafe_descent_rate_mps",
     "failsafe_descent_rate_rel_error", "failsafe_touchdown_speed_mps", "failsafe_time_to_motors_off_s",
 };
@@ -38,12 +38,13 @@ double sim_metric_value(const sim_metrics *m, int index)
     case 10: return m->nan_outputs;
     case 11: return m->touchdown_rel_tilt_deg;
     case 12: return m->early_contact;
-    case 13: return m->failsafe_entered;
-    case 14: return m->failsafe_motor_stops_airborne;
-    case 15: return m->failsafe_descent_rate_mps;
-    case 16: return m->failsafe_descent_rate_rel_error;
-    case 17: return m->failsafe_touchdown_speed_mps;
-    case 18: return m->failsafe_time_to_motors_off_s;
+    case 13: return m->thrust_saturated_s;
+    case 14: return m->failsafe_entered;
+    case 15: return m->failsafe_motor_stops_airborne;
+    case 16: return m->failsafe_descent_rate_mps;
+    case 17: return m->failsafe_descent_rate_rel_error;
+    case 18: return m->failsafe_touchdown_speed_mps;
+    case 19: return m->failsafe_time_to_motors_off_s;
     default: return (double)NAN;
     }
 }
@@ -361,6 +362,7 @@ typedef struct acc {
     bool have_last_u;
     double max_tilt;
     long nan_outputs;
+    long saturated_steps; /* in the error window */
     double min_clearance;
     bool contact_ever, airborne_since_contact;
     double touchdown_time, touchdown_speed;
@@ -623,6 +625,9 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
         if (t >= transient && !(sc->metrics.error_until_contact && a.contact_ever)) {
             a.sum_sq += e * e;
             a.window++;
+            const bool thrust_at_limit =
+                out.clamped || (out.allocation_saturation & (FSW_SAT_THRUST_HIGH | FSW_SAT_THRUST_LOW)) != 0u;
+            a.saturated_steps += thrust_at_limit;
             if (fabs(e) > a.max_abs) {
                 a.max_abs = fabs(e);
             }
@@ -812,6 +817,7 @@ bool sim_run(const scenario *sc, const sim_options *opt, sim_result *res, sim_tr
     m->max_abs_error_m = a.window > 0 ? a.max_abs : (double)NAN;
     m->mass_step_peak_error_m = a.mass_step_seen ? a.mass_peak : (double)NAN;
     m->control_tv_per_s = a.tv / ((double)steps_run * dt);
+    m->thrust_saturated_s = a.window > 0 ? (double)a.saturated_steps * dt : (double)NAN;
     m->theta_end_kg = last_theta;
     m->theta_star_end_kg = last_theta_star;
     m->theta_rel_error = sim_variant_is_adaptive(opt->variant) ? theta_window_p95(&theta_errors) : (double)NAN;

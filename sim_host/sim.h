@@ -37,6 +37,10 @@ typedef struct sim_metrics {
      * before the firmware's touchdown window opened (1) or not (0) */
     double touchdown_rel_tilt_deg;
     double early_contact;
+    /* seconds in the error window (after the transient, to the first contact in
+     * a landing) with the thrust at a limit: the altitude law's clamp or the
+     * allocation's collective thrust saturated */
+    double thrust_saturated_s;
     /* the failsafe (sim.c's failsafe_acc): NaN unless the firmware entered
      * FAILSAFE or the scenario injects an input loss (position-lost, imu-lost) */
     double failsafe_entered;                /* 1: landing_state became FAILSAFE, 0: never */
@@ -54,8 +58,8 @@ typedef struct sim_metrics {
 } sim_metrics;
 
 /* The metric names and their order (for JSON, tables, Monte-Carlo). */
-#define SIM_METRIC_COUNT 19
-#define SIM_METRIC_FAILSAFE_FIRST 13 /* failsafe_entered and after: the failsafe's */
+#define SIM_METRIC_COUNT 20
+#define SIM_METRIC_FAILSAFE_FIRST 14 /* failsafe_entered and after: the failsafe's */
 extern const char *const sim_metric_names[SIM_METRIC_COUNT];
 double sim_metric_value(const sim_metrics *m, int index);
 

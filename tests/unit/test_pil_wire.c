@@ -78,6 +78,7 @@ static void test_a_controller_from_the_wire_steps_like_its_source(void **state)
     fc_controller_set_mass(&host_params, F(0.03, MASS));
     host_params.reference.tau_s = F(2.0, TIME);
     host_params.altitude.rho_n = F(0.4, FORCE);
+    host_params.altitude.delta_n = F(0.01, FORCE);
     host_params.landing.hold_height_m = F(0.25, LENGTH);
     uint32_t param_words[PIL_PARAM_WORDS];
     uint32_t airframe = (uint32_t)FC_AIRFRAME_CRAZYFLIE2, variant = (uint32_t)FC_ALT_VARIANT_SSC_ADAPTIVE;

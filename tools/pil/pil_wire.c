@@ -113,6 +113,14 @@ bool pil_wire_params(pil_wire *w, uint32_t *airframe, uint32_t *variant, fc_cont
     real(w, &p->altitude.tau_av_s);
     real(w, &p->altitude.l0_per_s);
     real(w, &p->altitude.a_m_per_s);
+    real(w, &p->altitude.delta_n);
+    real(w, &p->altitude.k0_ns_per_m);
+    real(w, &p->altitude.stw_k1);
+    real(w, &p->altitude.stw_k2_nps);
+    real(w, &p->altitude.pid_kp_z_per_s);
+    real(w, &p->altitude.pid_ki_z_per_s2);
+    real(w, &p->altitude.pid_kp_v_n_per_mps);
+    real(w, &p->altitude.pid_ki_v_n_per_m);
     real(w, &p->horizontal.kp_per_s2);
     real(w, &p->horizontal.kd_per_s);
     real(w, &p->horizontal.tilt_max_rad);
