@@ -232,27 +232,27 @@ static bool between(fc_real x, fc_real lo, fc_real hi)
  * range (<= 100 rad/s) cannot pass, so the comparison is exact and its
  * saturation is not the step's. b (a sample that passed) and slack (<= 100
  * rad/s) are numbers, and so are the bounds. */
-static bool within_of(fc_vec3 a, fc_vec3 b, fc_real slack)
+static bool within_of(const fc_vec3 *a, const fc_vec3 *b, fc_real slack)
 {
     fc_arith scratch = {0u};
-    return between(a.x, fc_sub(&scratch, b.x, slack), fc_add(&scratch, b.x, slack)) &&
-           between(a.y, fc_sub(&scratch, b.y, slack), fc_add(&scratch, b.y, slack)) &&
-           between(a.z, fc_sub(&scratch, b.z, slack), fc_add(&scratch, b.z, slack));
+    return between(a->x, fc_sub(&scratch, b->x, slack), fc_add(&scratch, b->x, slack)) &&
+           between(a->y, fc_sub(&scratch, b->y, slack), fc_add(&scratch, b->y, slack)) &&
+           between(a->z, fc_sub(&scratch, b->z, slack), fc_add(&scratch, b->z, slack));
 }
 
 /* Inside the range, and (after the first, unless gyro_jump is 0) no further
  * from the last good sample than the airframe can turn in the time since:
  * the slack grows by gyro_accel_max dt a step and starts again from
  * gyro_jump at each good one. */
-static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
+static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
 {
     fc_arith *ar = &est->ar;
     const fc_real slack = fc_min(fc_add(ar, est->gyro_slack_radps, est->gyro_slack_step_radps), FC_INT(100, RATE));
     const bool checked = est->have_gyro && est->p.gyro_jump_radps > FC_INT(0, RATE);
-    const bool ok = fc_vec3_within(gyro, est->p.gyro_range_radps) &&
-                    (!checked || within_of(gyro, est->last_gyro_radps, slack));
+    const bool ok = fc_vec3_within(*gyro, est->p.gyro_range_radps) &&
+                    (!checked || within_of(gyro, &est->last_gyro_radps, slack));
     if (ok) {
-        est->last_gyro_radps = gyro;
+        est->last_gyro_radps = *gyro;
         est->have_gyro = true;
         est->gyro_slack_radps = est->p.gyro_jump_radps;
     } else {
@@ -286,8 +286,9 @@ static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
     if (!(deviation < est->p.accel_trust_band_mps2) || norm_mps2 < MIN_DIRECTION_NORM_MPS2) {
         return FC_INT(0, RATIO);
     }
-    /* deviation < band, so the product stays below 1 */
-    const fc_real falloff = fc_mul(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
+    /* deviation < band, so the product stays below 1; inline: a product of
+     * every step */
+    const fc_real falloff = fc_mul_inline(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
     return fc_clamp(fc_sub(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
 }
 
@@ -432,7 +433,7 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
     if (imu == NULL) {
         return c;
     }
-    c.gyro_ok = gyro_valid(est, imu->gyro_radps);
+    c.gyro_ok = gyro_valid(est, &imu->gyro_radps);
     if (c.gyro_ok) {
         const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
         est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);

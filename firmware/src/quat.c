@@ -109,16 +109,17 @@ static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
     /* unit already at 16 bits (the usual case: a quaternion normalised
-     * upstream): no 32-bit square. A component of 2 or more would saturate
-     * the rounding: that q takes the long way. The squares sum unsigned
-     * (each below 2^30, four below 2^32). */
-    fc_arith probe = {0u};
-    const fc_quat16 r = quat16_round(&probe, q);
+     * upstream): no 32-bit square. The rounding without its saturation test
+     * (fc_quat16_round_unit): a component of 2 or more wraps to -2, whose
+     * square is four times one, so that q fails the test below and takes
+     * the long way. The squares sum unsigned (each at most 2^30; four of
+     * -2 wrap the sum to 0, off by one all the same). */
+    const fc_quat16 r = fc_quat16_round_unit(q);
     const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
                              (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
     const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
-    if (probe.saturated == 0u && off <= UNIT16_LENGTH_SQ_TOLERANCE) {
+    if (off <= UNIT16_LENGTH_SQ_TOLERANCE) {
         *ok = true;
         return r;
     }
