@@ -21,8 +21,10 @@
  *   weight     RATIO    in [0, 1], UNIT16 where it scales e
  *   Kp         RATE16   <= 20 rad/s; Kp w e exact in RATE (Q14 + Q10 = Q24)
  *   gyro - b + Kp w e  RATE  <= 100 + 0.8 + 20 < 128 (with the heading's Kp w_h e_h
- *              the init bounds gyro_range + bias_limit + 2 Kp by 127); times dt <= 2.6 rad per
- *              component (ANGLE, < 8) inside fc_quat_integrate_body_rate
+ *              the init bounds gyro_range + bias_limit + 2 Kp by 127); times dt/2,
+ *              the step's half-angle, in UNIT inside fc_quat_advance_body_rate
+ *              where it is below 2^-5 rad (else times dt <= 2.6 rad per
+ *              component, ANGLE < 8, for its exponential map)
  *   Ki dt      Q(ki_dt16_frac), 16 bits: w_c (w_c dt) <= 1 in the finest of
  *              four formats that holds it (a slow crossover's keeps 11 bits)
  *   b          UNIT   Q30 holding rad/s: |b| <= 0.8, so |b - Ki dt w e| <= 1.8 < 2
@@ -230,27 +232,27 @@ static bool between(fc_real x, fc_real lo, fc_real hi)
  * range (<= 100 rad/s) cannot pass, so the comparison is exact and its
  * saturation is not the step's. b (a sample that passed) and slack (<= 100
  * rad/s) are numbers, and so are the bounds. */
-static bool within_of(fc_vec3 a, fc_vec3 b, fc_real slack)
+static bool within_of(const fc_vec3 *a, const fc_vec3 *b, fc_real slack)
 {
     fc_arith scratch = {0u};
-    return between(a.x, fc_sub(&scratch, b.x, slack), fc_add(&scratch, b.x, slack)) &&
-           between(a.y, fc_sub(&scratch, b.y, slack), fc_add(&scratch, b.y, slack)) &&
-           between(a.z, fc_sub(&scratch, b.z, slack), fc_add(&scratch, b.z, slack));
+    return between(a->x, fc_sub(&scratch, b->x, slack), fc_add(&scratch, b->x, slack)) &&
+           between(a->y, fc_sub(&scratch, b->y, slack), fc_add(&scratch, b->y, slack)) &&
+           between(a->z, fc_sub(&scratch, b->z, slack), fc_add(&scratch, b->z, slack));
 }
 
 /* Inside the range, and (after the first, unless gyro_jump is 0) no further
  * from the last good sample than the airframe can turn in the time since:
  * the slack grows by gyro_accel_max dt a step and starts again from
  * gyro_jump at each good one. */
-static bool gyro_valid(fc_attitude_estimator *est, fc_vec3 gyro)
+static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
 {
     fc_arith *ar = &est->ar;
     const fc_real slack = fc_min(fc_add(ar, est->gyro_slack_radps, est->gyro_slack_step_radps), FC_INT(100, RATE));
     const bool checked = est->have_gyro && est->p.gyro_jump_radps > FC_INT(0, RATE);
-    const bool ok = fc_vec3_within(gyro, est->p.gyro_range_radps) &&
-                    (!checked || within_of(gyro, est->last_gyro_radps, slack));
+    const bool ok = fc_vec3_within(*gyro, est->p.gyro_range_radps) &&
+                    (!checked || within_of(gyro, &est->last_gyro_radps, slack));
     if (ok) {
-        est->last_gyro_radps = gyro;
+        est->last_gyro_radps = *gyro;
         est->have_gyro = true;
         est->gyro_slack_radps = est->p.gyro_jump_radps;
     } else {
@@ -284,27 +286,24 @@ static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
     if (!(deviation < est->p.accel_trust_band_mps2) || norm_mps2 < MIN_DIRECTION_NORM_MPS2) {
         return FC_INT(0, RATIO);
     }
-    /* deviation < band, so the product stays below 1 */
-    const fc_real falloff = fc_mul(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
+    /* deviation < band, so the product stays below 1; inline: a product of
+     * every step */
+    const fc_real falloff = fc_mul_inline(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
     return fc_clamp(fc_sub(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
 }
 
 /* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third
  * row of the rotation matrix of q, from q rounded to UNIT16 (products exact
- * in UNIT16_SQ, each component rounded once; |.| <= 1 + 2^-12: no
- * saturation). The filter keeps q of unit length, so fc_quat16_normalize
- * only rounds it. */
-static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat attitude)
+ * in UNIT16_SQ, each component rounded once; each sum of two products is
+ * within 1/2 + 2^-13, so twice it fits: no saturation). */
+static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat16 q)
 {
-    bool unit = false;
-    const fc_quat16 q = fc_quat16_normalize(ar, attitude, &unit);
-    const fc_real half_x = fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y);  /* xz - wy */
-    const fc_real half_y = fc_dot2_16(q.y, q.z, q.w, q.x);            /* yz + wx */
-    const fc_real half_xx_yy = fc_dot2_16(q.x, q.x, q.y, q.y);        /* x^2 + y^2 */
-    const fc_real one = FC_INT(1, UNIT16_SQ);
-    const fc_vec3 up = fc_vec3_make(fc_add(ar, half_x, half_x), fc_add(ar, half_y, half_y),
-                                    fc_sub(ar, one, fc_add(ar, half_xx_yy, half_xx_yy)));
-    return fc_vec3_narrow16(ar, up, FC_UNIT16_SQ_FRAC, FC_UNIT16_FRAC);
+    const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+    const fc_vec3_16 up = {
+        fc_narrow16(ar, 2 * fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y), sq, to),                    /* 2(xz - wy) */
+        fc_narrow16(ar, 2 * fc_dot2_16(q.y, q.z, q.w, q.x), sq, to),                              /* 2(yz + wx) */
+        fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_dot2_16(q.x, q.x, q.y, q.y), sq, to)};      /* 1 - 2(x^2 + y^2) */
+    return up;
 }
 
 /* Alignment: accumulate a / N; after N valid samples, roll and pitch of the
@@ -335,40 +334,24 @@ static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
     est->aligned = true;
 }
 
-/* Below this on every axis the rate takes the 16-bit step (RATE16's range). */
-#define MAX_RATE16_RADPS FC_C(31.999f, RATE)
-
-/* q <- q (x) exp(rate dt / 2): by fc_quat_advance_body_rate (products of 16
- * bits) for the rates it takes; beyond them (a tumble), by the exponential
- * map. */
-static fc_quat integrate(fc_attitude_estimator *est, fc_vec3 rate_radps)
-{
-    fc_arith *ar = &est->ar;
-    if (!fc_vec3_within(rate_radps, MAX_RATE16_RADPS)) {
-        return fc_quat_integrate_body_rate(ar, est->attitude, rate_radps, est->p.dt_s);
-    }
-    bool ok = false;
-    const fc_quat next = fc_quat_advance_body_rate(ar, est->attitude, rate_radps, est->half_dt_s, &ok);
-    return ok ? next : est->attitude;
-}
-
 /* Kp we is exactly a RATE value: the product's FRAC is RATE's */
 _Static_assert(FC_UNIT16_FRAC + FC_RATE16_FRAC == FC_RATE_FRAC, "UNIT16 x RATE16 is not RATE");
 
-/* Ki dt we_i (UNIT16 x Q(ki_dt16_frac)) rounded to the bias's Q30: a
+/* Ki dt we (UNIT16 x Q(ki_dt16_frac)) rounded to the bias's Q30: a
  * constant shift for each of the four formats set_ki_dt16 chooses from */
-static fc_real bias_step(fc_arith *ar, const fc_attitude_estimator *est, fc_real16 we_i)
+static fc_vec3 bias_step(fc_arith *ar, const fc_attitude_estimator *est, fc_vec3_16 we)
 {
-    const fc_real product = fc_mul16(we_i, est->ki_dt16);
+    const fc_real16 ki_dt = est->ki_dt16;
+    const fc_vec3 product = fc_vec3_make(fc_mul16(we.x, ki_dt), fc_mul16(we.y, ki_dt), fc_mul16(we.z, ki_dt));
     switch (est->ki_dt16_frac) {
     case 26u:
-        return fc_convert(ar, product, FC_UNIT16_FRAC + 26, FC_UNIT_FRAC);
+        return fc_vec3_convert(ar, product, FC_UNIT16_FRAC + 26, FC_UNIT_FRAC);
     case 22u:
-        return fc_convert(ar, product, FC_UNIT16_FRAC + 22, FC_UNIT_FRAC);
+        return fc_vec3_convert(ar, product, FC_UNIT16_FRAC + 22, FC_UNIT_FRAC);
     case 18u:
-        return fc_convert(ar, product, FC_UNIT16_FRAC + 18, FC_UNIT_FRAC);
+        return fc_vec3_convert(ar, product, FC_UNIT16_FRAC + 18, FC_UNIT_FRAC);
     default:
-        return fc_convert(ar, product, FC_UNIT16_FRAC + FC_UNIT16_FRAC, FC_UNIT_FRAC);
+        return fc_vec3_convert(ar, product, FC_UNIT16_FRAC + FC_UNIT16_FRAC, FC_UNIT_FRAC);
     }
 }
 
@@ -379,12 +362,11 @@ void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_
 {
     fc_arith *ar = &est->ar;
     const fc_real16 kp = est->kp16_radps;
-    const fc_vec3 proportional = fc_vec3_make(fc_mul16(we.x, kp), fc_mul16(we.y, kp), fc_mul16(we.z, kp));
-    *rate_radps = fc_vec3_add(ar, *rate_radps, proportional);
-    const fc_vec3 bias_step_radps =
-        fc_vec3_make(bias_step(ar, est, we.x), bias_step(ar, est, we.y), bias_step(ar, est, we.z));
-    est->gyro_bias_fine =
-        fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step_radps), est->gyro_bias_limit_fine);
+    rate_radps->x = fc_add(ar, rate_radps->x, fc_mul16(we.x, kp));
+    rate_radps->y = fc_add(ar, rate_radps->y, fc_mul16(we.y, kp));
+    rate_radps->z = fc_add(ar, rate_radps->z, fc_mul16(we.z, kp));
+    est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step(ar, est, we)),
+                                             est->gyro_bias_limit_fine);
 }
 
 /* One corrected integration step, with the accelerometer's direction
@@ -399,7 +381,7 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         weight = accel_trust(est, norm_mps2);
     }
     if (weight > FC_INT(0, RATIO)) {
-        const fc_vec3_16 up_estimated = estimated_up_body(ar, est->attitude);
+        const fc_vec3_16 up_estimated = estimated_up_body(ar, fc_quat16_round_unit(est->attitude));
         /* e = v_a x v_hat; the PI action of w e, weighted by the trust */
         const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
         const fc_vec3_16 e = fc_vec3_16_cross(ar, up_measured, up_estimated, sq, to);
@@ -410,7 +392,8 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         /* the same actions for the heading's w_h e_h (attitude_heading.c) */
         fc_attitude_heading_correct(est, &rate);
     }
-    est->attitude = integrate(est, rate);
+    /* q <- q (x) exp(rate dt / 2) */
+    fc_quat_advance_body_rate(ar, &est->attitude, &rate, est->half_dt_s);
     return weight;
 }
 
@@ -450,7 +433,7 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
     if (imu == NULL) {
         return c;
     }
-    c.gyro_ok = gyro_valid(est, imu->gyro_radps);
+    c.gyro_ok = gyro_valid(est, &imu->gyro_radps);
     if (c.gyro_ok) {
         const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
         est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);

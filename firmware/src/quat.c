@@ -84,7 +84,10 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
     return quat_scale(ar, q, inv_norm, FC_SHIFT(UNIT, RATIO, UNIT));
 }
 
-/* q rounded to the 16-bit format (float: q) */
+#if FC_NUMERIC_FIXED
+/* fc_quat16_normalize in fixed (float: fc/quat.h) */
+
+/* q rounded to the 16-bit format, saturated */
 static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
 {
     const fc_quat16 r = {fc_narrow16(ar, q.w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
@@ -94,8 +97,6 @@ static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
     return r;
 }
 
-#if FC_NUMERIC_FIXED
-/* fc_quat16_normalize in fixed (float: fc/quat.h) */
 
 /* |q|^2 of a UNIT16 quaternion this close to 1 is unit length at 16 bits: a
  * unit quaternion rounded to UNIT16 lands within sum_i 2 |q_i| 2^-15 +
@@ -108,16 +109,17 @@ static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
     /* unit already at 16 bits (the usual case: a quaternion normalised
-     * upstream): no 32-bit square. A component of 2 or more would saturate
-     * the rounding: that q takes the long way. The squares sum unsigned
-     * (each below 2^30, four below 2^32). */
-    fc_arith probe = {0u};
-    const fc_quat16 r = quat16_round(&probe, q);
+     * upstream): no 32-bit square. The rounding without its saturation test
+     * (fc_quat16_round_unit): a component of 2 or more wraps to -2, whose
+     * square is four times one, so that q fails the test below and takes
+     * the long way. The squares sum unsigned (each at most 2^30; four of
+     * -2 wrap the sum to 0, off by one all the same). */
+    const fc_quat16 r = fc_quat16_round_unit(q);
     const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
                              (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
     const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
-    if (probe.saturated == 0u && off <= UNIT16_LENGTH_SQ_TOLERANCE) {
+    if (off <= UNIT16_LENGTH_SQ_TOLERANCE) {
         *ok = true;
         return r;
     }
@@ -317,112 +319,142 @@ fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_r
 /* ---- the filter's step (fc_quat_advance_body_rate) ---------------------- */
 
 /* Half the length error of a step's p, (|p|^2 - 1) / 2, as the 16-bit value
- * the Newton step multiplies: [-2^-11, 2^-11), 1.5e-8. */
+ * the Newton step multiplies: within 2^-11, 1.5e-8 an LSB. */
 #define FC_HALF_LENGTH_ERROR16_FRAC 26
-/* The Newton step takes |p|^2 within 2^-10 of 1: it leaves |p|^2 off by
- * 3/4 (|p|^2 - 1)^2 <= 7e-7, which the next step removes with its own. */
-#define NEWTON_WINDOW_LOG2 10
-_Static_assert(NEWTON_WINDOW_LOG2 == 10, "the float window below is written out as 2^-10");
-/* q (x) [0, w] of q in UNIT16 and w in RATE16 is RATE as it stands */
-_Static_assert(FC_UNIT16_FRAC + FC_RATE16_FRAC == FC_RATE_FRAC, "q16 w16 is not RATE");
+/* The Newton step takes |p|^2 within 3 2^-12 of 1 (the half error then fits
+ * its 16 bits with the cross terms' share): it leaves |p|^2 off by
+ * 3/4 (|p|^2 - 1)^2 <= 7e-6, which the next step removes with its own. */
+#define NEWTON_WINDOW_UNIT16_SQ FC_C(3.0f / 4096.0f, UNIT16_SQ)
+/* The 16-bit step takes half-angles w_i dt / 2 up to 2^-5 rad (31 rad/s at
+ * 500 Hz); beyond, the exponential map. */
+#define MAX_HALF_ANGLE_RAD FC_C(0.03125f, UNIT)
 
 #if FC_NUMERIC_FIXED
+/* fc_quat16_round_unit and low_half split a UNIT value at bit 16 */
+_Static_assert(FC_UNIT_FRAC - FC_UNIT16_FRAC == 16, "UNIT16 is not UNIT's high half");
+
+/* The high half of v rounded (v + 2^15 read from bit 16: fc_narrow16 to 16
+ * bits less, for a v that cannot saturate it) */
+static fc_real16 high_half(fc_real v)
+{
+    return (fc_real16)(uint16_t)(((uint32_t)v + 0x8000u) >> 16);
+}
+
+/* The low half of v as a signed 16-bit value: v - 2^16 h for h the rounded
+ * high half (fc_narrow16 to 16 bits less), in [-2^15, 2^15). */
+static fc_real16 low_half(fc_real v)
+{
+    return (fc_real16)(uint16_t)(uint32_t)v;
+}
+
 /* (|p|^2 - 1) / 2 from the halves of p's components: p_i = 2^16 h_i + l_i,
  * h_i = p_i rounded to UNIT16 (into *high), |l_i| <= 2^15. In UNIT,
  * p_i^2 = 4 h_i^2 + h_i l_i / 2^13 + l_i^2 / 2^30: the last, below one LSB,
  * is left out (|p|^2 is then up to 4 LSB low), the others are 16 x 16
- * products. False when |p|^2 is further than 2^-NEWTON_WINDOW_LOG2 from 1
- * (or a component beyond UNIT16). */
-static bool half_length_error(fc_quat p, fc_quat16 *high, fc_real16 *error)
+ * products. False when |p|^2 is further than the window from 1. p is within
+ * 2^-4 of a unit quaternion: its components round without saturation and
+ * the sums stay far inside 32 bits. */
+static bool half_length_error(const fc_quat *p, fc_quat16 *high, fc_real16 *error)
 {
-    fc_arith probe = {0u};
-    const fc_quat16 h = quat16_round(&probe, p);
-    const uint32_t squares = (uint32_t)fc_mul16(h.w, h.w) + (uint32_t)fc_mul16(h.x, h.x) +
-                             (uint32_t)fc_mul16(h.y, h.y) + (uint32_t)fc_mul16(h.z, h.z); /* UNIT16_SQ */
-    const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
-    const uint32_t window = (uint32_t)1u << (FC_UNIT16_SQ_FRAC - NEWTON_WINDOW_LOG2);
-    if (probe.saturated != 0u || squares > one + window || squares < one - window) {
+    const fc_quat16 h = fc_quat16_round_unit(*p);
+    const fc_real squares_off = fc_dot2_16(h.w, h.w, h.x, h.x) + fc_dot2_16(h.y, h.y, h.z, h.z) -
+                                FC_INT(1, UNIT16_SQ); /* UNIT16_SQ */
+    if (!fc_within(squares_off, NEWTON_WINDOW_UNIT16_SQ)) {
         return false;
     }
-    const int16_t l_w = (int16_t)(p.w - (fc_real)h.w * 65536), l_x = (int16_t)(p.x - (fc_real)h.x * 65536);
-    const int16_t l_y = (int16_t)(p.y - (fc_real)h.y * 65536), l_z = (int16_t)(p.z - (fc_real)h.z * 65536);
     /* sum_i |h_i l_i| <= 2^15 sum_i |h_i| <= 2^30 (sum_i |p_i| <= 2 |p|) */
-    const fc_real cross = fc_dot2_16(h.w, l_w, h.x, l_x) + fc_dot2_16(h.y, l_y, h.z, l_z);
+    const fc_real cross = fc_dot2_16(h.w, low_half(p->w), h.x, low_half(p->x)) +
+                          fc_dot2_16(h.y, low_half(p->y), h.z, low_half(p->z));
     fc_arith never = {0u};
-    const fc_real length_error = (fc_real)(4 * ((int32_t)squares - (int32_t)one)) +
-                                 fc_convert(&never, cross, FC_UNIT_FRAC + 13, FC_UNIT_FRAC); /* UNIT */
-    /* halved by reading it one FRAC finer */
-    *error = fc_narrow16(&probe, length_error, FC_UNIT_FRAC + 1, FC_HALF_LENGTH_ERROR16_FRAC);
+    const fc_real length_error = 4 * squares_off + fc_convert(&never, cross, FC_UNIT_FRAC + 13, FC_UNIT_FRAC);
+    /* halved by reading it one FRAC finer; below 2^-11 + 2^-13: inside 16 bits */
+    *error = (fc_real16)fc_convert(&never, length_error, FC_UNIT_FRAC + 1, FC_HALF_LENGTH_ERROR16_FRAC);
     *high = h;
-    return probe.saturated == 0u;
+    return true;
 }
 #else
-static bool half_length_error(fc_quat p, fc_quat16 *high, fc_real16 *error)
+static bool half_length_error(const fc_quat *p, fc_quat16 *high, fc_real16 *error)
 {
     fc_arith none = {0u};
-    const fc_real half = 0.5f * (fc_quat_norm_sq(&none, p) - 1.0f);
-    *high = p;
-    *error = half;
-    return fc_within(half, FC_C(0.5f / 1024.0f, UNIT)); /* 2^-NEWTON_WINDOW_LOG2 / 2 */
+    const fc_real off = fc_quat_norm_sq(&none, *p) - 1.0f;
+    *high = *p;
+    *error = 0.5f * off;
+    return fc_within(off, NEWTON_WINDOW_UNIT16_SQ);
 }
 #endif
 
-/* q (x) [0, w] = [-v . w, s w + v x w] (2.8) for 16-bit q and w: each sum
- * exact, in the format whose FRAC is the sum of the operands' (|q| <= 1 +
- * 2^-13, |w_i| < 2^15 LSB: every sum below 2^31) */
-static fc_quat quat16_times_vector16(fc_arith *ar, fc_quat16 q, fc_vec3_16 w)
+/* q (x) [0, v] = [-v . w, s w + v x w] (2.8) for 16-bit q and v into *out:
+ * each sum exact, in the format whose FRAC is the sum of the operands'
+ * (|q| <= 1 + 2^-13, |v_i| <= 2^15 LSB: every sum below 2^30). Operands
+ * by address, one component at a time: the ATmega keeps the products in
+ * registers. */
+static void quat16_times_vector16(const fc_quat16 *q, const fc_vec3_16 *v, fc_quat *out)
 {
-    return fc_quat_make(fc_neg(ar, fc_add(ar, fc_dot2_16(q.x, w.x, q.y, w.y), fc_mul16(q.z, w.z))),
-                        fc_add(ar, fc_dot2_16(q.w, w.x, q.y, w.z), fc_mul16(fc_neg16(q.z), w.y)),
-                        fc_add(ar, fc_dot2_16(q.w, w.y, q.z, w.x), fc_mul16(fc_neg16(q.x), w.z)),
-                        fc_add(ar, fc_dot2_16(q.w, w.z, q.x, w.y), fc_mul16(fc_neg16(q.y), w.x)));
+    out->w = -(fc_dot2_16(q->x, v->x, q->y, v->y) + fc_mul16(q->z, v->z));
+    out->x = fc_dot2_16(q->w, v->x, q->y, v->z) - fc_mul16(q->z, v->y);
+    out->y = fc_dot2_16(q->w, v->y, q->z, v->x) - fc_mul16(q->x, v->z);
+    out->z = fc_dot2_16(q->w, v->z, q->x, v->y) - fc_mul16(q->y, v->x);
 }
 
-/* q (x) [0, w] in RATE, q rounded to UNIT16 (q16) and w taken whole: in fixed
- * w = hi + lo, hi rounded to RATE16 and lo (at most half its LSB) in RATE as
- * 16 bits, each part's product formed exactly */
-static fc_quat rate_increment(fc_arith *ar, fc_quat16 q16, fc_vec3 rate_radps)
+/* p = q + q (x) [0, theta] in UNIT for the half-angle theta (UNIT, |theta_i|
+ * <= 2^-5), q rounded to UNIT16 in the product: in fixed theta = 2^16 hi +
+ * lo, hi rounded to UNIT16 and lo the rest in UNIT as 16 bits, each part's
+ * product exact. |q_i| <= 1 and the increment within 2^-4: p stays far
+ * inside the format. */
+static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
 {
-    const fc_vec3_16 hi = fc_vec3_narrow16(ar, rate_radps, FC_RATE_FRAC, FC_RATE16_FRAC);
-    const fc_quat by_hi = quat16_times_vector16(ar, q16, hi); /* UNIT16 x RATE16: RATE */
+    const fc_quat16 q16 = fc_quat16_round_unit(*q);
+    fc_quat by_hi;
 #if FC_NUMERIC_FIXED
-    const int hi_lsb = 1 << (FC_RATE_FRAC - FC_RATE16_FRAC);
-    const fc_vec3_16 lo = {(fc_real16)(rate_radps.x - (fc_real)hi.x * hi_lsb),
-                           (fc_real16)(rate_radps.y - (fc_real)hi.y * hi_lsb),
-                           (fc_real16)(rate_radps.z - (fc_real)hi.z * hi_lsb)};
-    const fc_quat by_lo = quat16_times_vector16(ar, q16, lo); /* UNIT16 x RATE */
-    const int from = FC_UNIT16_FRAC + FC_RATE_FRAC;
-    return fc_quat_make(fc_add(ar, by_hi.w, fc_convert(ar, by_lo.w, from, FC_RATE_FRAC)),
-                        fc_add(ar, by_hi.x, fc_convert(ar, by_lo.x, from, FC_RATE_FRAC)),
-                        fc_add(ar, by_hi.y, fc_convert(ar, by_lo.y, from, FC_RATE_FRAC)),
-                        fc_add(ar, by_hi.z, fc_convert(ar, by_lo.z, from, FC_RATE_FRAC)));
+    const fc_vec3_16 hi = {high_half(theta.x), high_half(theta.y), high_half(theta.z)};
+    const fc_vec3_16 lo = {low_half(theta.x), low_half(theta.y), low_half(theta.z)};
+    fc_quat by_lo;
+    quat16_times_vector16(&q16, &hi, &by_hi); /* UNIT16_SQ: UNIT / 4 */
+    quat16_times_vector16(&q16, &lo, &by_lo); /* UNIT16 x UNIT */
+    fc_arith never = {0u};
+    const int from_lo = FC_UNIT16_FRAC + FC_UNIT_FRAC;
+    p->w = q->w + 4 * by_hi.w + fc_convert(&never, by_lo.w, from_lo, FC_UNIT_FRAC);
+    p->x = q->x + 4 * by_hi.x + fc_convert(&never, by_lo.x, from_lo, FC_UNIT_FRAC);
+    p->y = q->y + 4 * by_hi.y + fc_convert(&never, by_lo.y, from_lo, FC_UNIT_FRAC);
+    p->z = q->z + 4 * by_hi.z + fc_convert(&never, by_lo.z, from_lo, FC_UNIT_FRAC);
 #else
-    return by_hi; /* hi is the rate itself */
+    quat16_times_vector16(&q16, &theta, &by_hi);
+    p->w = q->w + by_hi.w;
+    p->x = q->x + by_hi.x;
+    p->y = q->y + by_hi.y;
+    p->z = q->z + by_hi.z;
 #endif
 }
 
-fc_quat fc_quat_advance_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_radps, fc_real half_dt_s, bool *ok)
+void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_radps, fc_real half_dt_s)
 {
-    fc_arith rounding = {0u}; /* q is unit: its rounding cannot saturate */
-    const fc_quat d = rate_increment(ar, quat16_round(&rounding, q), rate_radps);
+    /* the half-angle of the step, w dt / 2; a rate whose half-angle leaves
+     * UNIT (beyond 2 rad) saturates the probe, and takes the exponential map */
+    fc_arith probe = {0u};
     const int to_unit = FC_SHIFT(RATE, DT, UNIT);
-    const fc_quat p = fc_quat_make(fc_add(ar, q.w, fc_mul(ar, d.w, half_dt_s, to_unit)),
-                                   fc_add(ar, q.x, fc_mul(ar, d.x, half_dt_s, to_unit)),
-                                   fc_add(ar, q.y, fc_mul(ar, d.y, half_dt_s, to_unit)),
-                                   fc_add(ar, q.z, fc_mul(ar, d.z, half_dt_s, to_unit)));
+    const fc_vec3 theta = fc_vec3_make(fc_mul_inline(&probe, rate_radps->x, half_dt_s, to_unit),
+                                       fc_mul_inline(&probe, rate_radps->y, half_dt_s, to_unit),
+                                       fc_mul_inline(&probe, rate_radps->z, half_dt_s, to_unit));
+    if (probe.saturated != 0u || !fc_vec3_within(theta, MAX_HALF_ANGLE_RAD)) {
+        *q = fc_quat_integrate_body_rate(ar, *q, *rate_radps, fc_add(ar, half_dt_s, half_dt_s));
+        return;
+    }
+    fc_quat p;
+    add_increment(q, theta, &p);
     fc_quat16 p16;
     fc_real16 e;
-    if (!half_length_error(p, &p16, &e)) {
-        return fc_quat_normalize(ar, p, ok);
+    if (!half_length_error(&p, &p16, &e)) {
+        *q = renormalised_or(ar, p, *q);
+        return;
     }
     /* p (1 - e) = p - p16 e: the product of the rounded p is off by
      * 2^-15 |e| <= 2^-26 */
     const int from = FC_UNIT16_FRAC + FC_HALF_LENGTH_ERROR16_FRAC;
-    *ok = true;
-    return fc_quat_make(fc_sub(ar, p.w, fc_convert(ar, fc_mul16(p16.w, e), from, FC_UNIT_FRAC)),
-                        fc_sub(ar, p.x, fc_convert(ar, fc_mul16(p16.x, e), from, FC_UNIT_FRAC)),
-                        fc_sub(ar, p.y, fc_convert(ar, fc_mul16(p16.y, e), from, FC_UNIT_FRAC)),
-                        fc_sub(ar, p.z, fc_convert(ar, fc_mul16(p16.z, e), from, FC_UNIT_FRAC)));
+    fc_arith never = {0u};
+    q->w = p.w - fc_convert(&never, fc_mul16(p16.w, e), from, FC_UNIT_FRAC);
+    q->x = p.x - fc_convert(&never, fc_mul16(p16.x, e), from, FC_UNIT_FRAC);
+    q->y = p.y - fc_convert(&never, fc_mul16(p16.y, e), from, FC_UNIT_FRAC);
+    q->z = p.z - fc_convert(&never, fc_mul16(p16.z, e), from, FC_UNIT_FRAC);
 }
 
 fc_quat fc_quat_integrate_world_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_world_radps, fc_real dt_s)

@@ -2,8 +2,8 @@
  * fc/attitude_estimator.h - complementary attitude filter (dissertation §2.5).
  *
  * The gyro is integrated on the unit quaternion (fc_quat_advance_body_rate:
- * q + q (x) [0, w] dt/2 brought back to unit length, 16 x 16-bit products in
- * fixed; the exponential map for rates beyond 32 rad/s); the
+ * q + q (x) [0, w dt/2] brought back to unit length, 16 x 16-bit products in
+ * fixed; the exponential map for half-angles w_i dt/2 beyond 2^-5 rad); the
  * accelerometer's gravity direction corrects the roll and pitch through a PI
  * law on the direction error (the explicit complementary filter of Mahony,
  * Hamel and Pflimlin, 2008):

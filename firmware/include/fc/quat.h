@@ -91,6 +91,24 @@ static inline fc_quat fc_quat16_widen(fc_quat16 q)
 #endif
 }
 
+/* q rounded to the 16-bit format for a q within 2^-4 of unit length (a
+ * unit quaternion, or one a step away from it): each component to the
+ * nearest UNIT16 value, as fc_narrow16 rounds, with no saturation test (no
+ * component comes near the format's edge). Float: q. */
+static inline fc_quat16 fc_quat16_round_unit(fc_quat q)
+{
+#if FC_NUMERIC_FIXED
+    /* the high half of q_i + 2^15 (the bits above UNIT16's LSB, rounded) */
+    const fc_quat16 r = {(fc_real16)(uint16_t)(((uint32_t)q.w + 0x8000u) >> 16),
+                         (fc_real16)(uint16_t)(((uint32_t)q.x + 0x8000u) >> 16),
+                         (fc_real16)(uint16_t)(((uint32_t)q.y + 0x8000u) >> 16),
+                         (fc_real16)(uint16_t)(((uint32_t)q.z + 0x8000u) >> 16)};
+    return r;
+#else
+    return q;
+#endif
+}
+
 /* p* (x) q (2.8), each component one rounding; p, q from fc_quat16_normalize. */
 fc_quat16 fc_quat16_conj_mul(fc_arith *ar, fc_quat16 p, fc_quat16 q);
 
@@ -127,18 +145,20 @@ fc_quat fc_quat_integrate_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_body_r
 fc_quat fc_quat_integrate_world_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_world_radps, fc_real dt_s);
 
 /*
- * The attitude filter's step of q' = 1/2 q (x) [0, w_body]: q + (dt/2) q (x)
- * [0, w], brought back to unit length by one Newton step, (3 - |p|^2)/2 p.
- * q must be unit (fc_quat_normalize's result or this function's), rate in
- * RATE with |w_i| < 32 rad/s, half_dt_s = dt/2 in DT. The rotation is
+ * The attitude filter's step of q' = 1/2 q (x) [0, w_body], in place: with
+ * the half-angle theta = w dt/2 (UNIT holding rad, formed once), q + q (x)
+ * [0, theta] brought back to unit length by one Newton step,
+ * (3 - |p|^2)/2 p. q must be unit (fc_quat_normalize's result or this
+ * function's), rate in RATE, half_dt_s = dt/2 in DT. The rotation is
  * 2 atan(|w| dt/2) against the exact |w| dt: short by a fraction (|w| dt)^2/12
  * of the step (1e-4 at 10 rad/s and 500 Hz). In fixed the products are
- * 16 x 16: q rounded to UNIT16 (moving the increment by 2^-14 of itself) times
- * the rate in two 16-bit parts, and |p|^2 formed from the halves of p; where
- * |p|^2 is off 1 by more than 2^-10 (a step of |w| dt > 0.06 rad),
- * fc_quat_normalize restores the length, and *ok is its.
+ * 16 x 16: q rounded to UNIT16 (moving the increment by 2^-14 of itself)
+ * times theta in two 16-bit parts, and |p|^2 formed from the halves of p.
+ * A half-angle beyond 2^-5 rad on an axis (31 rad/s at 500 Hz) takes the
+ * exponential map (fc_quat_integrate_body_rate), and a |p|^2 further than
+ * 3 2^-12 from 1 fc_quat_normalize.
  */
-fc_quat fc_quat_advance_body_rate(fc_arith *ar, fc_quat q, fc_vec3 rate_radps, fc_real half_dt_s, bool *ok);
+void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_radps, fc_real half_dt_s);
 
 /* True when every component is finite. */
 bool fc_quat_is_finite(fc_quat q);
