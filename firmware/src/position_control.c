@@ -2,6 +2,10 @@
 #include "fc/position_control.h"
 
 #define GRAVITY_MPS2 FC_C(9.80665f, ACCEL)
+/* The per-axis parts of the law, inlined where they are used (two or three
+ * times a step): on the ATmega a call of their five 32-bit arguments and its
+ * register saves cost more than the copies. */
+#define AXIS_INLINE static inline __attribute__((always_inline))
 
 static bool position_params_valid(const fc_position_control_params *p)
 {
@@ -66,8 +70,8 @@ static bool clamp_norm2(fc_arith *ar, fc_real *x, fc_real *y, fc_real limit, int
 }
 
 /* One axis of the horizontal PID (2.6.4): k_P e + k_D e_v + I + a_ff. */
-static fc_real pid_axis(fc_arith *ar, const fc_position_control_params *p, fc_real e_m, fc_real ev_mps,
-                        fc_real integral_mps2, fc_real ff_mps2)
+AXIS_INLINE fc_real pid_axis(fc_arith *ar, const fc_position_control_params *p, fc_real e_m, fc_real ev_mps,
+                             fc_real integral_mps2, fc_real ff_mps2)
 {
     const fc_real a_p = fc_mul(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
     const fc_real a_d = fc_mul(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
@@ -135,7 +139,7 @@ static bool unwinding(fc_real ex_m, fc_real ey_m, fc_real ax_mps2, fc_real ay_mp
 /* I_a += k_a dt (a_meas - a_des) on one axis (Figure 2.8): the increment of
  * a zero error is zero, and takes no product (the vertical axis in the
  * controller's use, where a_ff,z and the measured a_z are both 0). */
-static fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_real fb_dt)
+AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_real fb_dt)
 {
     const fc_real err_mps2 = fc_sub(ar, meas_mps2, des_mps2);
     if (err_mps2 == FC_INT(0, ACCEL)) {
