@@ -2,7 +2,10 @@
 #include "fc/position_control.h"
 
 #define GRAVITY_MPS2 FC_C(9.80665f, ACCEL)
-#define UNIT_X_UNIT FC_SHIFT(UNIT, UNIT, UNIT)
+/* The per-axis parts of the law, inlined where they are used (two or three
+ * times a step): on the ATmega a call of their five 32-bit arguments and its
+ * register saves cost more than the copies. */
+#define AXIS_INLINE static inline __attribute__((always_inline))
 
 static bool position_params_valid(const fc_position_control_params *p)
 {
@@ -51,29 +54,28 @@ fc_init_result fc_position_control_init(fc_position_control *pc, const fc_positi
     return FC_INIT_OK;
 }
 
-static fc_vec3 horizontal(fc_vec3 v)
+/* (x, y) scaled to length limit if it is longer, its direction kept (the
+ * saturations of 2.6.4); true when that changed it. Inside by the 1-norm (the
+ * common case) it takes no product; else fc_vec3_clamp_norm_report on (x, y, 0). */
+static bool clamp_norm2(fc_arith *ar, fc_real *x, fc_real *y, fc_real limit, int frac)
 {
-    return fc_vec3_make(v.x, v.y, FC_INT(0, UNIT));
-}
-
-/* The horizontal position and velocity errors; zero, and false, when an input is not finite. */
-static bool horizontal_errors(fc_arith *ar, const fc_position_control_input *in, fc_vec3 *e_m, fc_vec3 *ev_mps)
-{
-    if (!(fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
-          fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps))) {
-        *e_m = fc_vec3_zero();
-        *ev_mps = fc_vec3_zero();
+    if (fc_norm1_within(*x, *y, FC_INT(0, UNIT), limit)) {
         return false;
     }
-    *e_m = horizontal(fc_vec3_sub(ar, in->position_sp_m, in->position_m));
-    *ev_mps = horizontal(fc_vec3_sub(ar, in->velocity_sp_mps, in->velocity_mps));
-    return true;
+    bool clamped = false;
+    const fc_vec3 v = fc_vec3_clamp_norm_report(ar, fc_vec3_make(*x, *y, FC_INT(0, UNIT)), limit, frac, &clamped);
+    *x = v.x;
+    *y = v.y;
+    return clamped;
 }
 
-/* (k v_x, k v_y, 0): the product of a horizontal vector (v_z = 0) and a gain. */
-static fc_vec3 horizontal_scaled(fc_arith *ar, fc_vec3 v, fc_real k, int shift)
+/* One axis of the horizontal PID (2.6.4): k_P e + k_D e_v + I + a_ff. */
+AXIS_INLINE fc_real pid_axis(fc_arith *ar, const fc_position_control_params *p, fc_real e_m, fc_real ev_mps,
+                             fc_real integral_mps2, fc_real ff_mps2)
 {
-    return fc_vec3_make(fc_mul(ar, v.x, k, shift), fc_mul(ar, v.y, k, shift), FC_INT(0, UNIT));
+    const fc_real a_p = fc_mul(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
+    const fc_real a_d = fc_mul(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
+    return fc_add(ar, fc_add(ar, fc_add(ar, a_p, a_d), integral_mps2), ff_mps2);
 }
 
 /* v / 2 in UNIT16 from the UNIT16 v (the format one FRAC up, rounded);
@@ -85,8 +87,9 @@ static fc_real16 half16(fc_arith *ar, fc_real v)
 }
 
 /* The attitude setpoint from the thrust direction and the heading (header):
- * q_tilt and q_yaw in UNIT16 at half scale, their product exact in UNIT16_SQ
- * (each component of either within 1), normalised in 32 bits. */
+ * q_tilt and q_yaw in UNIT16 at half scale, both with w >= 0 and so their
+ * product too (no sign flip after), the product exact in UNIT16_SQ and
+ * normalised by one reciprocal root in 32 bits. */
 static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3_16 b3, fc_real16 c, fc_real16 s)
 {
     const fc_real one = FC_INT(1, UNIT16);
@@ -95,32 +98,64 @@ static fc_quat attitude_setpoint(fc_arith *ar, fc_vec3_16 b3, fc_real16 c, fc_re
     if (c >= FC_INT16(0, UNIT16)) {
         yaw_w = half16(ar, one + c);
         yaw_z = half16(ar, s);
-    } else {
+    } else if (s >= FC_INT16(0, UNIT16)) {
         yaw_w = half16(ar, s);
         yaw_z = half16(ar, one - c);
+    } else {
+        /* the left half plane's form negated: w = -sin psi > 0 */
+        yaw_w = half16(ar, -s);
+        yaw_z = half16(ar, c - one);
     }
     /* q_tilt (x) q_yaw, (2.8) with the zero components of q_tilt (z) and
      * q_yaw (x, y) left out: 6 products instead of 16 */
-    const int sq = FC_UNIT16_SQ_FRAC;
-    const fc_quat q_product = fc_quat_make(
-        fc_convert(ar, fc_mul16(tilt_w, yaw_w), sq, FC_UNIT_FRAC),
-        fc_convert(ar, fc_dot2_16(tilt_x, yaw_w, tilt_y, yaw_z), sq, FC_UNIT_FRAC),
-        fc_convert(ar, fc_dot2_16(fc_neg16(tilt_x), yaw_z, tilt_y, yaw_w), sq, FC_UNIT_FRAC),
-        fc_convert(ar, fc_mul16(tilt_w, yaw_z), sq, FC_UNIT_FRAC));
-    /* at half scale |q_tilt| >= 0.7 (b3_z > 0), |q_yaw| >= 0.35: the product is well away from zero */
-    bool ok = false;
-    const fc_quat q = fc_quat_normalize(ar, q_product, &ok);
-    return fc_quat_shortest(ar, q);
+    const fc_real q_w = fc_mul16(tilt_w, yaw_w);
+    const fc_real q_x = fc_dot2_16(tilt_x, yaw_w, tilt_y, yaw_z);
+    const fc_real q_y = fc_dot2_16(fc_neg16(tilt_x), yaw_z, tilt_y, yaw_w);
+    const fc_real q_z = fc_mul16(tilt_w, yaw_z);
+    /* |q|^2 = |q_tilt|^2 |q_yaw|^2 (the norm of a product of quaternions),
+     * the squares of the 16-bit factors exact in UNIT16_SQ: at half scale
+     * |q_tilt|^2 >= 0.5 (b3_z >= 0) and |q_yaw|^2 >= 0.3 (|(c, s)|^2 >=
+     * 0.25), so |q|^2 lies in [0.15, 2.5] */
+    const fc_real tilt_sq = fc_mul16(tilt_w, tilt_w) + fc_dot2_16(tilt_x, tilt_x, tilt_y, tilt_y);
+    const fc_real yaw_sq = fc_dot2_16(yaw_w, yaw_w, yaw_z, yaw_z);
+    const fc_real norm_sq = fc_mul(ar, tilt_sq, yaw_sq, FC_SHIFT(UNIT16_SQ, UNIT16_SQ, UNIT16_SQ));
+    /* fixed: 1 / (2 |q|), within UNIT's range where 1 / |q| (up to 2.6) is
+     * not: the reciprocal root of 4 |q|^2, which is |q|^2 read with two
+     * fraction bits fewer, and the products' shift one less doubles it
+     * back. Float: 1 / |q| and plain products. */
+    const fc_real half_inv_norm = fc_rsqrt(ar, norm_sq, FC_UNIT16_SQ_FRAC - 2, FC_UNIT_FRAC);
+    const int to_unit = FC_SHIFT(UNIT16_SQ, UNIT, UNIT) - 1;
+    return fc_quat_make(fc_mul(ar, q_w, half_inv_norm, to_unit), fc_mul(ar, q_x, half_inv_norm, to_unit),
+                        fc_mul(ar, q_y, half_inv_norm, to_unit), fc_mul(ar, q_z, half_inv_norm, to_unit));
+}
+
+/* e . a_h,unsat < 0: the error drives the output back out of its limit. */
+static bool unwinding(fc_real ex_m, fc_real ey_m, fc_real ax_mps2, fc_real ay_mps2)
+{
+    fc_arith scratch = {0u};
+    return fc_dot2(&scratch, ex_m, ax_mps2, ey_m, ay_mps2, FC_SHIFT(LENGTH, ACCEL, LENGTH)) < FC_INT(0, LENGTH);
+}
+
+/* I_a += k_a dt (a_meas - a_des) on one axis (Figure 2.8): the increment of
+ * a zero error is zero, and takes no product (the vertical axis in the
+ * controller's use, where a_ff,z and the measured a_z are both 0). */
+AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_real fb_dt)
+{
+    const fc_real err_mps2 = fc_sub(ar, meas_mps2, des_mps2);
+    if (err_mps2 == FC_INT(0, ACCEL)) {
+        return fb_mps2;
+    }
+    return fc_add(ar, fb_mps2, fc_mul(ar, err_mps2, fb_dt, FC_SHIFT(RATIO, ACCEL, ACCEL)));
 }
 
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
                                         fc_position_control_output *out)
 {
-    out->accel_des_mps2 = fc_vec3_zero();
-    out->thrust_world_n = fc_vec3_zero();
-    out->attitude_sp = fc_quat_identity();
-    out->thrust_n = FC_INT(0, FORCE);
     if (!pc->ready) {
+        out->accel_des_mps2 = fc_vec3_zero();
+        out->thrust_world_n = fc_vec3_zero();
+        out->attitude_sp = fc_quat_identity();
+        out->thrust_n = FC_INT(0, FORCE);
         return FC_STEP_NOT_READY;
     }
     fc_arith *ar = &pc->ar;
@@ -128,11 +163,18 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     const fc_position_control_params *p = &pc->p;
     fc_step_status status = FC_STEP_OK;
 
-    /* inputs */
-    fc_vec3 e_m;
-    fc_vec3 ev_mps;
-    const bool integrate = horizontal_errors(ar, in, &e_m, &ev_mps);
-    if (!integrate) {
+    /* inputs: the horizontal errors (zero when an input is not finite), the
+     * feedforward, the heading in UNIT16 */
+    const bool integrate = fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
+                           fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps);
+    fc_real ex_m = FC_INT(0, LENGTH), ey_m = FC_INT(0, LENGTH);
+    fc_real evx_mps = FC_INT(0, VEL), evy_mps = FC_INT(0, VEL);
+    if (integrate) {
+        ex_m = fc_sub(ar, in->position_sp_m.x, in->position_m.x);
+        ey_m = fc_sub(ar, in->position_sp_m.y, in->position_m.y);
+        evx_mps = fc_sub(ar, in->velocity_sp_mps.x, in->velocity_mps.x);
+        evy_mps = fc_sub(ar, in->velocity_sp_mps.y, in->velocity_mps.y);
+    } else {
         status |= FC_STEP_BAD_INPUT;
     }
     fc_vec3 ff = in->accel_ff_mps2;
@@ -144,34 +186,35 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     if (!meas_ok) {
         status |= FC_STEP_BAD_INPUT;
     }
-    fc_real hc = in->heading_cos;
-    fc_real hs = in->heading_sin;
+    fc_real16 hc, hs;
     {
+        /* |(c, s)|^2 in [0.25, 1.5], of the UNIT16 values (exact products;
+         * float: a NaN or an infinity fails the comparisons) */
         fc_arith scratch = {0u};
-        const fc_real n2 = fc_dot2(&scratch, hc, hc, hs, hs, UNIT_X_UNIT);
-        if (!fc_is_finite(hc) || !fc_is_finite(hs) || scratch.saturated != 0u || !(n2 >= FC_C(0.25f, UNIT)) ||
-            !(n2 <= FC_C(1.5f, UNIT))) {
-            hc = FC_INT(1, UNIT);
-            hs = FC_INT(0, UNIT);
+        hc = fc_narrow16(&scratch, in->heading_cos, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+        hs = fc_narrow16(&scratch, in->heading_sin, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+        const fc_real n2 = fc_dot2_16(hc, hc, hs, hs);
+        if (scratch.saturated != 0u || !(n2 >= FC_C(0.25f, UNIT16_SQ)) || !(n2 <= FC_C(1.5f, UNIT16_SQ))) {
+            hc = FC_INT16(1, UNIT16);
+            hs = FC_INT16(0, UNIT16);
             status |= FC_STEP_BAD_INPUT;
         }
     }
 
     /* 2.6.4: the error vector saturated by its length, its direction kept */
-    e_m = fc_vec3_clamp_norm(ar, e_m, p->error_max_m, FC_FRAC(LENGTH));
-    /* PID: k_P e + k_D e_v + I + a_ff,h */
-    const fc_vec3 a_p = horizontal_scaled(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
-    const fc_vec3 a_d = horizontal_scaled(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
-    const fc_vec3 a_unsat =
-        fc_vec3_add(ar, fc_vec3_add(ar, fc_vec3_add(ar, a_p, a_d), pc->integral_mps2), horizontal(ff));
-    bool limited = false;
-    const fc_vec3 a_h = fc_vec3_clamp_norm_report(ar, a_unsat, p->accel_max_mps2, FC_FRAC(ACCEL), &limited);
-    const fc_vec3 a_des = fc_vec3_make(a_h.x, a_h.y, ff.z);
+    (void)clamp_norm2(ar, &ex_m, &ey_m, p->error_max_m, FC_FRAC(LENGTH));
+    /* PID: k_P e + k_D e_v + I + a_ff,h, then |a_h| <= accel_max */
+    const fc_real ax_unsat = pid_axis(ar, p, ex_m, evx_mps, pc->integral_mps2.x, ff.x);
+    const fc_real ay_unsat = pid_axis(ar, p, ey_m, evy_mps, pc->integral_mps2.y, ff.y);
+    fc_real ax_mps2 = ax_unsat, ay_mps2 = ay_unsat;
+    bool limited = clamp_norm2(ar, &ax_mps2, &ay_mps2, p->accel_max_mps2, FC_FRAC(ACCEL));
 
     /* (2.11) with the acceleration feedback: F = m (a_des - g - I_a), g = (0, 0, -g0) */
-    const fc_vec3 a_req = fc_vec3_sub(ar, fc_vec3_make(a_des.x, a_des.y, fc_add(ar, a_des.z, GRAVITY_MPS2)),
-                                      pc->accel_fb_mps2);
-    fc_vec3 force = fc_vec3_scale(ar, a_req, p->mass_kg, FC_SHIFT(MASS, ACCEL, FORCE));
+    const fc_vec3 *fb = &pc->accel_fb_mps2;
+    const int to_force = FC_SHIFT(MASS, ACCEL, FORCE);
+    fc_vec3 force = fc_vec3_make(fc_mul(ar, fc_sub(ar, ax_mps2, fb->x), p->mass_kg, to_force),
+                                 fc_mul(ar, fc_sub(ar, ay_mps2, fb->y), p->mass_kg, to_force),
+                                 fc_mul(ar, fc_sub(ar, fc_add(ar, ff.z, GRAVITY_MPS2), fb->z), p->mass_kg, to_force));
     /* limits: vertical floor, tilt (horizontal part, direction kept), collective */
     bool thrust_limited = false;
     if (force.z < p->thrust_min_n) {
@@ -182,20 +225,16 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
      * and the collective limit below still holds: a scratch record */
     fc_arith scratch_h = {0u};
     const fc_real force_h_max = fc_mul(&scratch_h, force.z, pc->tan_tilt_max, FC_SHIFT(FORCE, RATIO, FORCE));
-    const fc_vec3 force_h = horizontal(force);
-    bool tilt_limited = false;
-    const fc_vec3 force_h_lim = fc_vec3_clamp_norm_report(ar, force_h, force_h_max, FC_FRAC(FORCE), &tilt_limited);
-    if (tilt_limited) {
+    if (clamp_norm2(ar, &force.x, &force.y, force_h_max, FC_FRAC(FORCE))) {
         limited = true;
-        force.x = force_h_lim.x;
-        force.y = force_h_lim.y;
     }
-    bool collective_limited = false;
-    const fc_vec3 force_lim = fc_vec3_clamp_norm_report(ar, force, p->thrust_max_n, FC_FRAC(FORCE), &collective_limited);
-    if (collective_limited) {
-        thrust_limited = true;
-        limited = true;
-        force = force_lim;
+    if (!fc_norm1_within(force.x, force.y, force.z, p->thrust_max_n)) {
+        bool collective_limited = false;
+        force = fc_vec3_clamp_norm_report(ar, force, p->thrust_max_n, FC_FRAC(FORCE), &collective_limited);
+        if (collective_limited) {
+            thrust_limited = true;
+            limited = true;
+        }
     }
     if (limited || thrust_limited) {
         status |= FC_STEP_OUTPUT_LIMITED;
@@ -206,28 +245,31 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     fc_vec3_16 b3;
     fc_real force_norm_n;
     (void)fc_vec3_direction16(ar, force, &b3, &force_norm_n);
-    out->attitude_sp = attitude_setpoint(ar, b3, fc_narrow16(ar, hc, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                                         fc_narrow16(ar, hs, FC_UNIT_FRAC, FC_UNIT16_FRAC));
+    out->attitude_sp = attitude_setpoint(ar, b3, hc, hs);
     out->thrust_n = fc_min(force_norm_n, p->thrust_max_n);
     out->thrust_world_n = force;
-    out->accel_des_mps2 = a_des;
+    out->accel_des_mps2 = fc_vec3_make(ax_mps2, ay_mps2, ff.z);
 
-    /* integrator with conditional integration (anti-windup) */
-    if (integrate) {
-        fc_arith scratch = {0u};
-        const bool unwinding = fc_vec3_dot(&scratch, e_m, a_unsat, FC_SHIFT(LENGTH, ACCEL, LENGTH)) < FC_INT(0, LENGTH);
-        if (!limited || unwinding) {
-            const fc_vec3 inc = horizontal_scaled(ar, e_m, pc->ki_dt, FC_SHIFT(RATIO, LENGTH, ACCEL));
-            pc->integral_mps2 =
-                fc_vec3_clamp_norm(ar, fc_vec3_add(ar, pc->integral_mps2, inc), p->integral_max_mps2, FC_FRAC(ACCEL));
-        }
+    /* integrator with conditional integration (anti-windup): while limited
+     * only if the error drives the output back (e . a_h,unsat < 0) */
+    if (integrate && (!limited || unwinding(ex_m, ey_m, ax_unsat, ay_unsat))) {
+        const int to_accel = FC_SHIFT(RATIO, LENGTH, ACCEL);
+        fc_real ix_mps2 = fc_add(ar, pc->integral_mps2.x, fc_mul(ar, ex_m, pc->ki_dt, to_accel));
+        fc_real iy_mps2 = fc_add(ar, pc->integral_mps2.y, fc_mul(ar, ey_m, pc->ki_dt, to_accel));
+        (void)clamp_norm2(ar, &ix_mps2, &iy_mps2, p->integral_max_mps2, FC_FRAC(ACCEL));
+        pc->integral_mps2.x = ix_mps2;
+        pc->integral_mps2.y = iy_mps2;
     }
     /* acceleration feedback (Figure 2.8), frozen while the thrust is limited */
     if (meas_ok && in->accel_meas_ok && !thrust_limited) {
-        const fc_vec3 a_err = fc_vec3_sub(ar, in->accel_meas_mps2, a_des);
-        const fc_vec3 inc = fc_vec3_scale(ar, a_err, pc->fb_dt, FC_SHIFT(RATIO, ACCEL, ACCEL));
-        pc->accel_fb_mps2 =
-            fc_vec3_clamp_norm(ar, fc_vec3_add(ar, pc->accel_fb_mps2, inc), p->accel_fb_max_mps2, FC_FRAC(ACCEL));
+        const fc_vec3 *meas = &in->accel_meas_mps2;
+        fc_vec3 i_a = fc_vec3_make(feedback_axis(ar, fb->x, meas->x, ax_mps2, pc->fb_dt),
+                                   feedback_axis(ar, fb->y, meas->y, ay_mps2, pc->fb_dt),
+                                   feedback_axis(ar, fb->z, meas->z, ff.z, pc->fb_dt));
+        if (!fc_norm1_within(i_a.x, i_a.y, i_a.z, p->accel_fb_max_mps2)) {
+            i_a = fc_vec3_clamp_norm(ar, i_a, p->accel_fb_max_mps2, FC_FRAC(ACCEL));
+        }
+        pc->accel_fb_mps2 = i_a;
     }
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;

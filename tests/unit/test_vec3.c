@@ -472,6 +472,49 @@ static void test_clamp_norm_beyond_format_range(void **state)
     ts_check_end(&c);
 }
 
+/* fc_norm1_within: "within" only where |x| + |y| + |z| <= limit (so never
+ * for a vector longer than the limit), exactly at that bound, for the
+ * extremes of the format and a negative limit; float: NaN and infinities fail. */
+static void test_norm1_within(void **state)
+{
+    (void)state;
+    ts_rng rng = ts_rng_seed(23u);
+    const int f = FC_ACCEL_FRAC;
+    for (int i = 0; i < 2000; i++) {
+        dvec rv;
+        const fc_vec3 v = rand_vec(&rng, 10.0f, f, &rv);
+        double lim_ref;
+        const fc_real limit = ts_in(ts_uniform(&rng, 0.0f, 25.0f), f, &lim_ref);
+        const bool within = fc_norm1_within(v.x, v.y, v.z, limit);
+        const double l1 = fabs(rv.x) + fabs(rv.y) + fabs(rv.z);
+        /* float: the sum's rounding may decide a case within a few ulps of the bound */
+        const double slack = FC_NUMERIC_FIXED ? 0.0 : 4.0 * (double)FLT_EPSILON * l1;
+        if (l1 < lim_ref - slack) {
+            assert_true(within);
+        } else if (l1 > lim_ref + slack) {
+            assert_false(within);
+        }
+        if (within) {
+            assert_true(dnorm(rv) <= lim_ref);
+        }
+    }
+    /* on the bound: within; one LSB (float: one part in 2^20) beyond: not */
+    const fc_real three = FC_INT(3, ACCEL), one = FC_INT(1, ACCEL), two = FC_INT(2, ACCEL);
+    assert_true(fc_norm1_within(one, -two, FC_INT(0, ACCEL), three));
+    assert_true(fc_norm1_within(FC_INT(0, ACCEL), FC_INT(0, ACCEL), -three, three));
+    assert_false(fc_norm1_within(one, two, FC_C(1.0f / 1048576.0f, ACCEL), three));
+    assert_false(fc_norm1_within(FC_INT(0, ACCEL), FC_INT(0, ACCEL), FC_INT(0, ACCEL), -one));
+    /* the extremes of the format: no overflow */
+    assert_true(fc_norm1_within(FC_REAL_MAX, FC_INT(0, ACCEL), FC_INT(0, ACCEL), FC_REAL_MAX));
+    assert_false(fc_norm1_within(FC_REAL_MAX, FC_REAL_MIN, FC_REAL_MAX, FC_REAL_MAX));
+    assert_false(fc_norm1_within(FC_REAL_MIN, one, FC_INT(0, ACCEL), FC_REAL_MAX));
+#if !FC_NUMERIC_FIXED
+    assert_false(fc_norm1_within(NAN, 0.0f, 0.0f, 1.0f));
+    assert_false(fc_norm1_within(0.0f, 0.0f, INFINITY, INFINITY));
+    assert_false(fc_norm1_within(0.0f, 0.0f, 0.0f, NAN));
+#endif
+}
+
 static void test_convert(void **state)
 {
     (void)state;
@@ -538,6 +581,7 @@ int main(void)
         cmocka_unit_test(test_normalize),
         cmocka_unit_test(test_clamp_norm),
         cmocka_unit_test(test_clamp_norm_beyond_format_range),
+        cmocka_unit_test(test_norm1_within),
         cmocka_unit_test(test_convert),
         cmocka_unit_test(test_is_finite),
     };

@@ -30,7 +30,9 @@
  * when level and tilts with the thrust. Collective thrust along body z = |F|.
  * Cost per step: the direction of F in UNIT16 and its length (one integer
  * root, fc_vec3_direction16), q_tilt (x) q_yaw in 16-bit products, one
- * normalisation of q (rsqrt), the norms of the saturations.
+ * reciprocal root for |q| = |q_tilt| |q_yaw|. The horizontal law is 2-D
+ * (x, y); a saturation forms its norm only when the 1-norm |x| + |y| (+ |z|)
+ * exceeds the limit (fc_norm1_within), which it seldom does.
  */
 #ifndef FC_POSITION_CONTROL_H
 #define FC_POSITION_CONTROL_H

@@ -100,6 +100,24 @@ fc_vec3 fc_vec3_clamp_norm(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac);
  * caller would make by comparing them, made only where v was scaled). */
 fc_vec3 fc_vec3_clamp_norm_report(fc_arith *ar, fc_vec3 v, fc_real max_norm, int frac, bool *clamped);
 
+/* |(x, y, z)| <= limit told without a product: true when |x| + |y| + |z| <=
+ * limit (the 1-norm bounds the length), the common case of the norm clamps
+ * (2.6.4), which then need neither squares nor a root. False says only
+ * "not told so": the length may still be within the limit. */
+FC_VEC3_INLINE bool fc_norm1_within(fc_real x, fc_real y, fc_real z, fc_real limit)
+{
+    /* what each component leaves of the limit: differences of values in
+     * [0, limit], so nothing overflows; a NaN fails fc_within */
+    if (!fc_within(x, limit)) {
+        return false;
+    }
+    const fc_real after_x = limit - (x < FC_INT(0, UNIT) ? -x : x);
+    if (!fc_within(y, after_x)) {
+        return false;
+    }
+    return fc_within(z, after_x - (y < FC_INT(0, UNIT) ? -y : y));
+}
+
 /* Format change of all three components. */
 FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, int frac_to)
 {
