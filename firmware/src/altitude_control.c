@@ -225,7 +225,9 @@ static void adaptation_and_feed_forward_constants(fc_altitude_control *c)
     const fc_real gamma_theta0 = fc_min(fc_mul(&scratch, p->gamma, p->theta0_kg, FC_SHIFT(GAIN, MASS, GAIN)), gain_cap);
     const fc_real two_zeta_sqrt = fc_mul(ar, FC_C(2.0f * FC_ALT_THETA_DAMPING, RATIO),
                                          fc_sqrt(ar, gamma_theta0, FC_GAIN_FRAC), FC_SHIFT(RATIO, GAIN, GAIN));
-    c->gamma_p = fc_min(fc_div(&scratch, two_zeta_sqrt, p->gravity_mps2, FC_DIV_SHIFT(GAIN, ACCEL, GAIN)), gain_cap);
+    const fc_real gamma_p = fc_min(fc_div(&scratch, two_zeta_sqrt, p->gravity_mps2, FC_DIV_SHIFT(GAIN, ACCEL, GAIN)),
+                                   gain_cap);
+    c->k.gamma_p = fc_gain_of(gamma_p, FC_GAIN_FRAC);
     /* its low-pass: tau_p = 1/(4 w_theta), w_theta = g sqrt(gamma/Theta0), a lag of
      * atan(1/4) at the mode: dt/tau_p = 4 g sqrt(gamma/Theta0) dt, capped at 100
      * (e^-100 is 0 in both backends; RATIO holds 128) */
@@ -236,13 +238,13 @@ static void adaptation_and_feed_forward_constants(fc_altitude_control *c)
     const fc_real mode_rate_dt =
         fc_min(fc_mul(&scratch, mode_rate_per_s, p->dt_s, FC_SHIFT(GAIN, DT, RATIO)), FC_INT(25, RATIO));
     const fc_real dt_over_tau_p = fc_mul(ar, FC_INT(4, RATIO), mode_rate_dt, FC_SHIFT(RATIO, RATIO, RATIO));
-    c->damping_lp_gain = fc_sub(ar, FC_INT(1, UNIT), fc_exp_neg(ar, dt_over_tau_p));
+    c->k.damping_lp = fc_gain_of(fc_sub(ar, FC_INT(1, UNIT), fc_exp_neg(ar, dt_over_tau_p)), FC_UNIT_FRAC);
     /* the bound of sigma phi in the proportional part: (Theta_max - Theta_min)/gamma_p
      * (<= 100 kg), no more than 10^4 so that gamma_p times it stays inside MASS for a
      * tiny gamma_p */
     c->sigma_phi_max = FC_INT(10000, SIGMA_PHI);
-    if (c->gamma_p >= FC_C(0.01f, GAIN)) {
-        c->sigma_phi_max = fc_div(ar, fc_sub(ar, c->theta_max_kg, c->theta_min_kg), c->gamma_p,
+    if (gamma_p >= FC_C(0.01f, GAIN)) {
+        c->sigma_phi_max = fc_div(ar, fc_sub(ar, c->theta_max_kg, c->theta_min_kg), gamma_p,
                                   FC_DIV_SHIFT(MASS, GAIN, SIGMA_PHI));
     }
 }
@@ -251,11 +253,15 @@ static void compute_discretisation(fc_altitude_control *c)
 {
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
+    fc_altitude_gains *k = &c->k;
     /* averaging filter (4.7): a = e^(-dt/tau_av) */
-    first_order_zoh(ar, p->dt_s, p->tau_av_s, &c->avg_pole, &c->avg_gain);
+    fc_real avg_gain;
+    first_order_zoh(ar, p->dt_s, p->tau_av_s, &c->avg_pole, &avg_gain);
+    k->avg = fc_gain_of(avg_gain, FC_UNIT_FRAC);
     /* prediction-error loop (4.5): b = e^(-a_m dt), c = (a - b)/(a_m - 1/tau_av) */
     const fc_real a_m_dt = fc_mul(ar, p->a_m_per_s, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
     c->pred_pole = fc_exp_neg(ar, a_m_dt);
+    k->pred_decay = fc_gain_of(fc_sub(ar, FC_INT(1, UNIT), c->pred_pole), FC_UNIT_FRAC);
     const fc_real inv_tau_av = fc_div(ar, FC_INT(1, DT), p->tau_av_s, FC_DIV_SHIFT(DT, DT, GAIN));
     const fc_real pole_gap = fc_sub(ar, p->a_m_per_s, inv_tau_av); /* GAIN, 1/s */
     const fc_real pole_gap_dt = fc_mul(ar, pole_gap, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
@@ -270,43 +276,75 @@ static void compute_discretisation(fc_altitude_control *c)
         c_s = fc_div(ar, pole_diff, pole_gap, FC_DIV_SHIFT(UNIT, GAIN, DT));
     }
     c->pred_gain = fc_mul(ar, p->kappa_m_per_kg, c_s, FC_SHIFT(GAIN, DT, RATIO));
+    k->pred_input = fc_gain_of_product(p->kappa_m_per_kg, FC_GAIN_FRAC, c_s, FC_DT_FRAC);
     /* plant gain bounds (4.15) with the tilt compensated: kp = k_g / m in
      * [1/m_max, k_g_max/m_min]; Theta bounds are their inverses */
     c->kp_max_per_kg = fc_div(ar, p->ground_gain_max, p->mass_min_kg, FC_DIV_SHIFT(RATIO, MASS, RATIO));
     c->theta_min_kg = fc_div(ar, p->mass_min_kg, p->ground_gain_max, FC_DIV_SHIFT(MASS, RATIO, MASS));
     c->theta_max_kg = p->mass_max_kg;
     c->kp_min_per_kg = fc_div(ar, FC_INT(1, MASS), c->theta_max_kg, FC_DIV_SHIFT(MASS, MASS, RATIO));
+    k->kp_max = fc_gain_of(c->kp_max_per_kg, FC_RATIO_FRAC);
+    k->kp_min = fc_gain_of(c->kp_min_per_kg, FC_RATIO_FRAC);
     c->kp_max_over_kappa =
         fc_div(ar, c->kp_max_per_kg, p->kappa_m_per_kg, FC_DIV_SHIFT(RATIO, GAIN, RATIO));
     /* c_eta = max |1 - kp/kappa_m| over [kp_min, kp_max], the coefficient of eta1
      * in d_eq2 (4.37); (4.38) bounds it by 1 + kp_max/kappa_m */
     const fc_real kp_min_over_kappa =
         fc_div(ar, c->kp_min_per_kg, p->kappa_m_per_kg, FC_DIV_SHIFT(RATIO, GAIN, RATIO));
-    c->eta1_coeff = fc_max(fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), kp_min_over_kappa)),
-                           fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), c->kp_max_over_kappa)));
+    k->eta1 = fc_gain_of(fc_max(fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), kp_min_over_kappa)),
+                                fc_abs(ar, fc_sub(ar, FC_INT(1, RATIO), c->kp_max_over_kappa))),
+                         FC_RATIO_FRAC);
     c->inv_kappa_kg = fc_div(ar, FC_INT(1, GAIN), p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
     c->a_m_over_kappa = fc_div(ar, p->a_m_per_s, p->kappa_m_per_kg, FC_DIV_SHIFT(GAIN, GAIN, MASS));
+    k->inv_kappa = fc_gain_of(c->inv_kappa_kg, FC_MASS_FRAC);
+    k->a_m_over_kappa = fc_gain_of(c->a_m_over_kappa, FC_MASS_FRAC);
     /* norm observer (4.40): pole kp_min/(kappa_m tau_av) = 1/(kappa_m m_max tau_av);
      * input w4 / tau_av, so the ZOH input gain is (1 - p) kappa_m / kp_min = (1 - p) kappa_m m_max */
     const fc_real obs_tau_s = fc_mul(ar, fc_mul(ar, p->kappa_m_per_kg, p->mass_max_kg, FC_SHIFT(GAIN, MASS, RATIO)),
                                      p->tau_av_s, FC_SHIFT(RATIO, DT, DT));
     fc_real obs_in;
     first_order_zoh(ar, p->dt_s, obs_tau_s, &c->obs_pole, &obs_in);
+    k->obs_decay = fc_gain_of(obs_in, FC_UNIT_FRAC);
     c->obs_gain = fc_mul(ar, obs_in, fc_mul(ar, p->kappa_m_per_kg, p->mass_max_kg, FC_SHIFT(GAIN, MASS, RATIO)),
                          FC_SHIFT(UNIT, RATIO, RATIO));
+    k->obs_input = fc_gain_of(c->obs_gain, FC_RATIO_FRAC);
     /* lead filter (4.18) */
+    k->lead = fc_gain_of(FC_INT(0, UNIT), FC_UNIT_FRAC);
+    k->lead_inv_tau = k->lead;
+    k->lead_state = k->lead;
     if (p->tau_f_s > FC_INT(0, DT)) {
-        first_order_zoh(ar, p->dt_s, p->tau_f_s, &c->lead_pole, &c->lead_gain);
-        c->lead_inv_tau_per_s = fc_div(ar, FC_INT(1, DT), p->tau_f_s, FC_DIV_SHIFT(DT, DT, GAIN));
-        c->lead_state_coeff =
-            fc_sub(ar, FC_INT(1, RATIO), fc_mul(ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO)));
+        fc_real lead_pole, lead_gain;
+        first_order_zoh(ar, p->dt_s, p->tau_f_s, &lead_pole, &lead_gain);
+        k->lead = fc_gain_of(lead_gain, FC_UNIT_FRAC);
+        k->lead_inv_tau = fc_gain_of(fc_div(ar, FC_INT(1, DT), p->tau_f_s, FC_DIV_SHIFT(DT, DT, GAIN)), FC_GAIN_FRAC);
+        k->lead_state = fc_gain_of(
+            fc_sub(ar, FC_INT(1, RATIO), fc_mul(ar, p->tau_f_s, p->l0_per_s, FC_SHIFT(DT, GAIN, RATIO))), FC_RATIO_FRAC);
     }
-    c->gamma_dt = fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    /* gamma dt and l0^2 from their exact products; the tunings accepted are
+     * still those that hold them in RATIO and GAIN (beyond, ar saturates) */
+    (void)fc_mul(ar, p->gamma, p->dt_s, FC_SHIFT(GAIN, DT, RATIO));
+    (void)fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
+    k->gamma_dt = fc_gain_of_product(p->gamma, FC_GAIN_FRAC, p->dt_s, FC_DT_FRAC);
+    k->l0_sq = fc_gain_of_product(p->l0_per_s, FC_GAIN_FRAC, p->l0_per_s, FC_GAIN_FRAC);
     adaptation_and_feed_forward_constants(c);
-    c->l0_sq = fc_mul(ar, p->l0_per_s, p->l0_per_s, FC_SHIFT(GAIN, GAIN, GAIN));
-    c->inv_boundary_layer = fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN));
-    c->inv_thrust_authority =
-        fc_div(ar, FC_INT(1, PER_FORCE), p->thrust_authority_n, FC_DIV_SHIFT(PER_FORCE, FORCE, PER_FORCE));
+    k->l0 = fc_gain_of(p->l0_per_s, FC_GAIN_FRAC);
+    k->k0 = fc_gain_of(p->k0_ns_per_m, FC_GAIN_FRAC);
+    k->rho = fc_gain_of(p->rho_n, FC_FORCE_FRAC);
+    k->thrust_max = fc_gain_of(p->thrust_max_n, FC_FORCE_FRAC);
+    k->thrust_min = fc_gain_of(p->thrust_min_n, FC_FORCE_FRAC);
+    k->inv_thrust_authority = fc_gain_of(
+        fc_div(ar, FC_INT(1, PER_FORCE), p->thrust_authority_n, FC_DIV_SHIFT(PER_FORCE, FORCE, PER_FORCE)),
+        FC_PER_FORCE_FRAC);
+    /* the baselines */
+    k->theta0 = fc_gain_of(p->theta0_kg, FC_MASS_FRAC);
+    k->dt = fc_gain_of(p->dt_s, FC_DT_FRAC);
+    k->inv_boundary_layer =
+        fc_gain_of(fc_div(ar, FC_INT(1, VEL), p->boundary_layer_mps, FC_DIV_SHIFT(VEL, VEL, GAIN)), FC_GAIN_FRAC);
+    k->stw_k1 = fc_gain_of(p->stw_k1, FC_GAIN_FRAC);
+    k->pid_kp_z = fc_gain_of(p->pid_kp_z_per_s, FC_GAIN_FRAC);
+    k->pid_ki_z = fc_gain_of(p->pid_ki_z_per_s2, FC_GAIN_FRAC);
+    k->pid_kp_v = fc_gain_of(p->pid_kp_v_n_per_mps, FC_GAIN_FRAC);
+    k->pid_ki_v = fc_gain_of(p->pid_ki_v_n_per_m, FC_GAIN_FRAC);
 }
 
 /* The kp-independent coefficients of P(x) and M(x), x = tau_f s (header,
@@ -457,9 +495,18 @@ static __attribute__((noinline)) bool eta_observer_constants(fc_altitude_control
             const fc_real slow_rate = fc_div(ar, fc_min(m.slow_rate, previous.slow_rate), p->tau_f_s, rate_shift);
             c->eta_fast_gain_kg_per_s[cell] = fc_mul(ar, fc_max(m.fast_gain, previous.fast_gain), h0, gain_shift);
             c->eta_slow_gain_kg_per_s[cell] = fc_mul(ar, fc_max(m.slow_gain, previous.slow_gain), h0, gain_shift);
-            eta_observer_zoh(ar, fast_rate, p->dt_s, &c->eta_fast_pole[cell], &c->eta_fast_in_gain[cell]);
-            eta_observer_zoh(ar, slow_rate, p->dt_s, &c->eta_slow_pole[cell], &c->eta_slow_in_gain[cell]);
+            fc_real fast_in, slow_in;
+            eta_observer_zoh(ar, fast_rate, p->dt_s, &c->eta_fast_pole[cell], &fast_in);
+            eta_observer_zoh(ar, slow_rate, p->dt_s, &c->eta_slow_pole[cell], &slow_in);
+            fc_altitude_gains *g = &c->k;
+            g->eta_fast[cell] = fc_gain_of(c->eta_fast_gain_kg_per_s[cell], FC_GAIN_FRAC);
+            g->eta_slow[cell] = fc_gain_of(c->eta_slow_gain_kg_per_s[cell], FC_GAIN_FRAC);
+            g->eta_fast_decay[cell] = fc_gain_of(fc_sub(ar, FC_INT(1, UNIT), c->eta_fast_pole[cell]), FC_UNIT_FRAC);
+            g->eta_slow_decay[cell] = fc_gain_of(fc_sub(ar, FC_INT(1, UNIT), c->eta_slow_pole[cell]), FC_UNIT_FRAC);
+            g->eta_fast_input[cell] = fc_gain_of(fast_in, FC_DT_FRAC);
+            g->eta_slow_input[cell] = fc_gain_of(slow_in, FC_DT_FRAC);
         }
+        c->k.eta_kp[j] = fc_gain_of(kp, FC_RATIO_FRAC);
         previous = m;
     }
     return true;
@@ -514,7 +561,7 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
     c->hold = false;
     c->ar.saturated = 0u;
     c->p = *p;
-    c->inv_thrust_authority = FC_INT(0, PER_FORCE);
+    c->k.inv_thrust_authority = fc_gain_of(FC_INT(0, PER_FORCE), FC_PER_FORCE_FRAC);
     if (!altitude_params_valid(p)) {
         c->p.thrust_min_n = FC_INT(0, FORCE);
         c->p.theta0_kg = FC_INT(0, MASS);
@@ -531,11 +578,16 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
         c->eta_slow_gain_kg_per_s[j] = FC_INT(0, GAIN);
         c->eta_fast_pole[j] = FC_INT(0, UNIT);
         c->eta_slow_pole[j] = FC_INT(0, UNIT);
-        c->eta_fast_in_gain[j] = FC_INT(0, DT);
-        c->eta_slow_in_gain[j] = FC_INT(0, DT);
+        c->k.eta_fast[j] = fc_gain_of(FC_INT(0, GAIN), FC_GAIN_FRAC);
+        c->k.eta_slow[j] = c->k.eta_fast[j];
+        c->k.eta_fast_decay[j] = c->k.eta_fast[j];
+        c->k.eta_slow_decay[j] = c->k.eta_fast[j];
+        c->k.eta_fast_input[j] = c->k.eta_fast[j];
+        c->k.eta_slow_input[j] = c->k.eta_fast[j];
     }
     for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
         c->eta_kp_per_kg[j] = FC_INT(0, RATIO);
+        c->k.eta_kp[j] = fc_gain_of(FC_INT(0, RATIO), FC_RATIO_FRAC);
     }
     if (p->law == FC_ALT_LAW_SSC && !p->velocity_measured && p->modulation == FC_SSC_MODULATION_NORM_OBSERVER) {
         eta_ok = eta_observer_constants(c);
@@ -566,7 +618,7 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
     const fc_altitude_control_params *p = &c->p;
     tracking_signals t;
     t.e_m = fc_sub(ar, in->z_m, in->reference.z_m); /* (4.1) */
-    const fc_real l0_e = fc_mul(ar, p->l0_per_s, t.e_m, FC_SHIFT(GAIN, LENGTH, VEL));
+    const fc_real l0_e = fc_mul_gain(ar, t.e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
     if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
         t.e_dot_mps = fc_sub(ar, in->vz_mps, in->reference.vz_mps);
         t.sigma_mps = fc_add(ar, t.e_dot_mps, l0_e); /* (4.2) */
@@ -576,14 +628,15 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
             c->lead_primed = true;
         }
         /* (4.18): sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f, then advance x_f */
-        const fc_real lead_in = fc_sub(ar, t.e_m, fc_mul(ar, c->lead_state_coeff, c->lead_state_m,
-                                                         FC_SHIFT(RATIO, LENGTH, LENGTH)));
-        t.sigma_mps = fc_mul(ar, c->lead_inv_tau_per_s, lead_in, FC_SHIFT(GAIN, LENGTH, VEL));
-        c->lead_state_m = fc_add(ar, fc_mul(ar, c->lead_pole, c->lead_state_m, FC_SHIFT(UNIT, LENGTH, LENGTH)),
-                                 fc_mul(ar, c->lead_gain, t.e_m, FC_SHIFT(UNIT, LENGTH, LENGTH)));
+        const fc_real lead_in =
+            fc_sub(ar, t.e_m, fc_mul_gain(ar, c->lead_state_m, c->k.lead_state, FC_GAIN_SHIFT(LENGTH, LENGTH)));
+        t.sigma_mps = fc_mul_gain(ar, lead_in, c->k.lead_inv_tau, FC_GAIN_SHIFT(LENGTH, VEL));
+        /* f x_f + (1 - f) e as x_f + (1 - f)(e - x_f) */
+        c->lead_state_m = fc_add(ar, c->lead_state_m, fc_mul_gain(ar, fc_sub(ar, t.e_m, c->lead_state_m), c->k.lead,
+                                                                  FC_GAIN_SHIFT(LENGTH, LENGTH)));
         t.e_dot_mps = fc_sub(ar, t.sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
     }
-    const fc_real l0_e_dot = fc_mul(ar, p->l0_per_s, t.e_dot_mps, FC_SHIFT(GAIN, VEL, ACCEL));
+    const fc_real l0_e_dot = fc_mul_gain(ar, t.e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
     const fc_real az_ff = fc_clamp(in->reference.az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
     t.phi_mps2 = fc_sub(ar, fc_add(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
@@ -598,8 +651,8 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
 static fc_real plant_gain_bound_mps2(fc_altitude_control *c, fc_real u_nom_n, fc_real psi_mps2)
 {
     fc_arith *ar = &c->ar;
-    const fc_real at_max = fc_sub(ar, fc_mul(ar, c->kp_max_per_kg, u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi_mps2);
-    const fc_real at_min = fc_sub(ar, fc_mul(ar, c->kp_min_per_kg, u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi_mps2);
+    const fc_real at_max = fc_sub(ar, fc_mul_gain(ar, u_nom_n, c->k.kp_max, FC_GAIN_SHIFT(FORCE, ACCEL)), psi_mps2);
+    const fc_real at_min = fc_sub(ar, fc_mul_gain(ar, u_nom_n, c->k.kp_min, FC_GAIN_SHIFT(FORCE, ACCEL)), psi_mps2);
     return fc_max(fc_abs(ar, at_max), fc_abs(ar, at_min));
 }
 
@@ -613,9 +666,18 @@ static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input 
     /* the part of z_r'' not fed forward is disturbance too: phi with all of it */
     const fc_real phi_full = fc_add(ar, t->phi_mps2, fc_sub(ar, in->reference.az_mps2, t->az_ff_mps2));
     const fc_real omega3 = plant_gain_bound_mps2(c, u_nom_n, phi_full);
-    const fc_real from_omega3 = fc_mul(ar, c->inv_kappa_kg, omega3, FC_SHIFT(MASS, ACCEL, FORCE));
-    const fc_real from_sigma = fc_mul(ar, c->a_m_over_kappa, fc_abs(ar, t->sigma_mps), FC_SHIFT(MASS, VEL, FORCE));
+    const fc_real from_omega3 = fc_mul_gain(ar, omega3, c->k.inv_kappa, FC_GAIN_SHIFT(ACCEL, FORCE));
+    const fc_real from_sigma =
+        fc_mul_gain(ar, fc_abs(ar, t->sigma_mps), c->k.a_m_over_kappa, FC_GAIN_SHIFT(VEL, FORCE));
     return fc_add(ar, from_omega3, from_sigma);
+}
+
+/* One state of an eta norm observer, w <- e^(-l dt) w + ((1 - e^(-l dt))/l) v
+ * written w - (1 - e^(-l dt)) w + ((1 - e^(-l dt))/l) v. */
+static fc_real eta_advance(fc_arith *ar, fc_real w_mps, fc_gain decay, fc_gain input_s, fc_real v_mps2)
+{
+    return fc_add(ar, fc_sub(ar, w_mps, fc_mul_gain(ar, w_mps, decay, FC_GAIN_SHIFT(VEL, VEL))),
+                  fc_mul_gain(ar, v_mps2, input_s, FC_GAIN_SHIFT(ACCEL, VEL)));
 }
 
 /* The eta norm observers (4.3.2) on the cells of the kp range (header): the bound
@@ -625,13 +687,13 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
                                     const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
-    const fc_real l0_sq_e = fc_mul(ar, c->l0_sq, t->e_m, FC_SHIFT(GAIN, LENGTH, ACCEL));
+    const fc_real l0_sq_e = fc_mul_gain(ar, t->e_m, c->k.l0_sq, FC_GAIN_SHIFT(LENGTH, ACCEL));
     const fc_real psi = fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e);
     fc_real size[FC_ALT_ETA_CELLS + 1];   /* ACCEL: |kp_j D| */
     fc_real change[FC_ALT_ETA_CELLS + 1]; /* ACCEL: |kp_j D[k] - kp_j D[k-1]| */
     for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
         const fc_real kp_d =
-            fc_sub(ar, fc_mul(ar, c->eta_kp_per_kg[j], u_nom_n, FC_SHIFT(RATIO, FORCE, ACCEL)), psi);
+            fc_sub(ar, fc_mul_gain(ar, u_nom_n, c->k.eta_kp[j], FC_GAIN_SHIFT(FORCE, ACCEL)), psi);
         size[j] = fc_abs(ar, kp_d);
         change[j] = c->eta_primed ? fc_abs(ar, fc_sub(ar, kp_d, c->eta_last_kp_d_mps2[j])) : FC_INT(0, ACCEL);
         c->eta_last_kp_d_mps2[j] = kp_d;
@@ -643,15 +705,13 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
         const fc_real v = fc_add(ar, fc_max(size[j], size[j + 1u]), fc_max(change[j], change[j + 1u]));
         /* Lemma 11 on each term, ZOH with v held; w between the samples lies
          * between w[k] and w[k+1] */
-        _Static_assert(FC_UNIT_FRAC == FC_DT_FRAC && FC_VEL_FRAC == FC_ACCEL_FRAC,
-                       "pole x w (UNIT x VEL) and gain x v (DT x ACCEL) take one shift");
-        const fc_real fast = fc_dot2(ar, c->eta_fast_pole[j], c->omega_eta_fast_mps[j], c->eta_fast_in_gain[j], v,
-                                     FC_SHIFT(UNIT, VEL, VEL));
-        const fc_real slow = fc_dot2(ar, c->eta_slow_pole[j], c->omega_eta_slow_mps[j], c->eta_slow_in_gain[j], v,
-                                     FC_SHIFT(UNIT, VEL, VEL));
-        const fc_real cell = fc_dot2(ar, c->eta_fast_gain_kg_per_s[j], fc_max(fast, c->omega_eta_fast_mps[j]),
-                                     c->eta_slow_gain_kg_per_s[j], fc_max(slow, c->omega_eta_slow_mps[j]),
-                                     FC_SHIFT(GAIN, VEL, FORCE));
+        const fc_real fast = eta_advance(ar, c->omega_eta_fast_mps[j], c->k.eta_fast_decay[j],
+                                         c->k.eta_fast_input[j], v);
+        const fc_real slow = eta_advance(ar, c->omega_eta_slow_mps[j], c->k.eta_slow_decay[j],
+                                         c->k.eta_slow_input[j], v);
+        const fc_real cell = fc_add(
+            ar, fc_mul_gain(ar, fc_max(fast, c->omega_eta_fast_mps[j]), c->k.eta_fast[j], FC_GAIN_SHIFT(VEL, FORCE)),
+            fc_mul_gain(ar, fc_max(slow, c->omega_eta_slow_mps[j]), c->k.eta_slow[j], FC_GAIN_SHIFT(VEL, FORCE)));
         c->omega_eta_fast_mps[j] = fast;
         c->omega_eta_slow_mps[j] = slow;
         bound = fc_max(bound, cell);
@@ -669,7 +729,7 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
     if (p->modulation == FC_SSC_MODULATION_CONSTANT) {
         return p->rho_n;
     }
-    const fc_real k0_term = fc_mul(ar, p->k0_ns_per_m, fc_abs(ar, sigma_tilde_mps), FC_SHIFT(GAIN, VEL, FORCE));
+    const fc_real k0_term = fc_mul_gain(ar, fc_abs(ar, sigma_tilde_mps), c->k.k0, FC_GAIN_SHIFT(VEL, FORCE));
     switch (p->modulation) {
     case FC_SSC_MODULATION_NORM_OBSERVER:
         if (p->velocity_measured) {
@@ -681,11 +741,13 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
             c->last_omega4_n = omega4;
             /* (4.38) with d_eq2 = -(1 - kp/kappa_m) eta1 - ...: |d_eq2| <= c_eta w5 + w4 */
             *observer_bound = fc_add(
-                ar, fc_add(ar, fc_mul(ar, c->eta1_coeff, c->omega5_n, FC_SHIFT(RATIO, FORCE, FORCE)), omega4),
+                ar, fc_add(ar, fc_mul_gain(ar, c->omega5_n, c->k.eta1, FC_GAIN_SHIFT(FORCE, FORCE)), omega4),
                 hold_term);
             const fc_real rho = fc_add(ar, *observer_bound, fc_add(ar, p->delta_n, k0_term));
-            c->omega5_n = fc_add(ar, fc_mul(ar, c->obs_pole, c->omega5_n, FC_SHIFT(UNIT, FORCE, FORCE)),
-                                 fc_mul(ar, c->obs_gain, omega4, FC_SHIFT(RATIO, FORCE, FORCE)));
+            /* p w5 + obs_gain w4 as w5 - (1 - p) w5 + obs_gain w4 */
+            const fc_real decay = fc_mul_gain(ar, c->omega5_n, c->k.obs_decay, FC_GAIN_SHIFT(FORCE, FORCE));
+            c->omega5_n = fc_add(ar, fc_sub(ar, c->omega5_n, decay),
+                                 fc_mul_gain(ar, omega4, c->k.obs_input, FC_GAIN_SHIFT(FORCE, FORCE)));
             return rho;
         }
         /* eta norm observers (4.3.2): rho = max over cells (c_f w_f + c_s w_s)
@@ -697,7 +759,7 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
         /* (4.54): rho = c_eta |u0_av| + w4 + delta, c_eta as in (4.38) above */
         const fc_real omega4 = omega4_n(c, in, t, u_nom_n);
         *observer_bound =
-            fc_add(ar, fc_mul(ar, c->eta1_coeff, fc_abs(ar, c->u0_av_n), FC_SHIFT(RATIO, FORCE, FORCE)), omega4);
+            fc_add(ar, fc_mul_gain(ar, fc_abs(ar, c->u0_av_n), c->k.eta1, FC_GAIN_SHIFT(FORCE, FORCE)), omega4);
         return fc_add(ar, *observer_bound, p->delta_n);
     }
     case FC_SSC_MODULATION_CONSTANT:
@@ -728,10 +790,12 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     const fc_real u = fc_sub(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
     /* exact ZOH of (4.5) and (4.7) with u0 held over the step (see the header) */
     const fc_real relay_minus_average = fc_sub(ar, u0, c->u0_av_n);
-    c->sigma_bar_mps = fc_add(ar, fc_mul(ar, c->pred_pole, c->sigma_bar_mps, FC_SHIFT(UNIT, VEL, VEL)),
-                              fc_mul(ar, c->pred_gain, relay_minus_average, FC_SHIFT(RATIO, FORCE, VEL)));
+    /* b sigma_bar as sigma_bar - (1 - b) sigma_bar (a pole near 1: fc/scalar.h, fc_gain) */
+    const fc_real decay = fc_mul_gain(ar, c->sigma_bar_mps, c->k.pred_decay, FC_GAIN_SHIFT(VEL, VEL));
+    c->sigma_bar_mps = fc_add(ar, fc_sub(ar, c->sigma_bar_mps, decay),
+                              fc_mul_gain(ar, relay_minus_average, c->k.pred_input, FC_GAIN_SHIFT(FORCE, VEL)));
     /* a u0_av + (1 - a) u0 written with one product */
-    c->u0_av_n = fc_add(ar, c->u0_av_n, fc_mul(ar, c->avg_gain, relay_minus_average, FC_SHIFT(UNIT, FORCE, FORCE)));
+    c->u0_av_n = fc_add(ar, c->u0_av_n, fc_mul_gain(ar, relay_minus_average, c->k.avg, FC_GAIN_SHIFT(FORCE, FORCE)));
     c->u0_n = u0;
     out->sigma_tilde_mps = sigma_tilde;
     out->rho_n = rho;
@@ -747,10 +811,10 @@ static fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals
     if (c->p.law == FC_ALT_LAW_SMC_SIGN) {
         switching = fc_sign_unit(t->sigma_mps);
     } else {
-        const fc_real ratio = fc_mul(ar, t->sigma_mps, c->inv_boundary_layer, FC_SHIFT(VEL, GAIN, UNIT));
+        const fc_real ratio = fc_mul_gain(ar, t->sigma_mps, c->k.inv_boundary_layer, FC_GAIN_SHIFT(VEL, UNIT));
         switching = fc_clamp(ratio, FC_INT(-1, UNIT), FC_INT(1, UNIT));
     }
-    return fc_sub(ar, u_nom_n, fc_mul(ar, c->p.rho_n, switching, FC_SHIFT(FORCE, UNIT, FORCE)));
+    return fc_sub(ar, u_nom_n, fc_mul_gain(ar, switching, c->k.rho, FC_GAIN_SHIFT(UNIT, FORCE)));
 }
 
 /* Baseline: super-twisting. v is integrated only while the thrust is free. */
@@ -760,11 +824,11 @@ static fc_real super_twisting_vertical_force(fc_altitude_control *c, const track
     fc_arith *ar = &c->ar;
     const fc_real sqrt_abs_sigma = fc_sqrt(ar, fc_abs(ar, t->sigma_mps), FC_VEL_FRAC);
     const fc_real sign = fc_sign_unit(t->sigma_mps);
-    const fc_real proportional = fc_mul(ar, fc_mul(ar, c->p.stw_k1, sqrt_abs_sigma, FC_SHIFT(GAIN, VEL, FORCE)),
+    const fc_real proportional = fc_mul(ar, fc_mul_gain(ar, sqrt_abs_sigma, c->k.stw_k1, FC_GAIN_SHIFT(VEL, FORCE)),
                                         sign, FC_SHIFT(FORCE, UNIT, FORCE));
     const fc_real u = fc_add(ar, fc_sub(ar, u_nom_n, proportional), c->stw_v_n);
     if (integrate) {
-        const fc_real step_n = fc_mul(ar, c->p.stw_k2_nps, c->p.dt_s, FC_SHIFT(GAIN, DT, FORCE));
+        const fc_real step_n = fc_mul_gain(ar, c->p.stw_k2_nps, c->k.dt, FC_GAIN_SHIFT(GAIN, FORCE));
         c->stw_v_n = fc_sub(ar, c->stw_v_n, fc_mul(ar, step_n, sign, FC_SHIFT(FORCE, UNIT, FORCE)));
     }
     return u;
@@ -777,21 +841,22 @@ static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
     /* position loop: velocity setpoint = z_r' - kp_z e - ki_z int e */
-    const fc_real position_term = fc_add(ar, fc_mul(ar, p->pid_kp_z_per_s, t->e_m, FC_SHIFT(GAIN, LENGTH, VEL)),
-                                         fc_mul(ar, p->pid_ki_z_per_s2, c->pid_int_z_m, FC_SHIFT(GAIN, LENGTH, VEL)));
+    const fc_altitude_gains *k = &c->k;
+    const fc_real position_term = fc_add(ar, fc_mul_gain(ar, t->e_m, k->pid_kp_z, FC_GAIN_SHIFT(LENGTH, VEL)),
+                                         fc_mul_gain(ar, c->pid_int_z_m, k->pid_ki_z, FC_GAIN_SHIFT(LENGTH, VEL)));
     const fc_real velocity_setpoint =
         fc_clamp(fc_sub(ar, in->reference.vz_mps, position_term), fc_neg(ar, p->pid_vel_limit_mps), p->pid_vel_limit_mps);
     const fc_real velocity_error = fc_sub(ar, in->vz_mps, velocity_setpoint);
     /* velocity loop: u = Theta0 (g + z_r'') - kp_v ev - ki_v int ev */
-    const fc_real feed_forward = fc_mul(ar, p->theta0_kg, fc_add(ar, p->gravity_mps2, in->reference.az_mps2),
-                                        FC_SHIFT(MASS, ACCEL, FORCE));
+    const fc_real feed_forward =
+        fc_mul_gain(ar, fc_add(ar, p->gravity_mps2, in->reference.az_mps2), k->theta0, FC_GAIN_SHIFT(ACCEL, FORCE));
     const fc_real velocity_term =
-        fc_add(ar, fc_mul(ar, p->pid_kp_v_n_per_mps, velocity_error, FC_SHIFT(GAIN, VEL, FORCE)),
-               fc_mul(ar, p->pid_ki_v_n_per_m, c->pid_int_v_m, FC_SHIFT(GAIN, LENGTH, FORCE)));
+        fc_add(ar, fc_mul_gain(ar, velocity_error, k->pid_kp_v, FC_GAIN_SHIFT(VEL, FORCE)),
+               fc_mul_gain(ar, c->pid_int_v_m, k->pid_ki_v, FC_GAIN_SHIFT(LENGTH, FORCE)));
     if (integrate) {
-        c->pid_int_z_m = fc_add(ar, c->pid_int_z_m, fc_mul(ar, t->e_m, p->dt_s, FC_SHIFT(LENGTH, DT, LENGTH)));
+        c->pid_int_z_m = fc_add(ar, c->pid_int_z_m, fc_mul_gain(ar, t->e_m, k->dt, FC_GAIN_SHIFT(LENGTH, LENGTH)));
         c->pid_int_v_m =
-            fc_add(ar, c->pid_int_v_m, fc_mul(ar, velocity_error, p->dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+            fc_add(ar, c->pid_int_v_m, fc_mul_gain(ar, velocity_error, k->dt, FC_GAIN_SHIFT(VEL, LENGTH)));
     }
     return fc_sub(ar, feed_forward, velocity_term);
 }
@@ -805,17 +870,17 @@ static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *
     fc_arith *ar = &c->ar;
     const fc_real sigma_phi = fc_mul(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
     if (learn) {
-        const fc_real step_kg = fc_mul(ar, c->gamma_dt, sigma_phi, FC_SHIFT(RATIO, SIGMA_PHI, MASS));
+        const fc_real step_kg = fc_mul_gain(ar, sigma_phi, c->k.gamma_dt, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
         c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
     }
     /* the proportional part from sigma phi low-passed over tau_p (ZOH, one product:
      * s <- s + (1 - f)(sigma phi - s)): one glitched sample moves it by (1 - f) of its jump */
-    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul(ar, c->damping_lp_gain, fc_sub(ar, sigma_phi, c->sigma_phi_lp),
-                                                       FC_SHIFT(UNIT, SIGMA_PHI, SIGMA_PHI)));
+    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul_gain(ar, fc_sub(ar, sigma_phi, c->sigma_phi_lp),
+                                                            c->k.damping_lp, FC_GAIN_SHIFT(SIGMA_PHI, SIGMA_PHI)));
     /* bounded so that the product stays inside MASS: beyond (Theta_max - Theta_min) / gamma_p
      * the projection below clips it anyway */
     const fc_real sigma_phi_bounded = fc_clamp(c->sigma_phi_lp, fc_neg(ar, c->sigma_phi_max), c->sigma_phi_max);
-    const fc_real damping_kg = fc_mul(ar, c->gamma_p, sigma_phi_bounded, FC_SHIFT(GAIN, SIGMA_PHI, MASS));
+    const fc_real damping_kg = fc_mul_gain(ar, sigma_phi_bounded, c->k.gamma_p, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
     return fc_clamp(fc_sub(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
 }
 
@@ -823,7 +888,7 @@ static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *
 static fc_real16 thrust_fraction(const fc_altitude_control *c, fc_real thrust_n)
 {
     fc_arith ar = {0u};
-    const fc_real share = fc_mul(&ar, thrust_n, c->inv_thrust_authority, FC_SHIFT(FORCE, PER_FORCE, RATIO));
+    const fc_real share = fc_mul_gain(&ar, thrust_n, c->k.inv_thrust_authority, FC_GAIN_SHIFT(FORCE, RATIO));
     return fc_narrow16(&ar, fc_clamp(share, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC,
                        FC_NORM16_FRAC);
 }
@@ -885,8 +950,8 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
 
     /* the thrust that can be delivered, as a vertical force at the current tilt */
     const fc_real tilt_cos = fc_clamp(in->tilt_cos, p->tilt_cos_min, FC_INT(1, RATIO));
-    const fc_real u_max = fc_mul(ar, p->thrust_max_n, tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
-    const fc_real u_min = fc_mul(ar, p->thrust_min_n, tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real u_max = fc_mul_gain(ar, tilt_cos, c->k.thrust_max, FC_GAIN_SHIFT(RATIO, FORCE));
+    const fc_real u_min = fc_mul_gain(ar, tilt_cos, c->k.thrust_min, FC_GAIN_SHIFT(RATIO, FORCE));
     const bool was_clamped_high = c->last_thrust_n >= p->thrust_max_n ||
                                   (in->allocation_saturation & FC_SAT_THRUST_HIGH) != 0u;
     const bool was_clamped_low = c->last_thrust_n <= p->thrust_min_n ||
@@ -928,12 +993,15 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         break;
     }
     }
-    /* tilt compensation: F = u / k_h, then the actuator's range */
+    /* tilt compensation: F = u / k_h, then the actuator's range. At a limit
+     * counts as clamped: the anti-windup holds u0_av so that u lands exactly on
+     * u_max or u_min while the loop still asks for more, and that is told on u
+     * itself (F = u / k_h rounds either way of the thrust's limit) */
+    const bool at_max = u >= u_max;
+    const bool at_min = u <= u_min;
     const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
-    out->thrust_n = fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n);
-    /* at a limit counts as clamped: the anti-windup holds u0_av so that u lands
-     * exactly on the limit while the loop still asks for more */
-    out->clamped = thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
+    out->thrust_n = at_max ? p->thrust_max_n : (at_min ? p->thrust_min_n : fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n));
+    out->clamped = at_max || at_min || thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
     if (out->clamped) {
         status |= FC_STEP_OUTPUT_LIMITED;
     }

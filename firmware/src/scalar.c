@@ -1046,6 +1046,84 @@ fc_real fc_pow_unit(fc_arith *ar, fc_real x_unit, fc_real exponent_ratio)
     return fc_exp_neg(ar, minus_e_ln_x);
 }
 
+/* ======================================================================= */
+/* Gains fixed at init (fc/scalar.h, fc_gain)                              */
+/* ======================================================================= */
+
+/* The 15 significant bits of value 2^-frac (value any 64-bit integer): drop =
+ * the bits below them, the mantissa value / 2^drop rounded to nearest (half
+ * up, as every product; exact for drop <= 0), one more dropped where the
+ * rounding reaches 2^15. */
+static fc_gain gain_of_wide(int64_t value, int frac)
+{
+    fc_gain g = {0, 0};
+    if (value == 0) {
+        return g;
+    }
+    uint64_t size = value < 0 ? 0u - (uint64_t)value : (uint64_t)value;
+    int drop = -15;
+    while (size != 0u) {
+        size >>= 1;
+        drop++;
+    }
+    int64_t mantissa = drop <= 0 ? value * ((int64_t)1 << -drop) : (value + ((int64_t)1 << (drop - 1))) >> drop;
+    if (mantissa > INT16_MAX || mantissa < -INT16_MAX) {
+        drop++;
+        mantissa = (value + ((int64_t)1 << (drop - 1))) >> drop; /* drop >= 1 here */
+    }
+    g.mantissa = (int16_t)mantissa;
+    g.frac = (int8_t)(frac - drop);
+    return g;
+}
+
+fc_gain fc_gain_of(fc_real value, int frac)
+{
+    return gain_of_wide(value, frac);
+}
+
+fc_gain fc_gain_of_product(fc_real a, int frac_a, fc_real b, int frac_b)
+{
+    return gain_of_wide((int64_t)a * b, frac_a + frac_b);
+}
+
+fc_real fc_gain_to_real(fc_arith *ar, fc_gain g, int frac)
+{
+    return fc_fx_narrow(ar, (int64_t)g.mantissa, g.frac - frac);
+}
+
+#if defined(FC_PORT_MUL_GAIN) && defined(__AVR__)
+/* The ATmega's product (fc/scalar_avr.h): the assembly, a function of its
+ * own section (--gc-sections), and the shifts outside 1..46 by the portable
+ * definition (its tail call) */
+__asm__(".pushsection .text.fc_fx_mul_gain_avr,\"ax\",@progbits\n"
+        ".global fc_fx_mul_gain_avr\n"
+        ".type fc_fx_mul_gain_avr, @function\n"
+        "fc_fx_mul_gain_avr:\n\t" FC_AVR_MUL_GAIN_BODY "\n"
+        ".size fc_fx_mul_gain_avr, .-fc_fx_mul_gain_avr\n"
+        ".popsection");
+
+/* fc_fx_mul_gain_reference for the shifts the assembly leaves, in 32-bit
+ * halves (the int64_t form would be libgcc calls here): from 47
+ * on 0; from 0 down x m 2^n, n = -shift, exact where |x m| <= INT32_MAX >> n,
+ * otherwise saturated (for n >= 31 every product but 0) */
+fc_real fc_fx_mul_gain_avr_far(fc_real x, int16_t mantissa, uint8_t shift, fc_arith *ar)
+{
+    const int left = -(int)(int8_t)shift;
+    const fc_fx_wide p = fc_fx_mul_wide(x, mantissa);
+    if (left < 0 || (p.low == 0u && p.high == 0u)) {
+        return 0;
+    }
+    const uint32_t limit = left >= 31 ? 0u : (uint32_t)INT32_MAX >> (uint8_t)left;
+    const bool fits = p.high == 0u ? p.low <= limit : (p.high == UINT32_MAX && p.low >= 0u - limit && limit != 0u);
+    if (!fits) {
+        ar->saturated = 1u;
+        return (int32_t)p.high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
+    }
+    return (fc_real)(p.low << (uint8_t)left);
+}
+#endif
+/* ======================================================================= */
+
 #else /* float backend */
 
 /* ----------------------------------------------------------------------- */

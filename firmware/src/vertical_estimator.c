@@ -57,16 +57,26 @@ fc_init_result fc_vertical_estimator_init(fc_vertical_estimator *v, const fc_ver
     }
     v->p = *p;
     fc_arith *ar = &v->ar;
-    const fc_real w_v_dt = fc_mul(ar, p->speed_crossover_radps, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
-    v->speed_gain = fc_add(ar, w_v_dt, w_v_dt);
-    v->bias_gain_per_s = fc_mul(ar, w_v_dt, p->speed_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
-    v->height_gain_per_s = fc_add(ar, p->height_crossover_radps, p->height_crossover_radps);
-    v->height_speed_gain_per_s2 =
-        fc_mul(ar, p->height_crossover_radps, p->height_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
-    v->accel_filter_gain = fc_div(ar, p->dt_s, p->accel_tau_s, FC_DIV_SHIFT(DT, DT, UNIT));
-    v->hover_gain = fc_div(ar, p->dt_s, p->hover_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT));
-    v->bias_average_gain = fc_div(ar, p->dt_s, p->bias_average_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT));
-    v->inv_gravity_s2pm = fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO));
+    /* the loop's gains from exact products (w_v <= 10, dt <= 0.1: inside RATIO) */
+    const fc_real two_w_v = fc_add(ar, p->speed_crossover_radps, p->speed_crossover_radps);
+    const fc_real w_v_sq = fc_mul(ar, p->speed_crossover_radps, p->speed_crossover_radps, FC_SHIFT(RATIO, RATIO, RATIO));
+    v->dt = fc_gain_of(p->dt_s, FC_DT_FRAC);
+    v->speed_gain = fc_gain_of_product(two_w_v, FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    v->bias_gain_per_s = fc_gain_of_product(w_v_sq, FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    v->speed_gain_rest = fc_gain_of_product(fc_mul(ar, two_w_v, FC_INT(3, RATIO), FC_SHIFT(RATIO, RATIO, RATIO)),
+                                            FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    v->bias_gain_rest_per_s = fc_gain_of_product(fc_mul(ar, w_v_sq, FC_INT(9, RATIO), FC_SHIFT(RATIO, RATIO, RATIO)),
+                                                 FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    v->height_gain_per_s = fc_gain_of(fc_add(ar, p->height_crossover_radps, p->height_crossover_radps), FC_RATIO_FRAC);
+    v->height_speed_gain_per_s2 = fc_gain_of_product(p->height_crossover_radps, FC_RATIO_FRAC,
+                                                     p->height_crossover_radps, FC_RATIO_FRAC);
+    v->accel_filter_gain = fc_gain_of(fc_div(ar, p->dt_s, p->accel_tau_s, FC_DIV_SHIFT(DT, DT, UNIT)), FC_UNIT_FRAC);
+    v->hover_gain = fc_gain_of(fc_div(ar, p->dt_s, p->hover_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT)), FC_UNIT_FRAC);
+    v->bias_average_gain =
+        fc_gain_of(fc_div(ar, p->dt_s, p->bias_average_tau_s, FC_DIV_SHIFT(DT, TIME, UNIT)), FC_UNIT_FRAC);
+    v->gravity_mps2 = fc_gain_of(p->gravity_mps2, FC_ACCEL_FRAC);
+    v->inv_gravity_s2pm =
+        fc_gain_of(fc_div(ar, FC_INT(1, ACCEL), p->gravity_mps2, FC_DIV_SHIFT(ACCEL, ACCEL, RATIO)), FC_RATIO_FRAC);
     fc_vertical_estimator_reset(v);
     v->est.hover_thrust_n = p->hover_thrust_n;
     v->ready = v->ar.saturated == 0u;
@@ -110,9 +120,9 @@ static void predict(fc_vertical_estimator *v, fc_real accel_mps2)
     fc_arith *ar = &v->ar;
     if (v->est.gear_height_known) {
         v->est.gear_height_m =
-            fc_add(ar, v->est.gear_height_m, fc_mul(ar, v->est.vz_mps, v->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
+            fc_add(ar, v->est.gear_height_m, fc_mul_gain(ar, v->est.vz_mps, v->dt, FC_GAIN_SHIFT(VEL, LENGTH)));
     }
-    v->est.vz_mps = fc_clamp(fc_add(ar, v->est.vz_mps, fc_mul(ar, accel_mps2, v->p.dt_s, FC_SHIFT(ACCEL, DT, VEL))),
+    v->est.vz_mps = fc_clamp(fc_add(ar, v->est.vz_mps, fc_mul_gain(ar, accel_mps2, v->dt, FC_GAIN_SHIFT(ACCEL, VEL))),
                              FC_INT(-100, VEL), FC_INT(100, VEL));
 }
 
@@ -124,19 +134,17 @@ static void correct_by_speed(fc_vertical_estimator *v, fc_real vz_measured_mps, 
 {
     fc_arith *ar = &v->ar;
     const fc_real residual = fc_sub(ar, vz_measured_mps, v->est.vz_mps);
-    const fc_real speed_gain = at_rest ? fc_mul(ar, v->speed_gain, FC_INT(3, RATIO), FC_SHIFT(RATIO, RATIO, RATIO))
-                                       : v->speed_gain;
-    const fc_real bias_gain = at_rest ? fc_mul(ar, v->bias_gain_per_s, FC_INT(9, RATIO), FC_SHIFT(RATIO, RATIO, RATIO))
-                                      : v->bias_gain_per_s;
-    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, VEL, VEL)));
-    const fc_real bias_step = fc_mul(ar, bias_gain, residual, FC_SHIFT(RATIO, VEL, ACCEL));
+    const fc_gain speed_gain = at_rest ? v->speed_gain_rest : v->speed_gain;
+    const fc_gain bias_gain = at_rest ? v->bias_gain_rest_per_s : v->bias_gain_per_s;
+    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul_gain(ar, residual, speed_gain, FC_GAIN_SHIFT(VEL, VEL)));
+    const fc_real bias_step = fc_mul_gain(ar, residual, bias_gain, FC_GAIN_SHIFT(VEL, ACCEL));
     v->bias_fast_mps2 = fc_clamp(fc_sub(ar, v->bias_fast_mps2, bias_step), fc_neg(ar, v->p.accel_bias_limit_mps2),
                                  v->p.accel_bias_limit_mps2);
     const fc_real change = fc_sub(ar, v->bias_fast_mps2, v->est.accel_bias_mps2);
     v->est.accel_bias_mps2 =
         at_rest ? v->bias_fast_mps2
                 : fc_add(ar, v->est.accel_bias_mps2,
-                         fc_mul(ar, v->bias_average_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
+                         fc_mul_gain(ar, change, v->bias_average_gain, FC_GAIN_SHIFT(ACCEL, ACCEL)));
 }
 
 /* A range sample corrects the gear height, and the speed when nothing else does. */
@@ -152,11 +160,11 @@ static void correct_by_range(fc_vertical_estimator *v, fc_real gear_height_m, bo
     const fc_real gap_s = fc_min(v->range_gap_s, v->p.range_period_max_s);
     v->range_gap_s = FC_INT(0, DT);
     const fc_real residual = fc_sub(ar, gear_height_m, v->est.gear_height_m);
-    const fc_real height_gain = fc_mul(ar, v->height_gain_per_s, gap_s, FC_SHIFT(RATIO, DT, RATIO));
+    const fc_real height_gain = fc_mul_gain(ar, gap_s, v->height_gain_per_s, FC_GAIN_SHIFT(DT, RATIO));
     v->est.gear_height_m =
         fc_add(ar, v->est.gear_height_m, fc_mul(ar, height_gain, residual, FC_SHIFT(RATIO, LENGTH, LENGTH)));
     if (speed_too) {
-        const fc_real speed_gain = fc_mul(ar, v->height_speed_gain_per_s2, gap_s, FC_SHIFT(RATIO, DT, RATIO));
+        const fc_real speed_gain = fc_mul_gain(ar, gap_s, v->height_speed_gain_per_s2, FC_GAIN_SHIFT(DT, RATIO));
         v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, LENGTH, VEL)));
     }
 }
@@ -168,7 +176,7 @@ static fc_real thrust_model_accel_mps2(fc_vertical_estimator *v, const fc_vertic
     fc_arith *ar = &v->ar;
     const fc_real vertical_thrust_n = fc_mul(ar, in->thrust_n, in->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
     const fc_real load_factor = fc_div(ar, vertical_thrust_n, v->est.hover_thrust_n, FC_DIV_SHIFT(FORCE, FORCE, RATIO));
-    return fc_mul(ar, fc_sub(ar, load_factor, FC_INT(1, RATIO)), v->p.gravity_mps2, FC_SHIFT(RATIO, ACCEL, ACCEL));
+    return fc_mul_gain(ar, fc_sub(ar, load_factor, FC_INT(1, RATIO)), v->gravity_mps2, FC_GAIN_SHIFT(RATIO, ACCEL));
 }
 
 /* T_h += (dt / tau) (T k_h - T_h (a + g) / g), inside its bounds. */
@@ -177,9 +185,9 @@ static void learn_hover_thrust(fc_vertical_estimator *v, const fc_vertical_estim
     fc_arith *ar = &v->ar;
     const fc_real vertical_thrust_n = fc_mul(ar, in->thrust_n, in->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
     const fc_real load_factor =
-        fc_mul(ar, fc_add(ar, accel_mps2, v->p.gravity_mps2), v->inv_gravity_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
+        fc_mul_gain(ar, fc_add(ar, accel_mps2, v->p.gravity_mps2), v->inv_gravity_s2pm, FC_GAIN_SHIFT(ACCEL, RATIO));
     const fc_real held_n = fc_mul(ar, v->est.hover_thrust_n, load_factor, FC_SHIFT(FORCE, RATIO, FORCE));
-    const fc_real step_n = fc_mul(ar, v->hover_gain, fc_sub(ar, vertical_thrust_n, held_n), FC_SHIFT(UNIT, FORCE, FORCE));
+    const fc_real step_n = fc_mul_gain(ar, fc_sub(ar, vertical_thrust_n, held_n), v->hover_gain, FC_GAIN_SHIFT(FORCE, FORCE));
     v->est.hover_thrust_n = fc_clamp(fc_add(ar, v->est.hover_thrust_n, step_n), v->p.hover_min_n, v->p.hover_max_n);
 }
 
@@ -204,7 +212,7 @@ fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_ver
     }
     const fc_real change = fc_sub(ar, accel_mps2, v->est.accel_z_mps2);
     v->est.accel_z_mps2 =
-        fc_add(ar, v->est.accel_z_mps2, fc_mul(ar, v->accel_filter_gain, change, FC_SHIFT(UNIT, ACCEL, ACCEL)));
+        fc_add(ar, v->est.accel_z_mps2, fc_mul_gain(ar, change, v->accel_filter_gain, FC_GAIN_SHIFT(ACCEL, ACCEL)));
     predict(v, accel_mps2);
     if (in->vz_ok) {
         correct_by_speed(v, in->vz_mps, in->at_rest);

@@ -1319,6 +1319,119 @@ static void test_mul_by16_exact(void **state)
 #endif
 }
 
+/* fc_gain_of: the mantissa the finest that holds the value (|m| in
+ * [2^14, 2^15), or 0), rounded to nearest, and fc_gain_to_real back; values
+ * of 15 significant bits or fewer come back exactly. Float: the value itself. */
+static void test_gain_of(void **state)
+{
+    (void)state;
+    ts_rng rng = ts_rng_seed(2828u);
+    const int fracs[] = {10, 14, 16, 20, 22, 24, 26, 30};
+    for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; f++) {
+        const int frac = fracs[f];
+        for (int i = 0; i < 20000; i++) {
+            int32_t v = (int32_t)(ts_rand_u32(&rng) >> (1u + ts_rand_u32(&rng) % 31u));
+            v = (ts_rand_u32(&rng) & 1u) != 0u ? -v : v;
+            const int32_t edges[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff8000, -0x7fff8000, 0x7fff, 0x8000, 0xffff};
+            if ((size_t)i < sizeof edges / sizeof edges[0]) {
+                v = edges[i];
+            }
+#if FC_NUMERIC_FIXED
+            const fc_gain g = fc_gain_of(v, frac);
+            const int32_t size = g.mantissa < 0 ? -g.mantissa : g.mantissa;
+            if (v == 0) {
+                assert_int_equal(g.mantissa, 0);
+                continue;
+            }
+            assert_true(size >= 0x4000 && size <= 0x7fff);
+            /* |m 2^-g.frac - v 2^-frac| <= half the mantissa's LSB */
+            const double exact = ldexp((double)v, -frac);
+            const double error = fabs(ldexp((double)g.mantissa, -g.frac) - exact);
+            assert_true(error <= ldexp(0.5, -g.frac));
+            fc_arith ar = {0u};
+            const fc_real back = fc_gain_to_real(&ar, g, frac);
+            if (ar.saturated != 0u) {
+                /* a value within half a mantissa LSB of 2^31, rounded to it */
+                assert_true(size == 0x4000 && fabs(exact) >= ldexp(1.0, 31 - frac) - ldexp(0.5, -g.frac));
+                assert_int_equal(back, v > 0 ? INT32_MAX : -INT32_MAX);
+                continue;
+            }
+            const int32_t size_v = v < 0 ? -v : v;
+            if (size_v < 0x8000 || (size_v & ((1 << (32 - __builtin_clz((uint32_t)size_v) - 15)) - 1)) == 0) {
+                assert_int_equal(back, v); /* 15 significant bits: exact */
+            } else {
+                assert_true(fabs(ldexp((double)back, -frac) - exact) <= ldexp(0.5, -g.frac) + ldexp(0.5, -frac));
+            }
+#else
+            const fc_real value = ldexpf((float)v, -frac);
+            fc_arith ar = {0u};
+            assert_true(fc_gain_to_real(&ar, fc_gain_of(value, frac), frac) == value);
+#endif
+        }
+    }
+}
+
+/* fc_mul_gain against the exact product x m / 2^shift rounded to nearest
+ * (half up) and saturated at +-INT32_MAX with the flag, from 64-bit integers,
+ * for shift = the gain's frac + FC_GAIN_SHIFT from -4 to 50; and against
+ * fc_mul of the gain written in 32 bits, for gains of 15 significant bits.
+ * Float: the float product. */
+static void test_mul_gain_exact(void **state)
+{
+    (void)state;
+#if FC_NUMERIC_FIXED
+    ts_rng rng = ts_rng_seed(4646u);
+    const int32_t edges32[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff0000, -0x7fff0000, 0xffff, -0xffff, 0x10000};
+    const int16_t edges16[] = {0, 1, -1, INT16_MAX, -INT16_MAX, 0x4000, -0x4000};
+    const size_t n32 = sizeof edges32 / sizeof edges32[0], n16 = sizeof edges16 / sizeof edges16[0];
+    unsigned cases = 0u, saturated = 0u;
+    for (int shift = -4; shift <= 50; shift++) {
+        for (int i = 0; i < 4000; i++) {
+            int32_t x = (int32_t)(ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u));
+            x = (ts_rand_u32(&rng) & 1u) != 0u ? -x : x;
+            int16_t m = (int16_t)(ts_rand_u32(&rng) >> (16u + ts_rand_u32(&rng) % 16u));
+            m = (int16_t)((ts_rand_u32(&rng) & 1u) != 0u ? -m : m);
+            if ((size_t)i < n32 * n16) {
+                x = edges32[(size_t)i / n16];
+                m = edges16[(size_t)i % n16];
+            }
+            x = x == INT32_MIN ? -INT32_MAX : x;
+            m = m == INT16_MIN ? -INT16_MAX : m;
+            const int64_t product = (int64_t)x * m;
+            const int64_t exact = shift <= 0 ? product * ((int64_t)1 << -shift)
+                                             : (product + ((int64_t)1 << (shift - 1))) >> shift; /* floor (gcc) */
+            const bool over = exact > INT32_MAX || exact < -(int64_t)INT32_MAX;
+            const int32_t want = over ? (exact > 0 ? INT32_MAX : -INT32_MAX) : (int32_t)exact;
+            /* the gain m 2^-frac with frac = shift - FC_GAIN_SHIFT(LENGTH, VEL) */
+            const fc_gain g = {m, (int8_t)(shift - FC_GAIN_SHIFT(LENGTH, VEL))};
+            fc_arith ar = {0};
+            assert_int_equal(fc_mul_gain(&ar, x, g, FC_GAIN_SHIFT(LENGTH, VEL)), want);
+            assert_int_equal(ar.saturated, over ? 1u : 0u);
+            saturated += over ? 1u : 0u;
+            cases++;
+        }
+    }
+    print_message("mul_gain exact: %u cases, %u saturated\n", cases, saturated);
+    assert_true(saturated > 0u);
+#endif
+    /* a gain of 15 significant bits or fewer: the value of fc_mul */
+    const fc_real gains[] = {FC_C(2.0f, GAIN), FC_C(0.75f, GAIN), FC_C(-3.5f, GAIN), FC_C(1.0f / 1024.0f, GAIN),
+                             FC_INT(1000, GAIN)};
+    ts_rng values = ts_rng_seed(4647u);
+    for (size_t k = 0; k < sizeof gains / sizeof gains[0]; k++) {
+        const fc_gain g = fc_gain_of(gains[k], FC_GAIN_FRAC);
+        for (int i = 0; i < 2000; i++) {
+            const float e = (float)ts_rand_u32(&values) / 4294967296.0f * 200.0f - 100.0f;
+            const fc_real e_m = fc_from_float(e, FC_LENGTH_FRAC);
+            fc_arith a = {0u}, b = {0u};
+            const fc_real by_gain = fc_mul_gain(&a, e_m, g, FC_GAIN_SHIFT(LENGTH, VEL));
+            const fc_real by_mul = fc_mul(&b, gains[k], e_m, FC_SHIFT(GAIN, LENGTH, VEL));
+            assert_true(by_gain == by_mul);
+            assert_int_equal(a.saturated, b.saturated);
+        }
+    }
+}
+
 static void test_rsqrt_exact(void **state)
 {
     (void)state;
@@ -1877,6 +1990,8 @@ int main(void)
         cmocka_unit_test(test_unit2_16),
         cmocka_unit_test(test_direction16),
         cmocka_unit_test(test_mul_by16_exact),
+        cmocka_unit_test(test_gain_of),
+        cmocka_unit_test(test_mul_gain_exact),
         cmocka_unit_test(test_div_exact),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),

@@ -273,66 +273,102 @@ typedef struct fc_altitude_control_output {
     bool clamped;                /* the thrust command was clamped */
 } fc_altitude_control_output;
 
+/* The constants the step multiplies a signal by, as gains (fc/scalar.h,
+ * fc_gain: a 16-bit mantissa and its own exponent in fixed, the float in
+ * float), set at init. A filter pole b near 1 is held as its distance 1 - b
+ * (the filter written x <- x - (1 - b) x + ..., fc/scalar.h). Those of the
+ * SSC's every step first: on the ATmega a field within 63 bytes of the
+ * structure's start is one load, further ones an address computed first. */
+typedef struct fc_altitude_gains {
+    fc_gain l0;                  /* l0, 1/s */
+    fc_gain thrust_max;          /* N */
+    fc_gain thrust_min;          /* N */
+    fc_gain avg;                 /* 1 - a: the averaging filter (4.7) */
+    fc_gain pred_decay;          /* 1 - b: the prediction-error loop (4.5) */
+    fc_gain pred_input;          /* kappa_m c, s/kg */
+    fc_gain gamma_dt;            /* gamma dt, kg s^3/m^2 */
+    fc_gain damping_lp;          /* 1 - e^(-dt/tau_p) */
+    fc_gain gamma_p;             /* kg s^3/m^2 */
+    fc_gain inv_thrust_authority; /* 1/N */
+    fc_gain k0;                  /* k0, N s/m */
+    fc_gain rho;                 /* the constant rho, N (and k of the sign/boundary baselines) */
+    fc_gain lead;                /* 1 - f: the lead filter (4.18) */
+    fc_gain lead_inv_tau;        /* 1/tau_f, 1/s */
+    fc_gain lead_state;          /* 1 - tau_f l0 */
+    fc_gain obs_decay;           /* 1 - p: the norm observer (4.40) */
+    fc_gain obs_input;           /* (1 - p) kappa_m / kp_min */
+    fc_gain kp_max;              /* 1/kg */
+    fc_gain kp_min;              /* 1/kg */
+    fc_gain inv_kappa;           /* 1/kappa_m, kg */
+    fc_gain a_m_over_kappa;      /* a_m/kappa_m, kg/s */
+    fc_gain eta1;                /* c_eta */
+    fc_gain l0_sq;               /* l0^2, 1/s^2 */
+    fc_gain eta_kp[FC_ALT_ETA_CELLS + 1];     /* kp_j of the eta norm observer's grid, 1/kg */
+    fc_gain eta_fast_decay[FC_ALT_ETA_CELLS]; /* 1 - e^(-l_f dt) */
+    fc_gain eta_fast_input[FC_ALT_ETA_CELLS]; /* (1 - e^(-l_f dt))/l_f, s */
+    fc_gain eta_fast[FC_ALT_ETA_CELLS];       /* c_f, kg/s */
+    fc_gain eta_slow_decay[FC_ALT_ETA_CELLS]; /* 1 - e^(-l_s dt) */
+    fc_gain eta_slow_input[FC_ALT_ETA_CELLS]; /* (1 - e^(-l_s dt))/l_s, s */
+    fc_gain eta_slow[FC_ALT_ETA_CELLS];       /* c_s, kg/s */
+    fc_gain theta0;              /* Theta0, kg: the PID's feed-forward */
+    fc_gain dt;                  /* dt, s: the baselines' integrators */
+    fc_gain inv_boundary_layer;  /* 1/phi_bl, s/m */
+    fc_gain stw_k1;              /* N/(m/s)^(1/2) */
+    fc_gain pid_kp_z;            /* 1/s */
+    fc_gain pid_ki_z;            /* 1/s^2 */
+    fc_gain pid_kp_v;            /* N s/m */
+    fc_gain pid_ki_v;            /* N/m */
+} fc_altitude_gains;
+
+/* The saturation record first (its address is the structure's), then what
+ * every step reads and writes, then the rest (see fc_altitude_gains). */
 typedef struct fc_altitude_control {
-    fc_altitude_control_params p;
-    /* constants of the discretisation, computed at init */
-    fc_real avg_pole;            /* UNIT: a = e^(-dt/tau_av) */
-    fc_real avg_gain;            /* UNIT: 1 - a */
-    fc_real pred_pole;           /* UNIT: b = e^(-a_m dt) */
-    fc_real pred_gain;           /* RATIO: kappa_m c, 1/kg x s */
-    fc_real obs_pole;            /* UNIT: p */
-    fc_real obs_gain;            /* RATIO: (1 - p) kappa_m / kp_min */
-    fc_real lead_pole;           /* UNIT: f = e^(-dt/tau_f) */
-    fc_real lead_gain;           /* UNIT: 1 - f */
-    fc_real lead_inv_tau_per_s;  /* GAIN: 1/tau_f */
-    fc_real lead_state_coeff;    /* RATIO: 1 - tau_f l0 */
-    /* eta norm observer (relative degree two), computed at init (header comment) */
-    fc_real eta_kp_per_kg[FC_ALT_ETA_CELLS + 1]; /* RATIO: the grid's kp, kp_min .. kp_max */
-    fc_real eta_fast_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_f of each cell */
-    fc_real eta_fast_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_f dt) */
-    fc_real eta_fast_in_gain[FC_ALT_ETA_CELLS]; /* DT: (1 - e^(-l_f dt))/l_f, s */
-    fc_real eta_slow_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_s */
-    fc_real eta_slow_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_s dt) */
-    fc_real eta_slow_in_gain[FC_ALT_ETA_CELLS]; /* DT */
-    fc_real kp_max_over_kappa;   /* RATIO: kp_max / kappa_m */
-    fc_real inv_kappa_kg;        /* MASS: 1 / kappa_m */
-    fc_real a_m_over_kappa;      /* MASS: a_m / kappa_m, kg/s */
-    fc_real kp_max_per_kg;       /* RATIO: k_g_max / m_min (k_h <= 1) */
-    fc_real kp_min_per_kg;       /* RATIO: 1 / Theta_max */
-    fc_real eta1_coeff;          /* RATIO: c_eta = max |1 - kp/kappa_m| over the kp range */
-    fc_real theta_min_kg;        /* MASS: 1 / kp_max */
-    fc_real theta_max_kg;        /* MASS: 1 / kp_min = m_max / (k_g_min k_h_min) */
-    fc_real gamma_dt;            /* RATIO: gamma dt */
-    fc_real ref_accel_max_mps2;  /* ACCEL: z_r'' fed forward up to max(thrust_max/Theta_max - g, 0) */
-    fc_real ref_accel_min_mps2;  /* ACCEL: and down to min(thrust_min/Theta_min - g, 0) */
-    fc_real gamma_p;             /* GAIN: proportional adaptation gain, kg s^3/m^2 */
-    fc_real sigma_phi_max;       /* SIGMA_PHI: (Theta_max - Theta_min) / gamma_p */
-    fc_real damping_lp_gain;     /* UNIT: 1 - e^(-dt/tau_p), the proportional part's low-pass */
-    fc_real l0_sq;               /* GAIN: l0^2 */
-    fc_real inv_boundary_layer;  /* GAIN: 1/phi_bl, s/m */
-    fc_real inv_thrust_authority; /* PER_FORCE: 1 / thrust_authority_n */
+    fc_arith ar;
+    bool ready;
+    bool hold;                   /* fc_altitude_control_hold */
+    bool lead_primed;
+    bool eta_primed;             /* eta_last_kp_d_mps2 holds a step's values */
     /* states */
     fc_real u0_av_n;             /* FORCE */
     fc_real sigma_bar_mps;       /* VEL */
+    fc_real theta_kg;            /* MASS: Theta_I, the integral part of the adaptation */
+    fc_real sigma_phi_lp;        /* SIGMA_PHI: sigma phi low-passed for the proportional part */
+    fc_real u0_n;                /* FORCE: the relay output held over the step */
+    fc_real last_error_m;        /* LENGTH */
+    fc_real last_thrust_n;       /* FORCE */
+    fc_altitude_gains k;         /* the step's constants as gains */
     fc_real omega5_n;            /* FORCE: norm observer (4.40) */
     fc_real last_omega4_n;       /* FORCE: w4 of the last step */
     fc_real omega_eta_fast_mps[FC_ALT_ETA_CELLS]; /* VEL: eta norm observer states (of |kp D|) */
     fc_real omega_eta_slow_mps[FC_ALT_ETA_CELLS]; /* VEL */
     fc_real eta_last_kp_d_mps2[FC_ALT_ETA_CELLS + 1]; /* ACCEL: kp_j D of the last step */
     fc_real lead_state_m;        /* LENGTH: x_f of (4.18) */
-    fc_real theta_kg;            /* MASS: Theta_I, the integral part of the adaptation */
-    fc_real sigma_phi_lp;        /* SIGMA_PHI: sigma phi low-passed for the proportional part */
-    fc_real u0_n;                /* FORCE: the relay output held over the step */
     fc_real stw_v_n;             /* FORCE: super-twisting integral */
     fc_real pid_int_z_m;         /* LENGTH x s: position integral, as LENGTH */
     fc_real pid_int_v_m;         /* LENGTH: velocity integral (of a velocity error) */
-    fc_real last_error_m;        /* LENGTH */
-    fc_real last_thrust_n;       /* FORCE */
-    bool lead_primed;
-    bool eta_primed;             /* eta_last_kp_d_mps2 holds a step's values */
-    bool hold;                   /* fc_altitude_control_hold */
-    bool ready;
-    fc_arith ar;
+    /* constants of the discretisation, computed at init */
+    fc_real theta_min_kg;        /* MASS: 1 / kp_max */
+    fc_real theta_max_kg;        /* MASS: 1 / kp_min = m_max / (k_g_min k_h_min) */
+    fc_real ref_accel_max_mps2;  /* ACCEL: z_r'' fed forward up to max(thrust_max/Theta_max - g, 0) */
+    fc_real ref_accel_min_mps2;  /* ACCEL: and down to min(thrust_min/Theta_min - g, 0) */
+    fc_real sigma_phi_max;       /* SIGMA_PHI: (Theta_max - Theta_min) / gamma_p */
+    fc_real avg_pole;            /* UNIT: a = e^(-dt/tau_av) */
+    fc_real pred_pole;           /* UNIT: b = e^(-a_m dt) */
+    fc_real pred_gain;           /* RATIO: kappa_m c, 1/kg x s */
+    fc_real obs_pole;            /* UNIT: p */
+    fc_real obs_gain;            /* RATIO: (1 - p) kappa_m / kp_min */
+    /* eta norm observer (relative degree two), computed at init (header comment) */
+    fc_real eta_kp_per_kg[FC_ALT_ETA_CELLS + 1]; /* RATIO: the grid's kp, kp_min .. kp_max */
+    fc_real eta_fast_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_f of each cell */
+    fc_real eta_fast_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_f dt) */
+    fc_real eta_slow_gain_kg_per_s[FC_ALT_ETA_CELLS]; /* GAIN: c_s */
+    fc_real eta_slow_pole[FC_ALT_ETA_CELLS];    /* UNIT: e^(-l_s dt) */
+    fc_real kp_max_over_kappa;   /* RATIO: kp_max / kappa_m */
+    fc_real inv_kappa_kg;        /* MASS: 1 / kappa_m */
+    fc_real a_m_over_kappa;      /* MASS: a_m / kappa_m, kg/s */
+    fc_real kp_max_per_kg;       /* RATIO: k_g_max / m_min (k_h <= 1) */
+    fc_real kp_min_per_kg;       /* RATIO: 1 / Theta_max */
+    fc_altitude_control_params p;
 } fc_altitude_control;
 
 /* The variants the SIL and the platforms select by name or number. */

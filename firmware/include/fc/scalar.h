@@ -1167,4 +1167,115 @@ static inline float fc_to_float(fc_real x, int frac)
 #define FC_QUARTER_PI 0.785398163f
 #endif
 
+/* ======================================================================= */
+/* Gains fixed at init: fc_gain and fc_mul_gain                            */
+/* ======================================================================= */
+/*
+ * A constant the step multiplies a signal by, known once init has run (a
+ * gain, a filter's coefficient, a pole's distance from 1, the airframe's
+ * thrust limit), whose size the airframe decides: in fixed a 16-bit
+ * mantissa with its own binary exponent, value = mantissa 2^-frac, the
+ * exponent chosen at init as the finest that holds the value (|mantissa| in
+ * [2^14, 2^15) for every value but 0): 15 significant bits, within 2^-15 of
+ * the value relatively, for a 27 g and a 4 kg airframe alike. In float it is
+ * the float, and the same source line serves both:
+ *
+ *     c->l0 = fc_gain_of(p->l0_per_s, FC_GAIN_FRAC);                     (init)
+ *     l0_e = fc_mul_gain(ar, e_m, c->l0, FC_GAIN_SHIFT(LENGTH, VEL));     (step)
+ *
+ * reads "l0 times a LENGTH gives a VEL". The product x m / 2^(frac_x + frac
+ * - frac_out) is rounded to nearest and saturated at +-INT32_MAX as fc_mul's
+ * (a saturation sets ar->saturated), the same value as fc_mul of x and the
+ * gain written out in 32 bits, but a 32 x 16-bit multiply (on the ATmega,
+ * fc/scalar_avr.h, two 16 x 16 products and a narrowing by bytes and bits,
+ * where fc_mul forms a 64-bit product).
+ *
+ * 15 bits hold little of a pole b near 1 (e^(-dt/tau) = 0.98 at 500 Hz and
+ * 100 ms): a filter x <- b x + (1 - b) u is written x <- x + g (u - x) with the
+ * gain g = 1 - b, which they hold to 2^-15 of itself.
+ */
+
+/* The right shift of a product by a gain, less the gain's own frac: the
+ * signal's format IN and the result's OUT. */
+#define FC_GAIN_SHIFT(IN, OUT) (FC_##IN##_FRAC - FC_##OUT##_FRAC)
+
+#if FC_NUMERIC_FIXED
+typedef struct fc_gain {
+    int16_t mantissa; /* |mantissa| in [2^14, 2^15), or 0 */
+    int8_t frac;      /* value = mantissa 2^-frac */
+} fc_gain;
+
+/* The gain of a value in format frac (init time; scalar.c): the mantissa
+ * rounded to nearest, never saturated. */
+fc_gain fc_gain_of(fc_real value, int frac);
+
+/* The gain of the product a b (a in format frac_a, b in frac_b), from the
+ * exact product: one rounding, to the mantissa, and never saturated, where
+ * fc_gain_of(fc_mul(...)) would round twice and saturate beyond the format. */
+fc_gain fc_gain_of_product(fc_real a, int frac_a, fc_real b, int frac_b);
+
+/* The gain as a value in format frac, rounded to nearest and saturated
+ * (tests, telemetry). */
+fc_real fc_gain_to_real(fc_arith *ar, fc_gain g, int frac);
+
+
+/* x m / 2^shift rounded to nearest and saturated, any shift: the portable
+ * definition of the product, the reference of the ports and of the ATmega
+ * equivalence test. |x m| < 2^46, so from a shift of 47 on the value is 0,
+ * and from a left shift of 31 on every product but 0 saturates, as at 31
+ * (fc_fx_narrow takes shifts from -62 to 63). */
+FC_FX_INLINE fc_real fc_fx_mul_gain_reference(fc_arith *ar, fc_real x, int16_t mantissa, int shift)
+{
+    if (shift > 46) {
+        return 0;
+    }
+    return fc_fx_narrow(ar, (int64_t)x * mantissa, shift < -31 ? -31 : shift);
+}
+
+/* (port: FC_PORT_MUL_GAIN) */
+#ifndef FC_PORT_MUL_GAIN
+FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int shift)
+{
+    return fc_fx_mul_gain_reference(ar, x, mantissa, shift);
+}
+#endif
+
+/* x g, x in format frac_x, the result in frac_out: shift_in_out =
+ * FC_GAIN_SHIFT(X, OUT) = frac_x - frac_out. */
+FC_FX_INLINE fc_real fc_mul_gain(fc_arith *ar, fc_real x, fc_gain g, int shift_in_out)
+{
+    return fc_fx_mul_gain_shift(ar, x, g.mantissa, g.frac + shift_in_out);
+}
+#else
+typedef float fc_gain;
+
+static inline fc_gain fc_gain_of(fc_real value, int frac)
+{
+    (void)frac;
+    return value;
+}
+
+static inline fc_gain fc_gain_of_product(fc_real a, int frac_a, fc_real b, int frac_b)
+{
+    (void)frac_a;
+    (void)frac_b;
+    return a * b;
+}
+
+static inline fc_real fc_gain_to_real(fc_arith *ar, fc_gain g, int frac)
+{
+    (void)ar;
+    (void)frac;
+    return g;
+}
+
+static inline fc_real fc_mul_gain(fc_arith *ar, fc_real x, fc_gain g, int shift_in_out)
+{
+    (void)ar;
+    (void)shift_in_out;
+    return x * g;
+}
+#endif
+/* ======================================================================= */
+
 #endif /* FC_SCALAR_H */

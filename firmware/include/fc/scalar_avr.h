@@ -414,4 +414,199 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
 #define FC_FX_OUTLINE_PRODUCTS 1
 #endif
 
+/* ======================================================================= */
+/* fc_mul_gain: a signal times a gain fixed at init (fc/scalar.h, fc_gain)  */
+/* ======================================================================= */
+/*
+ * x m / 2^shift rounded and saturated, x 32-bit, m the gain's 16-bit
+ * mantissa, shift = the gain's frac + FC_GAIN_SHIFT(...), known only at run
+ * time: one out-of-line function in assembly (scalar.c, naked), with the
+ * registers of the calling convention alone, so nothing is saved:
+ *   in   x r22-r25, m r20-r21, shift r18, ar r16-r17 (read only)
+ *   out  r22-r25
+ * Shifts outside 1..46 go to the portable definition (fc_fx_mul_gain_avr_far,
+ * a tail call). Otherwise, as fc_mul_by16: x = 2^16 x_high + x_low,
+ *   L = x_low m        (x_low unsigned: MUL, MULSU; fc_mul16_unsigned's steps)
+ *   t = x_high m + floor(L / 2^16) = floor(x m / 2^16),  |t| < 2^30 + 2^15
+ * (x_high m by MULS/MULSU added onto L's high half sign-extended: fc_mul16's
+ * steps), then the shift, whole bytes by moves and the 0..7 bits left by an
+ * ASR/ROR loop:
+ *   shift > 16   floor((x m + 2^(shift-1)) / 2^shift)
+ *                = floor((t + 2^(shift-17)) / 2^(shift-16))  (x m's bits below
+ *                2^16 cannot carry into 2^(shift-16))
+ *                = (floor(t / 2^(shift-17)) + 1) >> 1, on t alone, never
+ *                beyond the range;
+ *   shift <= 16  w = floor(x m / 2^(shift-1)) on the 48 bits t:L_low, the
+ *                result (w + 1) >> 1, inside +-INT32_MAX iff w + 1 is in
+ *                [-2^32 + 2, 2^32 - 1]: its bits 32..47 all 0, or all 1 and
+ *                its low 32 bits not 0 or 1 (the result -2^31).
+ * The same value and saturation as fc_fx_mul_gain_reference
+ * (atmega.scalar_equivalence).
+ * Registers: x_high moves to r18:r19 and shift to r30 (MULS and MULSU take
+ * r16-r23); L in r24-r27, r31 the zero; t = r23:r22:r27:r26 (x_low's place
+ * once L is formed), L_low r25:r24.
+ */
+#define FC_AVR_MUL_GAIN_BODY                                                                   \
+    "mov r30, r18\n\t"                                                                         \
+    "subi r18, 1\n\t"                                                                          \
+    "cpi r18, 46\n\t"                                                                          \
+    "brlo 1f\n\t"                                                                              \
+    "mov r18, r30\n\t"                                                                         \
+    "jmp fc_fx_mul_gain_avr_far\n"                                                             \
+    "1:\n\t"                                                                                   \
+    "mov r18, r24\n\t"                                                                         \
+    "mov r19, r25\n\t"                                                                         \
+    /* L = x_low m: r27:r26:r25:r24 */                                                         \
+    "clr r31\n\t"                                                                              \
+    "mulsu r21, r23\n\t"                                                                       \
+    "movw r26, r0\n\t"                                                                         \
+    "mul r22, r20\n\t"                                                                         \
+    "movw r24, r0\n\t"                                                                         \
+    "mulsu r21, r22\n\t"                                                                       \
+    "sbc r27, r31\n\t"                                                                         \
+    "add r25, r0\n\t"                                                                          \
+    "adc r26, r1\n\t"                                                                          \
+    "adc r27, r31\n\t"                                                                         \
+    "mul r23, r20\n\t"                                                                         \
+    "add r25, r0\n\t"                                                                          \
+    "adc r26, r1\n\t"                                                                          \
+    "adc r27, r31\n\t"                                                                         \
+    /* t = L's high half sign-extended (r23:r22:r27:r26) + x_high m */                         \
+    "mov r22, r27\n\t"                                                                         \
+    "lsl r22\n\t"                                                                              \
+    "sbc r22, r22\n\t"                                                                         \
+    "mov r23, r22\n\t"                                                                         \
+    "mul r18, r20\n\t"                                                                         \
+    "add r26, r0\n\t"                                                                          \
+    "adc r27, r1\n\t"                                                                          \
+    "adc r22, r31\n\t"                                                                         \
+    "adc r23, r31\n\t"                                                                         \
+    "mulsu r19, r20\n\t"                                                                       \
+    "sbc r23, r31\n\t"                                                                         \
+    "add r27, r0\n\t"                                                                          \
+    "adc r22, r1\n\t"                                                                          \
+    "adc r23, r31\n\t"                                                                         \
+    "mulsu r21, r18\n\t"                                                                       \
+    "sbc r23, r31\n\t"                                                                         \
+    "add r27, r0\n\t"                                                                          \
+    "adc r22, r1\n\t"                                                                          \
+    "adc r23, r31\n\t"                                                                         \
+    "muls r19, r21\n\t"                                                                        \
+    "add r22, r0\n\t"                                                                          \
+    "adc r23, r1\n\t"                                                                          \
+    "clr r1\n\t"                                                                               \
+    "cpi r30, 17\n\t"                                                                          \
+    "brlo 20f\n\t"                                                                             \
+    /* shift > 16: k = shift - 17, t's bytes k / 8 on into r25:r24:r23:r22 */                 \
+    "subi r30, 17\n\t"                                                                         \
+    "cpi r30, 8\n\t"                                                                           \
+    "brsh 11f\n\t"                                                                             \
+    "movw r24, r22\n\t"                                                                        \
+    "movw r22, r26\n\t"                                                                        \
+    "rjmp 14f\n"                                                                               \
+    "11:\n\t"                                                                                  \
+    "cpi r30, 16\n\t"                                                                          \
+    "brsh 12f\n\t"                                                                             \
+    "mov r24, r23\n\t"                                                                         \
+    "mov r25, r23\n\t"                                                                         \
+    "lsl r25\n\t"                                                                              \
+    "sbc r25, r25\n\t"                                                                         \
+    "mov r23, r22\n\t"                                                                         \
+    "mov r22, r27\n\t"                                                                         \
+    "rjmp 14f\n"                                                                               \
+    "12:\n\t"                                                                                  \
+    "cpi r30, 24\n\t"                                                                          \
+    "brsh 13f\n\t"                                                                             \
+    "mov r24, r23\n\t"                                                                         \
+    "lsl r24\n\t"                                                                              \
+    "sbc r24, r24\n\t"                                                                         \
+    "mov r25, r24\n\t"                                                                         \
+    "rjmp 14f\n"                                                                               \
+    "13:\n\t"                                                                                  \
+    "mov r22, r23\n\t"                                                                         \
+    "lsl r23\n\t"                                                                              \
+    "sbc r23, r23\n\t"                                                                         \
+    "mov r24, r23\n\t"                                                                         \
+    "mov r25, r23\n"                                                                           \
+    "14:\n\t"                                                                                  \
+    "andi r30, 7\n\t"                                                                          \
+    "breq 16f\n"                                                                               \
+    "15:\n\t"                                                                                  \
+    "asr r25\n\tror r24\n\tror r23\n\tror r22\n\t"                                             \
+    "dec r30\n\t"                                                                              \
+    "brne 15b\n"                                                                               \
+    "16:\n\t"                                                                                  \
+    /* (w >> 1) + (w & 1): the bit shifted out is the carry */                                 \
+    "asr r25\n\tror r24\n\tror r23\n\tror r22\n\t"                                             \
+    "adc r22, r1\n\tadc r23, r1\n\tadc r24, r1\n\tadc r25, r1\n\t"                             \
+    "ret\n"                                                                                    \
+    /* shift <= 16: the 48 bits r23:r22:r27:r26:r25:r24 by shift - 1 */                        \
+    "20:\n\t"                                                                                  \
+    "dec r30\n\t"                                                                              \
+    "cpi r30, 8\n\t"                                                                           \
+    "brlo 21f\n\t"                                                                             \
+    "mov r24, r25\n\t"                                                                         \
+    "mov r25, r26\n\t"                                                                         \
+    "mov r26, r27\n\t"                                                                         \
+    "mov r27, r22\n\t"                                                                         \
+    "mov r22, r23\n\t"                                                                         \
+    "lsl r23\n\t"                                                                              \
+    "sbc r23, r23\n\t"                                                                         \
+    "subi r30, 8\n"                                                                            \
+    "21:\n\t"                                                                                  \
+    "tst r30\n\t"                                                                              \
+    "breq 23f\n"                                                                               \
+    "22:\n\t"                                                                                  \
+    "asr r23\n\tror r22\n\tror r27\n\tror r26\n\tror r25\n\tror r24\n\t"                       \
+    "dec r30\n\t"                                                                              \
+    "brne 22b\n"                                                                               \
+    "23:\n\t"                                                                                  \
+    /* v = w + 1 */                                                                            \
+    "sec\n\t"                                                                                  \
+    "adc r24, r1\n\tadc r25, r1\n\tadc r26, r1\n\tadc r27, r1\n\tadc r22, r1\n\tadc r23, r1\n\t" \
+    /* bits 32..47 of v (r23:r22) all 0, or all 1 and the low 32 bits not 0 or 1 */           \
+    "cp r22, r23\n\t"                                                                          \
+    "brne 30f\n\t"                                                                             \
+    "mov r30, r22\n\t"                                                                         \
+    "inc r30\n\t"                                                                              \
+    "lsr r30\n\t"                                                                              \
+    "brne 30f\n\t"                                                                             \
+    "tst r22\n\t"                                                                              \
+    "breq 24f\n\t"                                                                             \
+    "mov r30, r24\n\t"                                                                         \
+    "lsr r30\n\t"                                                                              \
+    "or r30, r25\n\t"                                                                          \
+    "or r30, r26\n\t"                                                                          \
+    "or r30, r27\n\t"                                                                          \
+    "breq 30f\n"                                                                               \
+    "24:\n\t"                                                                                  \
+    /* the result, bits 1..32 of v, into r25:r22 */                                            \
+    "asr r22\n\t"                                                                              \
+    "ror r27\n\tror r26\n\tror r25\n\tror r24\n\t"                                             \
+    "movw r22, r24\n\t"                                                                        \
+    "movw r24, r26\n\t"                                                                        \
+    "ret\n"                                                                                    \
+    /* saturated: ar->saturated = 1, +-INT32_MAX by the sign of v */                           \
+    "30:\n\t"                                                                                  \
+    "movw r30, r16\n\t"                                                                        \
+    "ldi r18, 1\n\t"                                                                           \
+    "st Z, r18\n\t"                                                                            \
+    "sbrc r23, 7\n\t"                                                                          \
+    "rjmp 31f\n\t"                                                                             \
+    "ldi r22, 0xFF\n\tldi r23, 0xFF\n\tldi r24, 0xFF\n\tldi r25, 0x7F\n\t"                     \
+    "ret\n"                                                                                    \
+    "31:\n\t"                                                                                  \
+    "ldi r22, 0x01\n\tldi r23, 0\n\tldi r24, 0\n\tldi r25, 0x80\n\t"                           \
+    "ret"
+
+#define FC_PORT_MUL_GAIN
+/* scalar.c: the assembly above, and the portable definition for the other shifts */
+fc_real fc_fx_mul_gain_avr(fc_real x, int16_t mantissa, uint8_t shift, fc_arith *ar);
+fc_real fc_fx_mul_gain_avr_far(fc_real x, int16_t mantissa, uint8_t shift, fc_arith *ar);
+FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int shift)
+{
+    return fc_fx_mul_gain_avr(x, mantissa, (uint8_t)shift, ar);
+}
+/* ======================================================================= */
+
 #endif /* FC_SCALAR_AVR_H */

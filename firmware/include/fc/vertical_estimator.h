@@ -84,15 +84,21 @@ typedef struct fc_vertical_estimate {
 
 typedef struct fc_vertical_estimator {
     fc_vertical_estimator_params p;
-    fc_real speed_gain;             /* RATIO: l1 dt = 2 w_v dt */
-    fc_real bias_gain_per_s;        /* RATIO: l2 dt = w_v^2 dt, 1/s */
-    fc_real height_gain_per_s;      /* RATIO: 2 w_h, times T a sample */
-    fc_real height_speed_gain_per_s2; /* RATIO: w_h^2, times T a sample */
-    fc_real accel_filter_gain;      /* UNIT: dt / accel_tau */
-    fc_real hover_gain;             /* UNIT: dt / hover_tau */
-    fc_real bias_average_gain;      /* UNIT: dt / bias_average_tau */
+    /* the constants the step multiplies a signal by, as gains (fc/scalar.h,
+     * fc_gain: a 16-bit mantissa and its own exponent in fixed) */
+    fc_gain dt;                     /* dt, s */
+    fc_gain speed_gain;             /* l1 dt = 2 w_v dt */
+    fc_gain bias_gain_per_s;        /* l2 dt = w_v^2 dt, 1/s */
+    fc_gain speed_gain_rest;        /* 3 l1 dt: at rest */
+    fc_gain bias_gain_rest_per_s;   /* 9 l2 dt */
+    fc_gain height_gain_per_s;      /* 2 w_h, times T a sample */
+    fc_gain height_speed_gain_per_s2; /* w_h^2, times T a sample */
+    fc_gain accel_filter_gain;      /* dt / accel_tau */
+    fc_gain hover_gain;             /* dt / hover_tau */
+    fc_gain bias_average_gain;      /* dt / bias_average_tau */
+    fc_gain gravity_mps2;           /* g */
+    fc_gain inv_gravity_s2pm;       /* 1 / g */
     fc_real bias_fast_mps2;         /* ACCEL: b of the complementary loop */
-    fc_real inv_gravity_s2pm;       /* RATIO: 1 / g */
     fc_real range_gap_s;            /* DT: since the last range sample */
     fc_vertical_estimate est;
     bool ready;

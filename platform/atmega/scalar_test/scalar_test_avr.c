@@ -22,7 +22,10 @@
  * and the V flag) against the int64_t sum saturated; the out-of-line products
  * that every other unit calls on the ATmega (fc_fx_mul_outline,
  * fc_fx_dot2/3/4_outline: a run-time shift narrowed by bytes and bits)
- * against the int64_t form.
+ * against the int64_t form; fc_mul_gain's product by a 16-bit mantissa (the
+ * port's fc_fx_mul_gain_avr: two 16 x 16 products and a run-time shift
+ * by bytes and bits) against fc_fx_mul_gain_reference, for every shift
+ * -2..49 and some far beyond, operands at their edges and pseudo-random.
  *
  * No I/O: the counts are in scalar_test_cases / scalar_test_failures and the
  * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
@@ -179,6 +182,7 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_MUL_BY16 21u
 #define OP_ADD 22u
 #define OP_SUB 23u
+#define OP_MUL_GAIN 24u
 
 /* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
 static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
@@ -267,6 +271,55 @@ static void compare_add_sub(int32_t x, int32_t y)
     want.saturated = 0u;
     value = fc_sub(&got, x, y);
     check(OP_SUB, 0u, value, got.saturated, ref_sum(&want, (int64_t)x - y), want.saturated);
+}
+
+/* fc_mul_gain: the port (fc_fx_mul_gain_shift, out of line) against the
+ * portable definition in int64_t, for the shifts -2..49 (the port's 1..46,
+ * where it hands over, and beyond), with the 16-bit mantissa m and its
+ * edges */
+static __attribute__((noinline)) int32_t ref_mul_gain(fc_arith *ar, int32_t x, int16_t m, int shift)
+{
+    return fc_fx_mul_gain_reference(ar, x, m, shift);
+}
+
+#define MANTISSA_EDGE_COUNT 10
+static const int16_t mantissa_edges[MANTISSA_EDGE_COUNT] = {
+    INT16_MIN, -INT16_MAX, INT16_MAX, 0, 1, -1, 16384, -16384, 16383, -16385,
+};
+
+static void compare_mul_gain_at(int32_t x, int16_t m, int shift)
+{
+    fc_arith got = {0u}, want = {0u};
+    const int32_t value = fc_fx_mul_gain_shift(&got, x, m, shift);
+    check(OP_MUL_GAIN, (uint8_t)shift, value, got.saturated, ref_mul_gain(&want, x, m, shift), want.saturated);
+}
+
+static void compare_mul_gain(int32_t x, int16_t m)
+{
+    static const int8_t far[] = {-128, -40, -32, -31, 63, 64, 100, 127};
+    for (int shift = -2; shift <= 49; shift++) {
+        compare_mul_gain_at(x, m, shift);
+    }
+    for (uint8_t i = 0; i < sizeof far; i++) {
+        compare_mul_gain_at(x, m, far[i]);
+    }
+}
+
+/* a mantissa: an edge, a full-range random one, or one of [2^14, 2^15) (what
+ * fc_gain_of makes) */
+static int16_t mantissa_operand(void)
+{
+    const uint32_t pick = rng_next();
+    switch (pick & 3u) {
+    case 0:
+        return mantissa_edges[(pick >> 8) % MANTISSA_EDGE_COUNT];
+    case 1:
+        return (int16_t)rng_next();
+    default: {
+        const int16_t size = (int16_t)(0x4000u | (rng_next() & 0x3FFFu));
+        return (pick & 0x100u) != 0u ? (int16_t)-size : size;
+    }
+    }
 }
 
 static void compare_functions(const int32_t *a, const int32_t *b)
@@ -460,6 +513,12 @@ int main(void)
             compare_functions(a, b);
         }
     }
+    /* fc_mul_gain: every edge operand against every edge mantissa */
+    for (uint8_t i = 0; i < EDGE_COUNT; i++) {
+        for (uint8_t j = 0; j < MANTISSA_EDGE_COUNT; j++) {
+            compare_mul_gain(edges[i], mantissa_edges[j]);
+        }
+    }
     /* all eight products at the format's corners: the clamped 64-bit sums */
     for (uint8_t i = 0; i < EDGE_COUNT; i++) {
         for (uint8_t k = 0; k < 8; k++) {
@@ -479,6 +538,9 @@ int main(void)
             cases[s](a, b);
         }
         case_runtime(a, b, (int)(rng_next() % CASE_COUNT) + 1); /* 1..36: the outlines' far shifts too */
+        for (uint8_t k = 0; k < 4; k++) {
+            compare_mul_gain(operand(), mantissa_operand());
+        }
         for (uint8_t k = 0; k < 8; k++) {
             compare_functions(a, b);
             a[0] = operand();
