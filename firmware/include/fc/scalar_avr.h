@@ -181,6 +181,96 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
     *low = l;
 }
 
+/*
+ * round(sqrt(m)) 2^14 for a 32-bit m (fc_sqrt_unit16: m is x in Q32, the
+ * result the root in UNIT's Q30), digit by digit, with no product: the
+ * method of scalar.c's sqrt16_digits on the remainder shifted left by one
+ * bit a round instead of the trial value shifted right, so that the trial
+ * value b = (4 r + 1) 2^(30 - i) of round i (r the i root bits so far) has
+ * no bit below 2^15 and, up to round 14, none below 2^16: it is compared
+ * with and subtracted from the remainder's high half only. T holds b / 2^16
+ * and K the two bits of T at the root bit and the trial bit: a bit set is
+ * T |= K, and then moving on is K >>= 1, T ^= K (the trial bit one place
+ * lower, the root bit kept). The remainder shifted left by i bits can reach
+ * 2^33: its bit 32 is the carry of the shift, which alone makes the bit 1
+ * (the difference is then below 2^32 again). Round 15, the last, compares
+ * three bytes (b / 2^8); after it T is the root and the remainder
+ * (m - root^2) 2^15, rounded up iff it is above root 2^15; the rounded
+ * root (up to 2^16) times 2^14 by byte moves and two shifts. About 17
+ * cycles a round, some 290 in all.
+ */
+static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(uint32_t m)
+{
+    uint32_t x = m;
+    uint16_t t, k;
+    uint8_t n;
+    __asm__("ldi %B[t], 0x40\n\t"
+            "ldi %A[t], 0\n\t"
+            "ldi %B[k], 0xC0\n\t"
+            "ldi %A[k], 0\n\t"
+            "ldi %[n], 15\n\t"
+            "clc\n"
+            /* rounds 0..14: the carry is bit 32 of the shifted remainder */
+            "1:\n\t"
+            "brcs 2f\n\t"
+            "cp %C[x], %A[t]\n\t"
+            "cpc %D[x], %B[t]\n\t"
+            "brcs 3f\n"
+            "2:\n\t"
+            "sub %C[x], %A[t]\n\t"
+            "sbc %D[x], %B[t]\n\t"
+            "or %A[t], %A[k]\n\t"
+            "or %B[t], %B[k]\n"
+            "3:\n\t"
+            "lsr %B[k]\n\t"
+            "ror %A[k]\n\t"
+            "eor %A[t], %A[k]\n\t"
+            "eor %B[t], %B[k]\n\t"
+            "lsl %A[x]\n\t"
+            "rol %B[x]\n\t"
+            "rol %C[x]\n\t"
+            "rol %D[x]\n\t"
+            "dec %[n]\n\t"
+            "brne 1b\n\t"
+            /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
+            "ldi %A[k], 0x80\n\t"
+            "brcs 4f\n\t"
+            "cp %B[x], %A[k]\n\t"
+            "cpc %C[x], %A[t]\n\t"
+            "cpc %D[x], %B[t]\n\t"
+            "brcs 5f\n"
+            "4:\n\t"
+            "sub %B[x], %A[k]\n\t"
+            "sbc %C[x], %A[t]\n\t"
+            "sbc %D[x], %B[t]\n\t"
+            "ori %A[t], 1\n"
+            "5:\n\t"
+            /* the carry: (m - root^2) = remainder / 2^15 above the root */
+            "lsl %B[x]\n\t"
+            "rol %C[x]\n\t"
+            "rol %D[x]\n\t"
+            "brcs 6f\n\t"
+            "cp %A[t], %C[x]\n\t"
+            "cpc %B[t], %D[x]\n"
+            "6:\n\t"
+            /* (root + carry) 2^14: 2^16 by moves (MOV and EOR keep the
+             * carry), the 17th bit from ADC's carry, two bits back */
+            "mov %C[x], %A[t]\n\t"
+            "mov %D[x], %B[t]\n\t"
+            "clr %A[x]\n\t"
+            "clr %B[x]\n\t"
+            "adc %C[x], __zero_reg__\n\t"
+            "adc %D[x], __zero_reg__\n\t"
+            "ror %D[x]\n\t"
+            "ror %C[x]\n\t"
+            "ror %B[x]\n\t"
+            "lsr %D[x]\n\t"
+            "ror %C[x]\n\t"
+            "ror %B[x]"
+            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k), [n] "=&d"(n));
+    return x;
+}
+
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
  * C shifts by whole bytes, which avr-gcc does by moves. */
 static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, uint32_t high, int i)
