@@ -685,18 +685,22 @@ typedef struct alloc_parts {
     fc_real v[FC_MAX_ROTORS];
 } alloc_parts;
 
-/* The room for the yaw scale b: every rotor v_min <= v_i + b Y_i <= 1.
- * Whether a bound may bind is decided on the exact 32-bit values (the upper
- * one iff v_i + max(Y_i, 0) > 1, the lower iff v_i + min(Y_i, 0) < v_min);
- * only then are Y_i and the slack narrowed to ROTOR16. A slack beyond +-2
- * is beyond every |Y_i| (at most 2 - 2^-14 in ROTOR16) and saturates
- * without changing the room: not reported. */
-static scale_interval yaw_room(fc_allocation *a, const alloc_parts *p)
+/* The room for the yaw scale b: every rotor of `rotors` (bit i for rotor i)
+ * v_min <= v_i + b Y_i <= 1 (the others fit at b = 0 and b = 1, so at
+ * every b between). Whether a bound may bind is decided on the exact 32-bit
+ * values (the upper one iff v_i + max(Y_i, 0) > 1, the lower iff v_i +
+ * min(Y_i, 0) < v_min); only then are Y_i and the slack narrowed to
+ * ROTOR16. A slack beyond +-2 is beyond every |Y_i| (at most 2 - 2^-14 in
+ * ROTOR16) and saturates without changing the room: not reported. */
+static scale_interval yaw_room(fc_allocation *a, const alloc_parts *p, uint8_t rotors)
 {
     fc_arith *ar = &a->ar;
     fc_arith slack_ar = {0u};
     scale_interval room = interval_full();
     for (int i = 0; i < a->rotor_count; i++) {
+        if ((rotors & (1u << i)) == 0u) {
+            continue;
+        }
         const fc_allocation_rotor *r = &a->rotor[i];
         const fc_real v = p->v[i];
         const fc_real yaw = p->yaw[i];
@@ -849,6 +853,42 @@ static uint8_t limit_demand(fc_allocation *a, const fc_real16 *w, fc_real16 *x)
     return saturation;
 }
 
+/* v in [v_min, 1] (PX) for rotor r */
+static bool rotor_fits(const fc_allocation_rotor *r, fc_real v)
+{
+    return v >= r->v_min && v <= FC_INT(1, PX);
+}
+
+/* The speeds as demanded, v_i = x_0 P_i0 + R_i + Y_i (t = x_0, a = b = 1),
+ * into v_out (UNIT) for every rotor whose v_i with and without its yaw Y_i
+ * lies in [v_min, 1]; returns the others (bit i for rotor i). When it
+ * returns none, no bound binds (fc/allocation.h, step 1 with b = 1) and
+ * v_out is the step's v. v_i + Y_i is formed only for a v_i in [v_min, 1]:
+ * it cannot saturate then. */
+static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_out)
+{
+    fc_arith *ar = &a->ar;
+    const fc_real16 thrust = x[0], roll = x[1], pitch = x[2], yaw = x[3];
+    uint8_t outside = 0u;
+    uint8_t bit = 1u;
+    const fc_allocation_rotor *r = a->rotor;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        const fc_real v = fc_add(ar, fc_mul16(thrust, r->pinv[0]), fc_dot2_16(r->pinv[1], roll, r->pinv[2], pitch));
+        /* v + Y_i only for v in [v_min, 1]: then |v| <= 1 and |Y_i| < 2^4,
+         * the sum exact (fc_add's) */
+        const fc_real demanded = rotor_fits(r, v) ? fc_add(ar, v, fc_mul16(r->pinv[3], yaw)) : FC_REAL_MAX;
+        if (rotor_fits(r, demanded)) {
+            *v_out = fc_convert(ar, demanded, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+        } else {
+            outside = (uint8_t)(outside | bit);
+        }
+        bit = (uint8_t)(bit << 1);
+        r++;
+        v_out++;
+    }
+    return outside;
+}
+
 /* Step 1's parts: t = x_0, a = b = 1 (v_i = x_0 P_i0 + R_i). */
 static void split_demand(fc_allocation *a, const fc_real16 *x, alloc_parts *p)
 {
@@ -963,23 +1003,28 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, alloc_part
     return saturation;
 }
 
-/* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
- * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
-static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_out)
+/* Steps 1-3 (fc/allocation.h) when some rotor leaves [v_min, 1] as
+ * demanded (outside: demanded_speeds' rotors): v (UNIT) into v_out for
+ * every rotor; returns the FC_SAT_* bits of the scales and the shift. Out
+ * of line: its parts and the shift's fill a stack frame that the ATmega
+ * addresses by Y + 0..63, and the step without saturation should not pay
+ * for it. */
+static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_real16 *x, uint8_t outside,
+                                                    fc_real *v_out)
 {
     fc_arith *ar = &a->ar;
-    fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
-    uint8_t saturation = limit_demand(a, w, x);
+    uint8_t saturation = 0u;
     alloc_parts p;
     split_demand(a, x, &p);
 
-    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
-    scale_interval room = yaw_room(a, &p);
+    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must
+     * (the rotors that fit at b = 0 and b = 1 fit at every b between) */
+    scale_interval room = yaw_room(a, &p, outside);
     if (!interval_feasible(&room)) {
         /* 3. roll/pitch last, 2. then the collective */
         saturation |= shift_collective(a, x, &p);
         /* b = 0 fits by construction: only the upper bounds of b matter */
-        room = yaw_room(a, &p);
+        room = yaw_room(a, &p, 0xFFu);
     }
     /* 1. yaw: the largest b that fits; b = 1 keeps Y exact (no product) */
     const fc_real16 yaw_scale = ratio_unit(room.high);
@@ -1000,6 +1045,19 @@ static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_
     return saturation;
 }
 
+/* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
+ * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
+static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_out)
+{
+    fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
+    uint8_t saturation = limit_demand(a, w, x);
+    const uint8_t outside = demanded_speeds(a, x, v_out);
+    if (outside != 0u) {
+        saturation |= desaturate(a, x, outside, v_out);
+    }
+    return saturation;
+}
+
 /* ---- step -------------------------------------------------------------- */
 
 /* A moment demand (NORM16) less the torque correction (RATIO), in NORM16:
@@ -1010,6 +1068,25 @@ static fc_real16 corrected_moment(fc_real16 demand, fc_real delta)
     fc_arith ar = {0u};
     const fc_real corrected = fc_sub(&ar, fc_widen16(demand, FC_NORM16_FRAC, FC_RATIO_FRAC), delta);
     return fc_narrow16(&ar, corrected, FC_RATIO_FRAC, FC_NORM16_FRAC);
+}
+
+/* r != s: the linear allocation iterated with the torque correction,
+ * warm-started from the last step's (fc/allocation.h); v (UNIT) into v,
+ * returns the FC_SAT_* bits of the last pass. */
+static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, const fc_real16 *w, fc_real *v)
+{
+    uint8_t saturation = 0u;
+    fc_vec3 delta = a->delta_warm;
+    for (int pass = 0; pass <= a->newton_iterations; pass++) {
+        if (pass > 0) {
+            delta = torque_correction(a, v);
+        }
+        const fc_real16 corrected[ROWS] = {w[0], corrected_moment(w[1], delta.x), corrected_moment(w[2], delta.y),
+                                           corrected_moment(w[3], delta.z)};
+        saturation = allocate_linear(a, corrected, v);
+    }
+    a->delta_warm = torque_correction(a, v);
+    return saturation;
 }
 
 static bool demand_is_finite(const fc_allocation_demand *d)
@@ -1034,47 +1111,29 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     a->ar.saturated = 0u;
     fc_step_status status = FC_STEP_OK;
 
-    fc_allocation_demand demand;
+    const fc_allocation_demand *demand = d;
     if (d == NULL || !demand_is_finite(d)) {
-        demand = a->last_good;
+        demand = &a->last_good;
         status |= FC_STEP_BAD_INPUT;
     } else {
-        demand = *d;
         a->last_good = *d;
     }
     /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
-    const fc_real16 w[ROWS] = {demand.thrust, demand.moment.x, demand.moment.y, demand.moment.z};
+    const fc_real16 w[ROWS] = {demand->thrust, demand->moment.x, demand->moment.y, demand->moment.z};
 
-    /* v (UNIT): rotor_count entries written by allocate_linear; zeroed for
-     * -fanalyzer by stores (an initialiser is a memset call every step) */
-    fc_real v[FC_MAX_ROTORS];
-    for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        v[i] = FC_INT(0, UNIT);
-    }
-    uint8_t saturation = 0u;
-    if (a->nonlinear != 0u) {
-        /* r != s: iterate on the linear solution with the torque correction,
-         * warm-started from the last step's (fc/allocation.h) */
-        fc_vec3 delta = a->delta_warm;
-        for (int pass = 0; pass <= a->newton_iterations; pass++) {
-            if (pass > 0) {
-                delta = torque_correction(a, v);
-            }
-            const fc_real16 corrected[ROWS] = {w[0], corrected_moment(w[1], delta.x),
-                                               corrected_moment(w[2], delta.y), corrected_moment(w[3], delta.z)};
-            saturation = allocate_linear(a, corrected, v);
-        }
-        a->delta_warm = torque_correction(a, v);
-    } else {
-        saturation = allocate_linear(a, w, v);
-    }
+    /* v (UNIT) in out->speed, the rotor_count entries written by
+     * allocate_linear (the others stay 0), then the speeds in place */
+    fc_real *v = out->speed;
+    const uint8_t saturation = a->nonlinear != 0u ? allocate_nonlinear(a, w, v) : allocate_linear(a, w, v);
 
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, v[i])
-                                                        : fc_pow_unit(&a->ar, v[i], r->inv_thrust_exponent);
-        out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+    const fc_allocation_rotor *r = a->rotor;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, *v)
+                                                        : fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent);
+        *v = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+        v++;
+        r++;
     }
 
     if (a->wrench_output != 0u) {
