@@ -817,13 +817,14 @@ static uint8_t direction_bit(fc_real demand, int row)
  * give per axis (roll and pitch scaled together, by a factor rounded down)
  * into x, every |x_k| then at most FC_REAL16_MAX. Returns the bits of the
  * clamped axes. */
-static uint8_t limit_demand(fc_allocation *a, const fc_real16 *w, fc_real16 *x)
+static uint8_t limit_demand(fc_allocation *a, const fc_allocation_demand *w, fc_real16 *x)
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
-    for (int k = 0; k < ROWS; k++) {
-        x[k] = w[k];
-    }
+    x[0] = w->thrust;
+    x[1] = w->moment.x;
+    x[2] = w->moment.y;
+    x[3] = w->moment.z;
     for (int k = 0; k < ROWS; k += 3) { /* F_z and M_z on their own */
         const fc_real16 limit = a->demand_limit[k];
         if (x[k] > limit) {
@@ -1039,7 +1040,7 @@ static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_r
 
 /* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
  * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
-static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_out)
+static uint8_t allocate_linear(fc_allocation *a, const fc_allocation_demand *w, fc_real *v_out)
 {
     fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
     uint8_t saturation = limit_demand(a, w, x);
@@ -1065,7 +1066,8 @@ static fc_real16 corrected_moment(fc_real16 demand, fc_real delta)
 /* r != s: the linear allocation iterated with the torque correction,
  * warm-started from the last step's (fc/allocation.h); v (UNIT) into v,
  * returns the FC_SAT_* bits of the last pass. */
-static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, const fc_real16 *w, fc_real *v)
+static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, const fc_allocation_demand *w,
+                                                            fc_real *v)
 {
     uint8_t saturation = 0u;
     fc_vec3 delta = a->delta_warm;
@@ -1073,9 +1075,11 @@ static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, co
         if (pass > 0) {
             delta = torque_correction(a, v);
         }
-        const fc_real16 corrected[ROWS] = {w[0], corrected_moment(w[1], delta.x), corrected_moment(w[2], delta.y),
-                                           corrected_moment(w[3], delta.z)};
-        saturation = allocate_linear(a, corrected, v);
+        const fc_allocation_demand corrected = {
+            w->thrust,
+            {corrected_moment(w->moment.x, delta.x), corrected_moment(w->moment.y, delta.y),
+             corrected_moment(w->moment.z, delta.z)}};
+        saturation = allocate_linear(a, &corrected, v);
     }
     a->delta_warm = torque_correction(a, v);
     return saturation;
@@ -1110,13 +1114,13 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     } else {
         a->last_good = *d;
     }
-    /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
-    const fc_real16 w[ROWS] = {demand->thrust, demand->moment.x, demand->moment.y, demand->moment.z};
 
     /* v (UNIT) in out->speed, the rotor_count entries written by
      * allocate_linear (the others stay 0), then the speeds in place */
     fc_real *v = out->speed;
-    const uint8_t saturation = a->nonlinear != 0u ? allocate_nonlinear(a, w, v) : allocate_linear(a, w, v);
+    /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
+    const uint8_t saturation =
+        a->nonlinear != 0u ? allocate_nonlinear(a, demand, v) : allocate_linear(a, demand, v);
 
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
     const fc_allocation_rotor *r = a->rotor;

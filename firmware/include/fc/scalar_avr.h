@@ -188,59 +188,62 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
  * bit a round instead of the trial value shifted right, so that the trial
  * value b = (4 r + 1) 2^(30 - i) of round i (r the i root bits so far) has
  * no bit below 2^15 and, up to round 14, none below 2^16: it is compared
- * with and subtracted from the remainder's high half only. T holds b / 2^16
- * and K the two bits of T at the root bit and the trial bit: a bit set is
- * T |= K, and then moving on is K >>= 1, T ^= K (the trial bit one place
- * lower, the root bit kept). The remainder shifted left by i bits can reach
- * 2^33: its bit 32 is the carry of the shift, which alone makes the bit 1
- * (the difference is then below 2^32 again). Round 15, the last, compares
- * three bytes (b / 2^8); after it T is the root and the remainder
- * (m - root^2) 2^15, rounded up iff it is above root 2^15; the rounded
- * root (up to 2^16) times 2^14 by byte moves and two shifts. About 17
- * cycles a round, some 290 in all.
+ * with and subtracted from the remainder's high half only. T holds b / 2^16;
+ * a round that sets the root bit 2^(15 - i) of T and moves the trial bit
+ * from 2^(14 - i) to 2^(13 - i) adds 3 2^(13 - i), one that leaves it
+ * subtracts 2^(13 - i) (round 14: +1 and -1, the trial bit 2^-1 dropped), so
+ * the rounds are written out with their constants. The remainder shifted
+ * left by i bits can reach 2^33: its bit 32 is the carry of the shift,
+ * which alone makes the bit 1 (the difference is then below 2^32 again).
+ * Its low byte moves up only after 8 rounds: rounds 0 to 7 shift the three
+ * bytes above it, then one move. Round 15, the last, compares three bytes
+ * (b / 2^8); after it T is the root and the remainder (m - root^2) 2^15,
+ * rounded up iff it is above root 2^15; the rounded root (up to 2^16) times
+ * 2^14 by byte moves and two shifts. 10 to 13 cycles a round.
  */
+#define FC_AVR_SQRT_ROUND(UP, DOWN)                                                            \
+    "brcs 1f\n\t"                                                                              \
+    "cp %C[x], %A[t]\n\t"                                                                      \
+    "cpc %D[x], %B[t]\n\t"                                                                     \
+    "brcs 2f\n"                                                                                \
+    "1:\n\t"                                                                                   \
+    "sub %C[x], %A[t]\n\t"                                                                     \
+    "sbc %D[x], %B[t]\n\t"                                                                     \
+    "subi %A[t], lo8(-(" #UP "))\n\t"                                                          \
+    "sbci %B[t], hi8(-(" #UP "))\n\t"                                                          \
+    "rjmp 3f\n"                                                                                \
+    "2:\n\t"                                                                                   \
+    "subi %A[t], lo8(" #DOWN ")\n\t"                                                           \
+    "sbci %B[t], hi8(" #DOWN ")\n"                                                             \
+    "3:\n\t"                                                                                   \
+    "lsl %B[x]\n\t"                                                                            \
+    "rol %C[x]\n\t"                                                                            \
+    "rol %D[x]\n\t"
+
 static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(uint32_t m)
 {
     uint32_t x = m;
-    uint16_t t, k;
-    uint8_t n;
+    uint16_t t;
+    uint8_t k;
     __asm__("ldi %B[t], 0x40\n\t"
             "ldi %A[t], 0\n\t"
-            "ldi %B[k], 0xC0\n\t"
-            "ldi %A[k], 0\n\t"
-            "ldi %[n], 15\n\t"
-            "clc\n"
+            "clc\n\t"
             /* rounds 0..14: the carry is bit 32 of the shifted remainder */
-            "1:\n\t"
-            "brcs 2f\n\t"
-            "cp %C[x], %A[t]\n\t"
-            "cpc %D[x], %B[t]\n\t"
-            "brcs 3f\n"
-            "2:\n\t"
-            "sub %C[x], %A[t]\n\t"
-            "sbc %D[x], %B[t]\n\t"
-            "or %A[t], %A[k]\n\t"
-            "or %B[t], %B[k]\n"
-            "3:\n\t"
-            "lsr %B[k]\n\t"
-            "ror %A[k]\n\t"
-            "eor %A[t], %A[k]\n\t"
-            "eor %B[t], %B[k]\n\t"
-            "lsl %A[x]\n\t"
-            "rol %B[x]\n\t"
-            "rol %C[x]\n\t"
-            "rol %D[x]\n\t"
-            "dec %[n]\n\t"
-            "brne 1b\n\t"
+            FC_AVR_SQRT_ROUND(24576, 8192) FC_AVR_SQRT_ROUND(12288, 4096) FC_AVR_SQRT_ROUND(6144, 2048)
+            FC_AVR_SQRT_ROUND(3072, 1024) FC_AVR_SQRT_ROUND(1536, 512) FC_AVR_SQRT_ROUND(768, 256)
+            FC_AVR_SQRT_ROUND(384, 128) FC_AVR_SQRT_ROUND(192, 64)
+            "mov %B[x], %A[x]\n\t" /* the low byte's turn (MOV keeps the carry) */
+            FC_AVR_SQRT_ROUND(96, 32) FC_AVR_SQRT_ROUND(48, 16) FC_AVR_SQRT_ROUND(24, 8)
+            FC_AVR_SQRT_ROUND(12, 4) FC_AVR_SQRT_ROUND(6, 2) FC_AVR_SQRT_ROUND(3, 1) FC_AVR_SQRT_ROUND(1, 1)
             /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
-            "ldi %A[k], 0x80\n\t"
+            "ldi %[k], 0x80\n\t"
             "brcs 4f\n\t"
-            "cp %B[x], %A[k]\n\t"
+            "cp %B[x], %[k]\n\t"
             "cpc %C[x], %A[t]\n\t"
             "cpc %D[x], %B[t]\n\t"
             "brcs 5f\n"
             "4:\n\t"
-            "sub %B[x], %A[k]\n\t"
+            "sub %B[x], %[k]\n\t"
             "sbc %C[x], %A[t]\n\t"
             "sbc %D[x], %B[t]\n\t"
             "ori %A[t], 1\n"
@@ -267,7 +270,7 @@ static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(ui
             "lsr %D[x]\n\t"
             "ror %C[x]\n\t"
             "ror %B[x]"
-            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k), [n] "=&d"(n));
+            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k));
     return x;
 }
 
