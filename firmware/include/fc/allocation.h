@@ -259,9 +259,9 @@ typedef struct fc_allocation {
     fc_real16 demand_limit[4];   /* NORM16: sum_i |B_ki|, the most any axis can get (at most 2 - 2^-14) */
     fc_allocation_demand last_good; /* held on bad input */
     fc_vec3 delta_warm;          /* RATIO: N delta(v) of the last solution (r != s) */
-    fc_allocation_rotor rotor[FC_MAX_ROTORS];
     fc_real thrust_max_n;        /* FORCE: F_max, the thrust a normalised 1 stands for */
     fc_vec3 moment_authority_nm; /* MOMENT: the moment a normalised 1 stands for, per axis */
+    fc_allocation_rotor rotor[FC_MAX_ROTORS];
     fc_real inv_thrust_max;      /* PER_FORCE: 1 / F_max (fc_allocation_thrust_fraction) */
     fc_real row_scale[4];        /* GAIN: 2^e_k, the diagonal of D */
     fc_real row_norm[4];         /* RATIO: 1 / the absolute sum of row k of D A */
