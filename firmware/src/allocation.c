@@ -707,8 +707,11 @@ static scale_interval yaw_room(fc_allocation *a, const rotor_parts *q, uint8_t r
             const fc_real v = q->v;
             const fc_real yaw = q->yaw;
             const fc_real v_min = r->v_min;
-            const bool up = fc_add(ar, v, yaw > 0 ? yaw : 0) > FC_INT(1, PX);
-            const bool down = fc_add(ar, v, yaw < 0 ? yaw : 0) < v_min;
+            /* v + max(Y, 0) and v + min(Y, 0): the larger and the smaller of v
+             * and v + Y */
+            const fc_real with_yaw = fc_add(ar, v, yaw);
+            const bool up = fc_max(v, with_yaw) > FC_INT(1, PX);
+            const bool down = fc_min(v, with_yaw) < v_min;
             if (up || down) {
                 const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
                 if (up) {
