@@ -1045,7 +1045,7 @@ static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_r
  * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
 static uint8_t allocate_linear(fc_allocation *a, const fc_allocation_demand *w, fc_real *v_out)
 {
-    fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
+    fc_real16 x[ROWS]; /* all written by limit_demand */
     uint8_t saturation = limit_demand(a, w, x);
     const uint8_t outside = demanded_speeds(a, x, v_out);
     if (outside != 0u) {
