@@ -676,9 +676,9 @@ static bool interval_feasible(const scale_interval *s)
     return ratio_compare(s->low, s->high) <= 0;
 }
 
-/* What the desaturation works with, per rotor (only the entries 0..n-1
- * are written and read): the parts of v = t P_0 + a R + b Y, exact in PX,
- * and what the collective shift forms from them. */
+/* What the desaturation works with, per rotor (the entries from n on are
+ * zeros, never read): the parts of v = t P_0 + a R + b Y, exact in PX, and
+ * what the collective shift forms from them. */
 typedef struct rotor_parts {
     fc_real v;              /* PX: v_i without yaw, x_0 P_i0 + R_i (after a shift t P_i0 + a R_i) */
     fc_real yaw;            /* PX: Y_i = P_i3 x_3 */
@@ -895,17 +895,28 @@ static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_
 
 /* Step 1's parts: t = x_0, a = b = 1: R_i, Y_i and v_i = x_0 P_i0 + R_i,
  * as demanded_speeds forms them. */
-static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *q)
+static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *parts)
 {
     fc_arith *ar = &a->ar;
-    const fc_allocation_rotor *r = a->rotor;
-    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+    const int n = a->rotor_count;
+    for (int i = 0; i < n; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        rotor_parts *q = &parts[i];
         const fc_real roll_pitch = fc_dot2_16(r->pinv[1], x[1], r->pinv[2], x[2]);
         q->roll_pitch = roll_pitch;
         q->yaw = fc_mul16(r->pinv[3], x[3]);
         q->v = fc_add(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
-        r++;
-        q++;
+    }
+    for (int i = n; i < FC_MAX_ROTORS; i++) {
+        /* never read; stores (not a memset) for the analysers */
+        rotor_parts *q = &parts[i];
+        q->v = FC_INT(0, PX);
+        q->yaw = FC_INT(0, PX);
+        q->roll_pitch = FC_INT(0, PX);
+        q->low = FC_INT(0, RATIO);
+        q->high = FC_INT(0, RATIO);
+        q->roll_pitch16 = FC_INT16(0, ROTOR16);
+        q->rate16 = FC_INT16(0, NORM16);
     }
 }
 

@@ -209,12 +209,12 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
     "1:\n\t"                                                                                   \
     "sub %C[x], %A[t]\n\t"                                                                     \
     "sbc %D[x], %B[t]\n\t"                                                                     \
-    "subi %A[t], lo8(-(" #UP "))\n\t"                                                          \
-    "sbci %B[t], hi8(-(" #UP "))\n\t"                                                          \
+    "subi %A[t], lo8(-(" UP "))\n\t"                                                           \
+    "sbci %B[t], hi8(-(" UP "))\n\t"                                                           \
     "rjmp 3f\n"                                                                                \
     "2:\n\t"                                                                                   \
-    "subi %A[t], lo8(" #DOWN ")\n\t"                                                           \
-    "sbci %B[t], hi8(" #DOWN ")\n"                                                             \
+    "subi %A[t], lo8(" DOWN ")\n\t"                                                            \
+    "sbci %B[t], hi8(" DOWN ")\n"                                                              \
     "3:\n\t"                                                                                   \
     "lsl %B[x]\n\t"                                                                            \
     "rol %C[x]\n\t"                                                                            \
@@ -229,12 +229,15 @@ static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(ui
             "ldi %A[t], 0\n\t"
             "clc\n\t"
             /* rounds 0..14: the carry is bit 32 of the shifted remainder */
-            FC_AVR_SQRT_ROUND(24576, 8192) FC_AVR_SQRT_ROUND(12288, 4096) FC_AVR_SQRT_ROUND(6144, 2048)
-            FC_AVR_SQRT_ROUND(3072, 1024) FC_AVR_SQRT_ROUND(1536, 512) FC_AVR_SQRT_ROUND(768, 256)
-            FC_AVR_SQRT_ROUND(384, 128) FC_AVR_SQRT_ROUND(192, 64)
+            FC_AVR_SQRT_ROUND("24576", "8192") FC_AVR_SQRT_ROUND("12288", "4096")
+            FC_AVR_SQRT_ROUND("6144", "2048") FC_AVR_SQRT_ROUND("3072", "1024")
+            FC_AVR_SQRT_ROUND("1536", "512") FC_AVR_SQRT_ROUND("768", "256")
+            FC_AVR_SQRT_ROUND("384", "128") FC_AVR_SQRT_ROUND("192", "64")
             "mov %B[x], %A[x]\n\t" /* the low byte's turn (MOV keeps the carry) */
-            FC_AVR_SQRT_ROUND(96, 32) FC_AVR_SQRT_ROUND(48, 16) FC_AVR_SQRT_ROUND(24, 8)
-            FC_AVR_SQRT_ROUND(12, 4) FC_AVR_SQRT_ROUND(6, 2) FC_AVR_SQRT_ROUND(3, 1) FC_AVR_SQRT_ROUND(1, 1)
+            FC_AVR_SQRT_ROUND("96", "32") FC_AVR_SQRT_ROUND("48", "16")
+            FC_AVR_SQRT_ROUND("24", "8") FC_AVR_SQRT_ROUND("12", "4")
+            FC_AVR_SQRT_ROUND("6", "2") FC_AVR_SQRT_ROUND("3", "1")
+            FC_AVR_SQRT_ROUND("1", "1") /* round 14: the trial bit 2^-1 dropped */
             /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
             "ldi %[k], 0x80\n\t"
             "brcs 4f\n\t"
