@@ -1010,15 +1010,15 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
 
 /* Steps 1-3 (fc/allocation.h) when some rotor leaves [v_min, 1] as
  * demanded (outside: demanded_speeds' rotors): v (UNIT) into v_out for
- * every rotor; returns the FC_SAT_* bits of the scales and the shift. Out
- * of line: the step without saturation should not pay for its stack frame
- * and registers. */
-static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_real16 *x, uint8_t outside,
-                                                    fc_real *v_out)
+ * every rotor; returns the FC_SAT_* bits of the scales and the shift. The
+ * parts in the caller's stack frame (desaturate's): what this function
+ * spills then lies within the 63 bytes the ATmega reaches from its frame
+ * pointer. */
+static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, const fc_real16 *x, uint8_t outside,
+                                                          rotor_parts *parts, fc_real *v_out)
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
-    rotor_parts parts[FC_MAX_ROTORS]; /* entries 0..n-1 written before they are read */
     split_demand(a, x, parts);
     /* 1. thrust and roll/pitch as demanded: yaw gives what room it must
      * (the rotors that fit at b = 0 and b = 1 fit at every b between) */
@@ -1050,6 +1050,15 @@ static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_r
         v_out++;
     }
     return saturation;
+}
+
+/* desaturation_steps with its parts. Out of line: the step without
+ * saturation does not pay for their stack frame. */
+static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_real16 *x, uint8_t outside,
+                                                    fc_real *v_out)
+{
+    rotor_parts parts[FC_MAX_ROTORS]; /* written by split_demand, all of them */
+    return desaturation_steps(a, x, outside, parts, v_out);
 }
 
 /* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
