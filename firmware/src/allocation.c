@@ -676,44 +676,58 @@ static bool interval_feasible(const scale_interval *s)
     return ratio_compare(s->low, s->high) <= 0;
 }
 
-/* The parts of v = t P_0 + a R + b Y, per rotor: R_i = P_i1 x_1 + P_i2 x_2
- * (roll/pitch) and Y_i = P_i3 x_3 (yaw), and v_i, the rotor's v without
- * yaw, all exact in PX. Only the entries 0..n-1 are read. */
-typedef struct alloc_parts {
-    fc_real roll_pitch[FC_MAX_ROTORS];
-    fc_real yaw[FC_MAX_ROTORS];
-    fc_real v[FC_MAX_ROTORS];
-} alloc_parts;
+/* What the desaturation works with, per rotor (the entries from n on are
+ * zeros, never read): the parts of v = t P_0 + a R + b Y, exact in PX, and
+ * what the collective shift forms from them. */
+typedef struct rotor_parts {
+    fc_real v;              /* PX: v_i without yaw, x_0 P_i0 + R_i (after a shift t P_i0 + a R_i) */
+    fc_real yaw;            /* PX: Y_i = P_i3 x_3 */
+    fc_real roll_pitch;     /* PX: R_i = P_i1 x_1 + P_i2 x_2 (shift) */
+    fc_real low;            /* RATIO: the bounds of t at a = 1, low_i - s_i and high_i - s_i (shift) */
+    fc_real high;
+    fc_real16 roll_pitch16; /* ROTOR16: R_i (shift) */
+    fc_real16 rate16;       /* NORM16: s_i = q_i R_i (shift) */
+} rotor_parts;
 
-/* The room for the yaw scale b: every rotor v_min <= v_i + b Y_i <= 1.
- * Whether a bound may bind is decided on the exact 32-bit values (the upper
- * one iff v_i + max(Y_i, 0) > 1, the lower iff v_i + min(Y_i, 0) < v_min);
- * only then are Y_i and the slack narrowed to ROTOR16. A slack beyond +-2
- * is beyond every |Y_i| (at most 2 - 2^-14 in ROTOR16) and saturates
- * without changing the room: not reported. */
-static scale_interval yaw_room(fc_allocation *a, const alloc_parts *p)
+/* The room for the yaw scale b: every rotor of `rotors` (bit i for rotor i)
+ * v_min <= v_i + b Y_i <= 1 (the others fit at b = 0 and b = 1, so at
+ * every b between). Whether a bound may bind is decided on the exact 32-bit
+ * values (the upper one iff v_i + max(Y_i, 0) > 1, the lower iff v_i +
+ * min(Y_i, 0) < v_min); only then are Y_i and the slack narrowed to
+ * ROTOR16. A slack beyond +-2 is beyond every |Y_i| (at most 2 - 2^-14 in
+ * ROTOR16) and saturates without changing the room: not reported. */
+static scale_interval yaw_room(fc_allocation *a, const rotor_parts *q, uint8_t rotors)
 {
     fc_arith *ar = &a->ar;
     fc_arith slack_ar = {0u};
     scale_interval room = interval_full();
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real v = p->v[i];
-        const fc_real yaw = p->yaw[i];
-        const bool up = fc_add(ar, v, yaw > 0 ? yaw : 0) > FC_INT(1, PX);
-        const bool down = fc_add(ar, v, yaw < 0 ? yaw : 0) < r->v_min;
-        if (up || down) {
-            const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
-            if (up) {
-                const fc_real slack = fc_sub(ar, FC_INT(1, PX), v);
-                interval_constrain(&room, yaw16, fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
-            }
-            if (down) {
-                const fc_real slack = fc_sub(ar, v, r->v_min);
-                interval_constrain(&room, fc_neg16(yaw16),
-                                   fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+    const fc_allocation_rotor *r = a->rotor;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        if ((rotors & 1u) != 0u) {
+            const fc_real v = q->v;
+            const fc_real yaw = q->yaw;
+            const fc_real v_min = r->v_min;
+            /* v + max(Y, 0) and v + min(Y, 0): the larger and the smaller of v
+             * and v + Y */
+            const fc_real with_yaw = fc_add(ar, v, yaw);
+            const bool up = fc_max(v, with_yaw) > FC_INT(1, PX);
+            const bool down = fc_min(v, with_yaw) < v_min;
+            if (up || down) {
+                const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
+                if (up) {
+                    const fc_real slack = fc_sub(ar, FC_INT(1, PX), v);
+                    interval_constrain(&room, yaw16, fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+                }
+                if (down) {
+                    const fc_real slack = fc_sub(ar, v, v_min);
+                    interval_constrain(&room, fc_neg16(yaw16),
+                                       fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+                }
             }
         }
+        rotors = (uint8_t)(rotors >> 1);
+        r++;
+        q++;
     }
     return room;
 }
@@ -736,17 +750,6 @@ static fc_real16 shift_rate(fc_arith *ar, const fc_allocation_rotor *r, fc_real1
     }
 }
 
-/* What the collective shift works with, per rotor: R_i and s_i in 16 bits,
- * s_i widened to RATIO, and the bounds of t at a = 1, low_i - s_i and
- * high_i - s_i (RATIO). */
-typedef struct shift_parts {
-    fc_real16 roll_pitch16[FC_MAX_ROTORS]; /* ROTOR16 */
-    fc_real16 rate16[FC_MAX_ROTORS];       /* NORM16 */
-    fc_real rate[FC_MAX_ROTORS];           /* RATIO */
-    fc_real low[FC_MAX_ROTORS];            /* RATIO */
-    fc_real high[FC_MAX_ROTORS];           /* RATIO */
-} shift_parts;
-
 /* The largest roll/pitch scale a in [0, 1] for which some collective fits
  * every shifting rotor with no yaw: a (s_j - s_i) <= high_j - low_i for
  * every pair. The pair may bind iff high_j - s_j < low_i - s_i or high_j <
@@ -754,25 +757,30 @@ typedef struct shift_parts {
  * values; only then are both sides narrowed to PAIR16: s_j - s_i of two
  * NORM16 values fits it, and a high_j - low_i beyond +-4 is beyond every
  * |s_j - s_i| and saturates without changing the room (not reported). */
-static fc_real16 roll_pitch_room(fc_allocation *a, const shift_parts *s)
+static fc_real16 roll_pitch_room(fc_allocation *a, const rotor_parts *parts)
 {
     fc_arith *ar = &a->ar;
     fc_arith pair_ar = {0u};
     scale_interval fit = interval_full();
     const int n = a->rotor_count;
-    for (int j = 0; j < n; j++) {
-        const fc_allocation_rotor *rj = &a->rotor[j];
+    const fc_allocation_rotor *rj = a->rotor;
+    const rotor_parts *qj = parts;
+    for (int j = 0; j < n; j++, rj++, qj++) {
         if ((rj->flags & ROTOR_SHIFTS) == 0u) {
             continue;
         }
-        for (int i = 0; i < n; i++) {
-            const fc_allocation_rotor *ri = &a->rotor[i];
+        const fc_real high_j = qj->high;
+        const fc_real shift_high_j = rj->shift_high;
+        const fc_real rate_j = fc_widen16(qj->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+        const fc_allocation_rotor *ri = a->rotor;
+        const rotor_parts *qi = parts;
+        for (int i = 0; i < n; i++, ri++, qi++) {
             if (i == j || (ri->flags & ROTOR_SHIFTS) == 0u) {
                 continue;
             }
-            if (s->high[j] < s->low[i] || rj->shift_high < ri->shift_low) {
-                const fc_real c = fc_sub(ar, s->rate[j], s->rate[i]);
-                const fc_real e = fc_sub(ar, rj->shift_high, ri->shift_low);
+            if (high_j < qi->low || shift_high_j < ri->shift_low) {
+                const fc_real c = fc_sub(ar, rate_j, fc_widen16(qi->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC));
+                const fc_real e = fc_sub(ar, shift_high_j, ri->shift_low);
                 interval_constrain(&fit, fc_narrow16(&pair_ar, c, FC_RATIO_FRAC, FC_PAIR16_FRAC),
                                    fc_narrow16(&pair_ar, e, FC_RATIO_FRAC, FC_PAIR16_FRAC));
             }
@@ -812,13 +820,14 @@ static uint8_t direction_bit(fc_real demand, int row)
  * give per axis (roll and pitch scaled together, by a factor rounded down)
  * into x, every |x_k| then at most FC_REAL16_MAX. Returns the bits of the
  * clamped axes. */
-static uint8_t limit_demand(fc_allocation *a, const fc_real16 *w, fc_real16 *x)
+static uint8_t limit_demand(fc_allocation *a, const fc_allocation_demand *w, fc_real16 *x)
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
-    for (int k = 0; k < ROWS; k++) {
-        x[k] = w[k];
-    }
+    x[0] = w->thrust;
+    x[1] = w->moment.x;
+    x[2] = w->moment.y;
+    x[3] = w->moment.z;
     for (int k = 0; k < ROWS; k += 3) { /* F_z and M_z on their own */
         const fc_real16 limit = a->demand_limit[k];
         if (x[k] > limit) {
@@ -849,78 +858,112 @@ static uint8_t limit_demand(fc_allocation *a, const fc_real16 *w, fc_real16 *x)
     return saturation;
 }
 
-/* Step 1's parts: t = x_0, a = b = 1 (v_i = x_0 P_i0 + R_i). */
-static void split_demand(fc_allocation *a, const fc_real16 *x, alloc_parts *p)
+/* v in [v_min, 1] (PX) for rotor r */
+static bool rotor_fits(const fc_allocation_rotor *r, fc_real v)
+{
+    return v >= r->v_min && v <= FC_INT(1, PX);
+}
+
+/* The speeds as demanded, v_i = x_0 P_i0 + R_i + Y_i (t = x_0, a = b = 1),
+ * into v_out (UNIT) for every rotor whose v_i with and without its yaw Y_i
+ * lies in [v_min, 1]; returns the others (bit i for rotor i). When it
+ * returns none, no bound binds (fc/allocation.h, step 1 with b = 1) and
+ * v_out is the step's v. v_i + Y_i is formed only for a v_i in [v_min, 1]:
+ * it cannot saturate then. Nothing else is kept: the desaturation forms
+ * the parts again (the registers of this loop are the step's cycles). */
+static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_out)
 {
     fc_arith *ar = &a->ar;
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real roll_pitch = fc_dot2_16(r->pinv[1], x[1], r->pinv[2], x[2]);
-        p->roll_pitch[i] = roll_pitch;
-        p->yaw[i] = fc_mul16(r->pinv[3], x[3]);
-        p->v[i] = fc_add(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
+    const fc_real16 thrust = x[0], roll = x[1], pitch = x[2], yaw = x[3];
+    uint8_t outside = 0u;
+    uint8_t bit = 1u;
+    const fc_allocation_rotor *r = a->rotor;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        const fc_real v = fc_add(ar, fc_mul16(thrust, r->pinv[0]), fc_dot2_16(r->pinv[1], roll, r->pinv[2], pitch));
+        const fc_real demanded = rotor_fits(r, v) ? fc_add(ar, v, fc_mul16(r->pinv[3], yaw)) : FC_REAL_MAX;
+        if (rotor_fits(r, demanded)) {
+            *v_out = fc_convert(ar, demanded, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+        } else {
+            outside = (uint8_t)(outside | bit);
+        }
+        bit = (uint8_t)(bit << 1);
+        r++;
+        v_out++;
     }
-    for (int i = a->rotor_count; i < FC_MAX_ROTORS; i++) {
-        /* never read; stores (not a memset) for gcc's uninitialised-use analysis */
-        p->roll_pitch[i] = FC_INT(0, PX);
-        p->yaw[i] = FC_INT(0, PX);
-        p->v[i] = FC_INT(0, PX);
+    return outside;
+}
+
+/* Step 1's parts: t = x_0, a = b = 1: R_i, Y_i and v_i = x_0 P_i0 + R_i,
+ * as demanded_speeds forms them. */
+static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *parts)
+{
+    fc_arith *ar = &a->ar;
+    const int n = a->rotor_count;
+    for (int i = 0; i < n; i++) {
+        const fc_allocation_rotor *r = &a->rotor[i];
+        rotor_parts *q = &parts[i];
+        const fc_real roll_pitch = fc_dot2_16(r->pinv[1], x[1], r->pinv[2], x[2]);
+        q->roll_pitch = roll_pitch;
+        q->yaw = fc_mul16(r->pinv[3], x[3]);
+        q->v = fc_add(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
+    }
+    for (int i = n; i < FC_MAX_ROTORS; i++) {
+        /* never read; stores (not a memset) for the analysers */
+        rotor_parts *q = &parts[i];
+        q->v = FC_INT(0, PX);
+        q->yaw = FC_INT(0, PX);
+        q->roll_pitch = FC_INT(0, PX);
+        q->low = FC_INT(0, RATIO);
+        q->high = FC_INT(0, RATIO);
+        q->roll_pitch16 = FC_INT16(0, ROTOR16);
+        q->rate16 = FC_INT16(0, NORM16);
     }
 }
 
 /* Steps 2 and 3 (fc/allocation.h), when yaw alone cannot make room: the
  * largest roll/pitch scale a in [0, 1] for which some collective t fits
  * every rotor with no yaw, then t, the demand x_0 clamped to the interval
- * that fits a R; p->v becomes t P_0 + a R. Rotor i bounds t to [low_i -
- * a s_i, high_i - a s_i], s_i = q_i R_i (derive_inverse). Returns the
- * FC_SAT_* bits of a and t. */
-static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, alloc_parts *p)
+ * that fits a R; the parts' v becomes t P_0 + a R. Rotor i bounds t to
+ * [low_i - a s_i, high_i - a s_i], s_i = q_i R_i (derive_inverse). Returns
+ * the FC_SAT_* bits of a and t. */
+static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_parts *parts)
 {
     fc_arith *ar = &a->ar;
     const int n = a->rotor_count;
     uint8_t saturation = 0u;
-    shift_parts s; /* entries 0..n-1 written here, only those read */
-    for (int i = n; i < FC_MAX_ROTORS; i++) {
-        /* never read; stores (not a memset) for the analysers */
-        s.roll_pitch16[i] = FC_INT16(0, ROTOR16);
-        s.rate16[i] = FC_INT16(0, NORM16);
-        s.rate[i] = FC_INT(0, RATIO);
-        s.low[i] = FC_INT(0, RATIO);
-        s.high[i] = FC_INT(0, RATIO);
-    }
-    for (int i = 0; i < n; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        s.roll_pitch16[i] = fc_narrow16(ar, p->roll_pitch[i], FC_PX_FRAC, FC_ROTOR16_FRAC);
-        s.rate16[i] = shift_rate(ar, r, s.roll_pitch16[i]); /* 0 for a rotor that does not shift */
-        s.rate[i] = fc_widen16(s.rate16[i], FC_NORM16_FRAC, FC_RATIO_FRAC);
-        s.low[i] = fc_sub(ar, r->shift_low, s.rate[i]);
-        s.high[i] = fc_sub(ar, r->shift_high, s.rate[i]);
-    }
     /* the interval of t at a = 1; when it is empty some pair binds and a < 1
      * (a pair that is violated only at a = 0 leaves a = 1: roll_pitch_room
      * would say the same) */
     fc_real t_low = FC_REAL_MIN;
     fc_real t_high = FC_REAL_MAX;
-    for (int i = 0; i < n; i++) {
-        if ((a->rotor[i].flags & ROTOR_SHIFTS) != 0u) {
-            t_low = fc_max(t_low, s.low[i]);
-            t_high = fc_min(t_high, s.high[i]);
+    const fc_allocation_rotor *r = a->rotor;
+    rotor_parts *q = parts;
+    for (int i = 0; i < n; i++, r++, q++) {
+        q->roll_pitch16 = fc_narrow16(ar, q->roll_pitch, FC_PX_FRAC, FC_ROTOR16_FRAC);
+        q->rate16 = shift_rate(ar, r, q->roll_pitch16); /* 0 for a rotor that does not shift */
+        const fc_real rate = fc_widen16(q->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+        q->low = fc_sub(ar, r->shift_low, rate);
+        q->high = fc_sub(ar, r->shift_high, rate);
+        if ((r->flags & ROTOR_SHIFTS) != 0u) {
+            t_low = fc_max(t_low, q->low);
+            t_high = fc_min(t_high, q->high);
         }
     }
     fc_real16 roll_pitch_scale = FC_INT16(1, UNIT16);
     if (t_low > t_high) {
-        roll_pitch_scale = roll_pitch_room(a, &s);
+        roll_pitch_scale = roll_pitch_room(a, parts);
     }
     const bool scaled = roll_pitch_scale < FC_INT16(1, UNIT16);
     if (scaled) {
         /* the collective: the demand clamped to the interval that fits a R */
         t_low = FC_REAL_MIN;
         t_high = FC_REAL_MAX;
-        for (int i = 0; i < n; i++) {
-            const fc_allocation_rotor *r = &a->rotor[i];
+        r = a->rotor;
+        q = parts;
+        for (int i = 0; i < n; i++, r++, q++) {
             if ((r->flags & ROTOR_SHIFTS) != 0u) {
                 const fc_real moved =
-                    fc_convert(ar, fc_mul16(roll_pitch_scale, s.rate16[i]), MOVED_FRAC, FC_RATIO_FRAC);
+                    fc_convert(ar, fc_mul16(roll_pitch_scale, q->rate16), MOVED_FRAC, FC_RATIO_FRAC);
                 t_low = fc_max(t_low, fc_sub(ar, r->shift_low, moved));
                 t_high = fc_min(t_high, fc_sub(ar, r->shift_high, moved));
             }
@@ -951,35 +994,40 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, alloc_part
     const fc_real16 t16 = fc_narrow16(ar, t, FC_RATIO_FRAC, FC_NORM16_FRAC);
     const fc_real16 rest =
         fc_narrow16(ar, fc_sub(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
-    for (int i = 0; i < n; i++) {
-        const fc_real16 share = a->rotor[i].pinv[0];
+    r = a->rotor;
+    q = parts;
+    for (int i = 0; i < n; i++, r++, q++) {
+        const fc_real16 share = r->pinv[0];
         const fc_real collective =
             fc_add(ar, fc_mul16(t16, share), fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
         const fc_real roll_pitch =
-            scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, s.roll_pitch16[i]), SCALED_FRAC, FC_PX_FRAC)
-                   : p->roll_pitch[i];
-        p->v[i] = fc_add(ar, collective, roll_pitch);
+            scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, q->roll_pitch16), SCALED_FRAC, FC_PX_FRAC)
+                   : q->roll_pitch;
+        q->v = fc_add(ar, collective, roll_pitch);
     }
     return saturation;
 }
 
-/* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
- * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
-static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_out)
+/* Steps 1-3 (fc/allocation.h) when some rotor leaves [v_min, 1] as
+ * demanded (outside: demanded_speeds' rotors): v (UNIT) into v_out for
+ * every rotor; returns the FC_SAT_* bits of the scales and the shift. The
+ * parts in the caller's stack frame (desaturate's): what this function
+ * spills then lies within the 63 bytes the ATmega reaches from its frame
+ * pointer. */
+static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, const fc_real16 *x, uint8_t outside,
+                                                          rotor_parts *parts, fc_real *v_out)
 {
     fc_arith *ar = &a->ar;
-    fc_real16 x[ROWS] = {0}; /* all written by limit_demand; zeroed for -fanalyzer (loop widening) */
-    uint8_t saturation = limit_demand(a, w, x);
-    alloc_parts p;
-    split_demand(a, x, &p);
-
-    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
-    scale_interval room = yaw_room(a, &p);
+    uint8_t saturation = 0u;
+    split_demand(a, x, parts);
+    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must
+     * (the rotors that fit at b = 0 and b = 1 fit at every b between) */
+    scale_interval room = yaw_room(a, parts, outside);
     if (!interval_feasible(&room)) {
         /* 3. roll/pitch last, 2. then the collective */
-        saturation |= shift_collective(a, x, &p);
+        saturation |= shift_collective(a, x, parts);
         /* b = 0 fits by construction: only the upper bounds of b matter */
-        room = yaw_room(a, &p);
+        room = yaw_room(a, parts, 0xFFu);
     }
     /* 1. yaw: the largest b that fits; b = 1 keeps Y exact (no product) */
     const fc_real16 yaw_scale = ratio_unit(room.high);
@@ -987,15 +1035,41 @@ static uint8_t allocate_linear(fc_allocation *a, const fc_real16 *w, fc_real *v_
     if (yaw_scaled) {
         saturation |= direction_bit(x[3], 3);
     }
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        fc_real yaw = p.yaw[i];
+    const fc_allocation_rotor *r = a->rotor;
+    const rotor_parts *q = parts;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        fc_real yaw = q->yaw;
         if (yaw_scaled) {
             const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
             yaw = fc_convert(ar, fc_mul16(yaw_scale, yaw16), SCALED_FRAC, FC_PX_FRAC);
         }
-        const fc_real v = fc_clamp(fc_add(ar, p.v[i], yaw), r->v_min, FC_INT(1, PX));
-        v_out[i] = fc_convert(ar, v, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+        const fc_real v = fc_clamp(fc_add(ar, q->v, yaw), r->v_min, FC_INT(1, PX));
+        *v_out = fc_convert(ar, v, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+        r++;
+        q++;
+        v_out++;
+    }
+    return saturation;
+}
+
+/* desaturation_steps with its parts. Out of line: the step without
+ * saturation does not pay for their stack frame. */
+static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_real16 *x, uint8_t outside,
+                                                    fc_real *v_out)
+{
+    rotor_parts parts[FC_MAX_ROTORS]; /* written by split_demand, all of them */
+    return desaturation_steps(a, x, outside, parts, v_out);
+}
+
+/* v (UNIT, in [v_min, 1]) for the normalised wrench w (NORM16: F_z, M_x,
+ * M_y, M_z), with the priorities of fc/allocation.h; returns the FC_SAT_* bits. */
+static uint8_t allocate_linear(fc_allocation *a, const fc_allocation_demand *w, fc_real *v_out)
+{
+    fc_real16 x[ROWS]; /* all written by limit_demand */
+    uint8_t saturation = limit_demand(a, w, x);
+    const uint8_t outside = demanded_speeds(a, x, v_out);
+    if (outside != 0u) {
+        saturation |= desaturate(a, x, outside, v_out);
     }
     return saturation;
 }
@@ -1010,6 +1084,28 @@ static fc_real16 corrected_moment(fc_real16 demand, fc_real delta)
     fc_arith ar = {0u};
     const fc_real corrected = fc_sub(&ar, fc_widen16(demand, FC_NORM16_FRAC, FC_RATIO_FRAC), delta);
     return fc_narrow16(&ar, corrected, FC_RATIO_FRAC, FC_NORM16_FRAC);
+}
+
+/* r != s: the linear allocation iterated with the torque correction,
+ * warm-started from the last step's (fc/allocation.h); v (UNIT) into v,
+ * returns the FC_SAT_* bits of the last pass. */
+static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, const fc_allocation_demand *w,
+                                                            fc_real *v)
+{
+    uint8_t saturation = 0u;
+    fc_vec3 delta = a->delta_warm;
+    for (int pass = 0; pass <= a->newton_iterations; pass++) {
+        if (pass > 0) {
+            delta = torque_correction(a, v);
+        }
+        const fc_allocation_demand corrected = {
+            w->thrust,
+            {corrected_moment(w->moment.x, delta.x), corrected_moment(w->moment.y, delta.y),
+             corrected_moment(w->moment.z, delta.z)}};
+        saturation = allocate_linear(a, &corrected, v);
+    }
+    a->delta_warm = torque_correction(a, v);
+    return saturation;
 }
 
 static bool demand_is_finite(const fc_allocation_demand *d)
@@ -1034,47 +1130,29 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     a->ar.saturated = 0u;
     fc_step_status status = FC_STEP_OK;
 
-    fc_allocation_demand demand;
+    const fc_allocation_demand *demand = d;
     if (d == NULL || !demand_is_finite(d)) {
-        demand = a->last_good;
+        demand = &a->last_good;
         status |= FC_STEP_BAD_INPUT;
     } else {
-        demand = *d;
         a->last_good = *d;
     }
-    /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
-    const fc_real16 w[ROWS] = {demand.thrust, demand.moment.x, demand.moment.y, demand.moment.z};
 
-    /* v (UNIT): rotor_count entries written by allocate_linear; zeroed for
-     * -fanalyzer by stores (an initialiser is a memset call every step) */
-    fc_real v[FC_MAX_ROTORS];
-    for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        v[i] = FC_INT(0, UNIT);
-    }
-    uint8_t saturation = 0u;
-    if (a->nonlinear != 0u) {
-        /* r != s: iterate on the linear solution with the torque correction,
-         * warm-started from the last step's (fc/allocation.h) */
-        fc_vec3 delta = a->delta_warm;
-        for (int pass = 0; pass <= a->newton_iterations; pass++) {
-            if (pass > 0) {
-                delta = torque_correction(a, v);
-            }
-            const fc_real16 corrected[ROWS] = {w[0], corrected_moment(w[1], delta.x),
-                                               corrected_moment(w[2], delta.y), corrected_moment(w[3], delta.z)};
-            saturation = allocate_linear(a, corrected, v);
-        }
-        a->delta_warm = torque_correction(a, v);
-    } else {
-        saturation = allocate_linear(a, w, v);
-    }
+    /* v (UNIT) in out->speed, the rotor_count entries written by
+     * allocate_linear (the others stay 0), then the speeds in place */
+    fc_real *v = out->speed;
+    /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
+    const uint8_t saturation =
+        a->nonlinear != 0u ? allocate_nonlinear(a, demand, v) : allocate_linear(a, demand, v);
 
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
-    for (int i = 0; i < a->rotor_count; i++) {
-        const fc_allocation_rotor *r = &a->rotor[i];
-        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, v[i])
-                                                        : fc_pow_unit(&a->ar, v[i], r->inv_thrust_exponent);
-        out->speed[i] = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+    const fc_allocation_rotor *r = a->rotor;
+    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, *v)
+                                                        : fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent);
+        *v = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+        v++;
+        r++;
     }
 
     if (a->wrench_output != 0u) {

@@ -322,9 +322,9 @@ static void sqrt_knots(uint8_t k, uint16_t *at_start, uint16_t *at_end)
  *   S = floor(sqrt(M))                       (S0 stepped, S^2 kept by adds)
  *   floor(sqrt(m)) = floor(S / 2^k)          (sqrt(m) = sqrt(M) / 2^k)
  * Exact for every m whatever the first guess (the steps make it so; the
- * guess, within -2..+1 of S over every M, only bounds their number). Some
- * 250 ATmega cycles a call, against 500 for the 16 rounds of the
- * digit-by-digit root it replaces. */
+ * guess, within -2..+1 of S over every M, only bounds their number). For
+ * fc_sqrt and fc_hypot3; fc_sqrt_unit16 has its own root (sqrt16_digits,
+ * in assembly on the ATmega). */
 static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
 {
     if (m == 0u) {
@@ -505,6 +505,31 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
     return (fc_real)sqrt_rounded_wide(scaled);
 }
 
+/* floor(sqrt(m)) of a 32-bit m and m - floor(sqrt(m))^2 in *remainder, digit
+ * by digit: each round brings the next two bits of m down and decides one
+ * bit of the root, the trial value b = (4 r + 1) 4^(15 - i) (r the i bits
+ * so far) subtracted from what is left of m when it fits (Warren, Hacker's
+ * Delight, 11-1). No product: 16 rounds of adds and shifts. */
+#if !defined(__AVR__)
+static uint16_t sqrt16_digits(uint32_t m, uint32_t *remainder)
+{
+    uint32_t rest = m;
+    uint32_t root = 0u; /* r 4^(16 - i): r's bits above the trial bit */
+    uint32_t bit = (uint32_t)1u << 30;
+    while (bit != 0u) {
+        const uint32_t trial = root | bit;
+        root >>= 1;
+        if (rest >= trial) {
+            rest -= trial;
+            root |= bit;
+        }
+        bit >>= 2;
+    }
+    *remainder = rest;
+    return (uint16_t)root;
+}
+#endif
+
 fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 {
     (void)ar;
@@ -514,12 +539,16 @@ fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
     /* x in Q32 (1 itself held as 2^32 - 1, whose root rounds to 2^16 all the
      * same), its 16-bit root rounded: floor s with remainder r = m - s^2 is
      * rounded up iff m > (s + 1/2)^2 = s^2 + s + 1/4, i.e. r > s */
+    _Static_assert(FC_UNIT_FRAC == 30, "the root in Q16 times 2^14 is UNIT");
     const uint32_t m = x_unit >= FC_INT(1, UNIT) ? UINT32_MAX : (uint32_t)x_unit << (32 - FC_UNIT_FRAC);
+#if defined(__AVR__)
+    return (fc_real)fc_avr_sqrt_rounded_q14(m); /* the same digits in assembly (fc/scalar_avr.h) */
+#else
     uint32_t remainder;
-    const uint32_t root_q16 = isqrt_u32(m, &remainder);
+    const uint32_t root_q16 = sqrt16_digits(m, &remainder);
     const uint32_t rounded_q16 = remainder > root_q16 ? root_q16 + 1u : root_q16;
-    /* Q16 to UNIT: at most 2^16 << 14 = 2^30 (1 exactly); by bytes on the ATmega */
-    return (fc_real)fc_fx_extract(0u, rounded_q16, 32 - (FC_UNIT_FRAC - 16));
+    return (fc_real)(rounded_q16 << (FC_UNIT_FRAC - 16)); /* at most 2^16 2^14 = 2^30 (1 exactly) */
+#endif
 }
 
 /* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits

@@ -934,11 +934,11 @@ static void test_sqrt_hypot3_exact(void **state)
 #endif
 }
 
-/* fixed: fc_sqrt_unit16 (the 16-bit root of x in Q32 from a table's chord
- * and exact steps, scalar.c's isqrt_u32) is the root of x 4 rounded to Q16,
- * for x of every bit length (the radicands below 2^30 that isqrt_u32
- * normalises by pairs of bits) and a sweep of [0, 1]; an exhaustive host run
- * of isqrt_u32 over all 2^32 radicands found no error. */
+/* fixed: fc_sqrt_unit16 (the 16-bit root of x in Q32 digit by digit,
+ * scalar.c's sqrt16_digits; on the ATmega the same rounds in assembly) is
+ * the root of x 4 rounded to Q16, for x of every bit length and a sweep of
+ * [0, 1]; a host model of the assembly's rounds over all 2^32 radicands
+ * found no error. */
 #if FC_NUMERIC_FIXED
 static void assert_sqrt_unit16_exact(fc_arith *ar, uint32_t x)
 {

@@ -225,43 +225,46 @@ typedef struct fc_allocation_output {
     uint8_t saturation;                    /* FC_SAT_* bits: axes not delivered */
 } fc_allocation_output;
 
-/* What init derives per rotor. */
+/* What init derives per rotor; what the step reads first (the ATmega
+ * reaches a field up to 63 bytes from a pointer without an addition). */
 typedef struct fc_allocation_rotor {
+    fc_real16 pinv[4];        /* PINV16: row i of P = pinv(B) */
+    fc_real v_min;            /* PX: u_min,i^r_i */
+    fc_real speed_min;        /* UNIT: u_min,i */
+    uint8_t flags;            /* ROTOR_* (allocation.c) */
+    uint8_t shift_gain_frac;  /* 16, 14, 12 or 10: the finest Q-format that holds |q_i| */
+    fc_real16 shift_gain;     /* Q(shift_gain_frac): q_i = 1 / P_i0 (collective per unit v_i) */
+    fc_real shift_low;        /* RATIO: lower bound of t from this rotor (at a = 0) */
+    fc_real shift_high;       /* RATIO: upper bound of t from this rotor (at a = 0) */
+    fc_real inv_thrust_exponent; /* RATIO: 1/r_i */
+    fc_real exponent_ratio;   /* RATIO: s_i / r_i */
+    fc_vec3 torque_norm;      /* MAT: N Q_max,i d_i, the reaction torque's column of B */
     fc_vec3 axis_unit;        /* UNIT: d_i */
     fc_vec3 lever_m;          /* LEVER: l_i x d_i */
     fc_real thrust_max_n;     /* FORCE: T_max,i */
     fc_real torque_max_nm;    /* MOMENT: Q_max,i */
     fc_real thrust_exponent;  /* RATIO: r_i */
     fc_real torque_exponent;  /* RATIO: s_i */
-    fc_real inv_thrust_exponent; /* RATIO: 1/r_i */
-    fc_real exponent_ratio;   /* RATIO: s_i / r_i */
-    fc_real speed_min;        /* UNIT: u_min,i */
-    fc_real v_min;            /* PX: u_min,i^r_i */
-    fc_vec3 torque_norm;      /* MAT: N Q_max,i d_i, the reaction torque's column of B */
-    fc_real shift_low;        /* RATIO: lower bound of t from this rotor (at a = 0) */
-    fc_real shift_high;       /* RATIO: upper bound of t from this rotor (at a = 0) */
-    fc_real16 pinv[4];        /* PINV16: row i of P = pinv(B) */
-    fc_real16 shift_gain;     /* Q(shift_gain_frac): q_i = 1 / P_i0 (collective per unit v_i) */
-    uint8_t shift_gain_frac;  /* 16, 14, 12 or 10: the finest Q-format that holds |q_i| */
-    uint8_t flags;            /* ROTOR_* (allocation.c) */
 } fc_allocation_rotor;
 
 typedef struct fc_allocation {
-    fc_allocation_rotor rotor[FC_MAX_ROTORS];
-    fc_real thrust_max_n;        /* FORCE: F_max, the thrust a normalised 1 stands for */
-    fc_vec3 moment_authority_nm; /* MOMENT: the moment a normalised 1 stands for, per axis */
-    fc_real inv_thrust_max;      /* PER_FORCE: 1 / F_max (fc_allocation_thrust_fraction) */
-    fc_real row_scale[4];        /* GAIN: 2^e_k, the diagonal of D */
-    fc_real row_norm[4];         /* RATIO: 1 / the absolute sum of row k of D A */
-    fc_real16 demand_limit[4];   /* NORM16: sum_i |B_ki|, the most any axis can get (at most 2 - 2^-14) */
-    fc_vec3 delta_warm;          /* RATIO: N delta(v) of the last solution (r != s) */
-    fc_allocation_demand last_good; /* held on bad input */
+    /* what the step reads first, before the rotors (the ATmega reaches a
+     * field up to 63 bytes from a pointer without an addition) */
     uint8_t rotor_count;
     uint8_t newton_iterations;
     uint8_t nonlinear;           /* 1 when some rotor has r_i != s_i */
     uint8_t ready;               /* 1 after a successful init */
     uint8_t wrench_output;       /* 1: the step runs the forward model (fc_allocation_set_wrench_output) */
     fc_arith ar;
+    fc_real16 demand_limit[4];   /* NORM16: sum_i |B_ki|, the most any axis can get (at most 2 - 2^-14) */
+    fc_allocation_demand last_good; /* held on bad input */
+    fc_vec3 delta_warm;          /* RATIO: N delta(v) of the last solution (r != s) */
+    fc_real thrust_max_n;        /* FORCE: F_max, the thrust a normalised 1 stands for */
+    fc_vec3 moment_authority_nm; /* MOMENT: the moment a normalised 1 stands for, per axis */
+    fc_allocation_rotor rotor[FC_MAX_ROTORS];
+    fc_real inv_thrust_max;      /* PER_FORCE: 1 / F_max (fc_allocation_thrust_fraction) */
+    fc_real row_scale[4];        /* GAIN: 2^e_k, the diagonal of D */
+    fc_real row_norm[4];         /* RATIO: 1 / the absolute sum of row k of D A */
 } fc_allocation;
 
 /* Validates p (see the header comment and fc_rotor_params for the ranges),

@@ -181,6 +181,102 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
     *low = l;
 }
 
+/*
+ * round(sqrt(m)) 2^14 for a 32-bit m (fc_sqrt_unit16: m is x in Q32, the
+ * result the root in UNIT's Q30), digit by digit, with no product: the
+ * method of scalar.c's sqrt16_digits on the remainder shifted left by one
+ * bit a round instead of the trial value shifted right, so that the trial
+ * value b = (4 r + 1) 2^(30 - i) of round i (r the i root bits so far) has
+ * no bit below 2^15 and, up to round 14, none below 2^16: it is compared
+ * with and subtracted from the remainder's high half only. T holds b / 2^16;
+ * a round that sets the root bit 2^(15 - i) of T and moves the trial bit
+ * from 2^(14 - i) to 2^(13 - i) adds 3 2^(13 - i), one that leaves it
+ * subtracts 2^(13 - i) (round 14: +1 and -1, the trial bit 2^-1 dropped), so
+ * the rounds are written out with their constants. The remainder shifted
+ * left by i bits can reach 2^33: its bit 32 is the carry of the shift,
+ * which alone makes the bit 1 (the difference is then below 2^32 again).
+ * Its low byte moves up only after 8 rounds: rounds 0 to 7 shift the three
+ * bytes above it, then one move. Round 15, the last, compares three bytes
+ * (b / 2^8); after it T is the root and the remainder (m - root^2) 2^15,
+ * rounded up iff it is above root 2^15; the rounded root (up to 2^16) times
+ * 2^14 by byte moves and two shifts. 10 to 13 cycles a round.
+ */
+#define FC_AVR_SQRT_ROUND(UP, DOWN)                                                            \
+    "brcs 1f\n\t"                                                                              \
+    "cp %C[x], %A[t]\n\t"                                                                      \
+    "cpc %D[x], %B[t]\n\t"                                                                     \
+    "brcs 2f\n"                                                                                \
+    "1:\n\t"                                                                                   \
+    "sub %C[x], %A[t]\n\t"                                                                     \
+    "sbc %D[x], %B[t]\n\t"                                                                     \
+    "subi %A[t], lo8(-(" UP "))\n\t"                                                           \
+    "sbci %B[t], hi8(-(" UP "))\n\t"                                                           \
+    "rjmp 3f\n"                                                                                \
+    "2:\n\t"                                                                                   \
+    "subi %A[t], lo8(" DOWN ")\n\t"                                                            \
+    "sbci %B[t], hi8(" DOWN ")\n"                                                              \
+    "3:\n\t"                                                                                   \
+    "lsl %B[x]\n\t"                                                                            \
+    "rol %C[x]\n\t"                                                                            \
+    "rol %D[x]\n\t"
+
+static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(uint32_t m)
+{
+    uint32_t x = m;
+    uint16_t t;
+    uint8_t k;
+    __asm__("ldi %B[t], 0x40\n\t"
+            "ldi %A[t], 0\n\t"
+            "clc\n\t"
+            /* rounds 0..14: the carry is bit 32 of the shifted remainder */
+            FC_AVR_SQRT_ROUND("24576", "8192") FC_AVR_SQRT_ROUND("12288", "4096")
+            FC_AVR_SQRT_ROUND("6144", "2048") FC_AVR_SQRT_ROUND("3072", "1024")
+            FC_AVR_SQRT_ROUND("1536", "512") FC_AVR_SQRT_ROUND("768", "256")
+            FC_AVR_SQRT_ROUND("384", "128") FC_AVR_SQRT_ROUND("192", "64")
+            "mov %B[x], %A[x]\n\t" /* the low byte's turn (MOV keeps the carry) */
+            FC_AVR_SQRT_ROUND("96", "32") FC_AVR_SQRT_ROUND("48", "16")
+            FC_AVR_SQRT_ROUND("24", "8") FC_AVR_SQRT_ROUND("12", "4")
+            FC_AVR_SQRT_ROUND("6", "2") FC_AVR_SQRT_ROUND("3", "1")
+            FC_AVR_SQRT_ROUND("1", "1") /* round 14: the trial bit 2^-1 dropped */
+            /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
+            "ldi %[k], 0x80\n\t"
+            "brcs 4f\n\t"
+            "cp %B[x], %[k]\n\t"
+            "cpc %C[x], %A[t]\n\t"
+            "cpc %D[x], %B[t]\n\t"
+            "brcs 5f\n"
+            "4:\n\t"
+            "sub %B[x], %[k]\n\t"
+            "sbc %C[x], %A[t]\n\t"
+            "sbc %D[x], %B[t]\n\t"
+            "ori %A[t], 1\n"
+            "5:\n\t"
+            /* the carry: (m - root^2) = remainder / 2^15 above the root */
+            "lsl %B[x]\n\t"
+            "rol %C[x]\n\t"
+            "rol %D[x]\n\t"
+            "brcs 6f\n\t"
+            "cp %A[t], %C[x]\n\t"
+            "cpc %B[t], %D[x]\n"
+            "6:\n\t"
+            /* (root + carry) 2^14: 2^16 by moves (MOV and EOR keep the
+             * carry), the 17th bit from ADC's carry, two bits back */
+            "mov %C[x], %A[t]\n\t"
+            "mov %D[x], %B[t]\n\t"
+            "clr %A[x]\n\t"
+            "clr %B[x]\n\t"
+            "adc %C[x], __zero_reg__\n\t"
+            "adc %D[x], __zero_reg__\n\t"
+            "ror %D[x]\n\t"
+            "ror %C[x]\n\t"
+            "ror %B[x]\n\t"
+            "lsr %D[x]\n\t"
+            "ror %C[x]\n\t"
+            "ror %B[x]"
+            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k));
+    return x;
+}
+
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
  * C shifts by whole bytes, which avr-gcc does by moves. */
 static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, uint32_t high, int i)

@@ -14,7 +14,7 @@
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
- * (a table's chord made exact by steps) against the digit-by-digit square
+ * (digit by digit in assembly) against the digit-by-digit square
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
  * 16) against the rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared, fc_mul16 (MULS/MULSU
