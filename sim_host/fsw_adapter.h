@@ -29,8 +29,8 @@ enum { FSW_LANDING_DESCEND = 3, FSW_LANDING_LANDED = 6, FSW_LANDING_ABORT = 7, F
 /* fc_altitude_variant has FSW_VARIANT_COUNT values, named in sim_variants.c. */
 #define FSW_VARIANT_COUNT 12
 /* allocation_saturation's collective thrust bits (fc/status.h) */
-#define FSW_SAT_THRUST_HIGH (1u << 6)
-#define FSW_SAT_THRUST_LOW (1u << 7)
+#define FSW_SAT_THRUST_HIGH 0x40u
+#define FSW_SAT_THRUST_LOW 0x80u
 
 /* What the simulator chooses; a NaN override (or -1 for the ints) keeps the
  * firmware default of fc_controller_default_params. */

@@ -285,6 +285,8 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
         s = scaled16(ar, e.z, inv_n);
     } else if (n_sq >= MIN_HEADING_NORM_SQ) {
         fc_unit2_16(ar, e.w, e.z, n_sq, &c, &s);
+    } else {
+        /* near upside down the heading is undefined: no heading part (header) */
     }
     /* tilt: the vector part (x, y) turned by -psi_e/2, i.e. the vector part of
      * the reduced-attitude quaternion; products of UNIT16 values are ANGLEs */

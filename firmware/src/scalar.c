@@ -1096,7 +1096,7 @@ static fc_gain gain_of_wide(int64_t value, int frac)
         drop++;
     }
     int64_t mantissa = drop <= 0 ? value * ((int64_t)1 << -drop) : (value + ((int64_t)1 << (drop - 1))) >> drop;
-    if (mantissa > INT16_MAX || mantissa < -INT16_MAX) {
+    if (drop > 0 && (mantissa > INT16_MAX || mantissa < -INT16_MAX)) { /* only a rounding reaches 2^15 */
         drop++;
         mantissa = (value + ((int64_t)1 << (drop - 1))) >> drop; /* drop >= 1 here */
     }
