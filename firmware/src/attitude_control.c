@@ -43,13 +43,6 @@ _Static_assert(FC_NGAIN16_FRAC + FC_RATE16_FRAC == FC_NSUM_FRAC, "kd r is not th
 /* the narrowings of the step that drop 16 bits take the high half */
 _Static_assert(FC_ANGLE_FRAC - FC_ANGLE16_FRAC == 16, "ANGLE -> ANGLE16 is not a high half");
 
-#if FC_NUMERIC_FIXED
-/* |q|^2 of a UNIT16 quaternion within 2^-13 + 2^-24 of 1 is unit at 16 bits
- * (fc_quat16_normalize's test, quat.c) */
-#define UNIT16_LENGTH_SQ_TOLERANCE \
-    (((fc_real)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((fc_real)1 << (FC_UNIT16_SQ_FRAC - 24)))
-#endif
-
 /* a product of two UNIT16 values is an ANGLE as it stands (attitude_error) */
 _Static_assert(FC_UNIT16_SQ_FRAC == FC_ANGLE_FRAC, "UNIT16 x UNIT16 is not ANGLE");
 /* A held moment below this (half a NORM16 LSB) is zero (fixed rounding would
@@ -229,7 +222,7 @@ STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
     const fc_real yz = fc_dot2_16(r.y, r.y, r.z, r.z);
     const fc_real two = FC_INT(2, UNIT16_SQ);
     if (probe.saturated == 0u && wx <= two && yz <= two &&
-        fc_within(wx + yz - FC_INT(1, UNIT16_SQ), UNIT16_LENGTH_SQ_TOLERANCE)) {
+        fc_within(wx + yz - FC_INT(1, UNIT16_SQ), FC_QUAT16_UNIT_SQ_TOLERANCE)) {
         *ok = true;
         return r;
     }

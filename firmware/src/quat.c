@@ -98,14 +98,11 @@ static fc_quat16 quat16_round(fc_arith *ar, fc_quat q)
 }
 
 
-/* |q|^2 of a UNIT16 quaternion this close to 1 is unit length at 16 bits: a
- * unit quaternion rounded to UNIT16 lands within sum_i 2 |q_i| 2^-15 +
- * 4 2^-30 <= 2^-13 + 2^-28 of it (sum_i |q_i| <= 2), a 32-bit one that is
- * unit to a few Q30 LSB within 2^-24 more. Such a q is within 2^-14 of unit
- * length: 1 UNIT16 LSB at most on a component. */
-#define UNIT16_LENGTH_SQ_TOLERANCE                                                                    \
-    (((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 13)) + ((uint32_t)1u << (FC_UNIT16_SQ_FRAC - 24))) /* 2^-13 + 2^-24 */
-
+/* FC_QUAT16_UNIT_SQ_TOLERANCE (fc/quat.h): a unit quaternion rounded to
+ * UNIT16 lands within sum_i 2 |q_i| 2^-15 + 4 2^-30 <= 2^-13 + 2^-28 of
+ * |q|^2 = 1 (sum_i |q_i| <= 2), a 32-bit one that is unit to a few Q30 LSB
+ * within 2^-24 more. Such a q is within 2^-14 of unit length: 1 UNIT16 LSB at
+ * most on a component. */
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
     /* unit already at 16 bits (the usual case: a quaternion normalised
@@ -119,7 +116,7 @@ fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
                              (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
     const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
-    if (off <= UNIT16_LENGTH_SQ_TOLERANCE) {
+    if (off <= (uint32_t)FC_QUAT16_UNIT_SQ_TOLERANCE) {
         *ok = true;
         return r;
     }

@@ -72,6 +72,11 @@ typedef fc_quat fc_quat16; /* the same floats: no copies between the two */
  * Float: fc_quat_normalize itself (inlined). */
 #if FC_NUMERIC_FIXED
 fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok);
+
+/* UNIT16_SQ: |q|^2 of a UNIT16 quaternion this close to 1 is unit length at
+ * 16 bits, 2^-13 + 2^-24 (fc_quat16_normalize's test; quat.c derives it). */
+#define FC_QUAT16_UNIT_SQ_TOLERANCE                                                                   \
+    (((int32_t)1 << (FC_UNIT16_SQ_FRAC - 13)) + ((int32_t)1 << (FC_UNIT16_SQ_FRAC - 24)))
 #else
 static inline fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
 {
