@@ -199,7 +199,7 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
  * bytes above it, then one move. Round 15, the last, compares three bytes
  * (b / 2^8); after it T is the root and the remainder (m - root^2) 2^15,
  * rounded up iff it is above root 2^15; the rounded root (up to 2^16) times
- * 2^14 by byte moves and two shifts. 10 to 13 cycles a round.
+ * 2^14 by byte moves and two shifts.
  */
 #define FC_AVR_SQRT_ROUND(UP, DOWN)                                                            \
     "brcs 1f\n\t"                                                                              \
