@@ -9,6 +9,10 @@ source lines by addr2line.
         Cortex-M4F: the QEMU plugin's PCPROF lines ("PCPROF address insns
         est_cycles", summed over the timed calls; divided by --calls)
 
+--chain DEPTH adds the cycles by inlined call chain (fc_controller_step >
+fly_rotors > allocate > ...): where a whole library is inlined into one
+function (the Cortex-M4F's one translation unit) this is the by-module view.
+
 bench.elf must carry debug lines (-g; -g does not change the code gcc emits,
 so its cycles are the bench image's). tools/avr-line-profile.sh builds one for
 the ATmega and runs it. Prints the cycles per call of the profiled function charged to
@@ -34,6 +38,9 @@ def main():
     ap.add_argument("--top", type=int, default=40)
     ap.add_argument("--addr2line", default="avr-addr2line")
     ap.add_argument("--nm", default="avr-nm")
+    ap.add_argument("--chain", type=int, default=0, metavar="DEPTH",
+                    help="also the cycles by the chain of inlined calls, outermost first, to DEPTH calls "
+                         "(a library inlined into one function, as the Cortex-M4F's, by module)")
     args = ap.parse_args()
 
     rows = []
@@ -86,6 +93,34 @@ def main():
     print("\nby function (after inlining), top %d:" % args.top)
     for key, cycles in per_func.most_common(args.top):
         print("  %8.0f %5.1f %%  %s" % (cycles, 100.0 * cycles / total, key))
+    if args.chain > 0:
+        per_chain = collections.Counter()
+        for (_, cycles), chain in zip(rows, inline_chains(args, [a for a, _ in rows])):
+            per_chain[" > ".join(chain[:args.chain + 1])] += cycles
+        print("\nby inlined call chain (outermost first, %d deep), top %d:" % (args.chain, args.top))
+        for key, cycles in per_chain.most_common(args.top):
+            print("  %8.0f %5.1f %%  %s" % (cycles, 100.0 * cycles / total, key))
+
+
+def inline_chains(args, addresses):
+    """For each address the functions it lies in, outermost first: the
+    function that holds the code, then each call inlined into it down to the
+    function the instruction came from (addr2line -i, which lists them
+    innermost first, each address's list opened by the address itself)."""
+    out = subprocess.run([args.addr2line, "-a", "-i", "-f", "-e", args.elf] + addresses,
+                         check=True, capture_output=True, text=True).stdout.splitlines()
+    chains = []
+    i = 0
+    while i < len(out):
+        i += 1  # the address
+        names = []
+        while i < len(out) and not out[i].startswith("0x"):
+            names.append(out[i])
+            i += 2  # the function's name, then its line
+        chains.append(list(reversed(names)))
+    if len(chains) != len(addresses):
+        sys.exit("addr2line -i gave %d chains for %d addresses" % (len(chains), len(addresses)))
+    return chains
 
 
 if __name__ == "__main__":
