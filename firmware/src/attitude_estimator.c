@@ -14,9 +14,11 @@
  * in 16-bit values and 16 x 16-bit products (fc/scalar.h); the rate, the
  * bias and the attitude it corrects keep 32 bits:
  *   a          ACCEL    |a_i| <= accel_range <= 256, |a| <= 444 < 512
- *   v_a, v_hat UNIT16   unit vectors: a / |a| (fc_vec3_direction16, which
- *                       also gives |a| for the trust) and the third row of
- *                       R(q) from q rounded to UNIT16
+ *   a (16 bit) Q(f)     f in [7, 14], the finest that holds g + band (the
+ *                       largest |a| with trust), for the direction
+ *   v_a, v_hat UNIT16   unit vectors: a / |a| (accel_direction, which also
+ *                       gives |a| for the trust) and the third row of R(q)
+ *                       from q rounded to UNIT16
  *   e, w e     UNIT16   |e| = sin(tilt error) <= 1, each rounded once
  *   weight     RATIO    in [0, 1], UNIT16 where it scales e
  *   Kp         RATE16   <= 20 rad/s; Kp w e exact in RATE (Q14 + Q10 = Q24)
@@ -61,6 +63,25 @@ static void set_ki_dt16(fc_attitude_estimator *est, fc_real ki_dt)
             return; /* Ki dt <= 1 fits Q14 at the latest */
         }
     }
+}
+
+/* The accelerometer's 16-bit format for its direction (accel_direction):
+ * the finest Q(f), f in [7, 14], whose range holds g + band < 2g <= 200, the
+ * largest length with trust, so that a component beyond it has none. Its
+ * limit 2^(15-f) - 2^-f keeps the rounded components inside 16 bits; each
+ * halving is exact in both backends. */
+static void set_accel16_format(fc_attitude_estimator *est, fc_real trusted_max_mps2)
+{
+    fc_arith never = {0u};
+    const int halve = FC_SHIFT(ACCEL, UNIT, ACCEL);
+    fc_real limit = FC_C(256.0f - 1.0f / 128.0f, ACCEL); /* Q7 */
+    uint8_t frac = 7u;
+    while (frac < 14u && trusted_max_mps2 <= fc_mul(&never, limit, FC_C(0.5f, UNIT), halve)) {
+        limit = fc_mul(&never, limit, FC_C(0.5f, UNIT), halve);
+        frac++;
+    }
+    est->accel16_frac = frac;
+    est->accel16_limit_mps2 = limit;
 }
 
 void fc_attitude_estimator_coast(fc_attitude_estimator *est, bool coast)
@@ -134,6 +155,7 @@ static void reset_state(fc_attitude_estimator *est)
     est->ar.saturated = 0u;
     est->attitude = fc_quat_identity();
     est->gyro_bias_fine = fc_vec3_zero();
+    est->gyro_bias_radps = fc_vec3_zero();
     est->rate_radps = fc_vec3_zero();
     est->last_gyro_radps = fc_vec3_zero();
     est->gyro_slack_radps = FC_INT(0, RATE);
@@ -163,6 +185,8 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->ki_dt16 = 0;
     est->ki_dt16_frac = FC_UNIT16_FRAC;
     est->inv_band_s2pm = FC_INT(0, RATIO);
+    est->accel16_frac = 7u;
+    est->accel16_limit_mps2 = FC_INT(0, ACCEL);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
     est->half_dt_s = FC_INT(0, DT);
@@ -209,6 +233,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->kp16_radps = fc_narrow16(&ar, kp, FC_RATE_FRAC, FC_RATE16_FRAC); /* Kp <= 20 < 32 */
     set_ki_dt16(est, ki_dt);
     est->inv_band_s2pm = inv_band;
+    set_accel16_format(est, fc_add(&ar, p->gravity_mps2, p->accel_trust_band_mps2));
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
     est->half_dt_s = fc_mul(&ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
@@ -261,22 +286,109 @@ static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
     return ok;
 }
 
-/* A valid accelerometer sample: inside its range, and a direction (its
- * length above zero). Its direction (UNIT16) and length (ACCEL) when asked
- * (the full step); without them (the rate step) a direction is a vector
- * that is not zero, which is the same test without the root (but in float
- * for a vector whose squares underflow, |a| < 1e-19 m/s^2). */
-static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_vec3_16 *direction, fc_real *norm_mps2)
+/* A valid accelerometer sample: inside its range, and a direction (not the
+ * zero vector; a vector of a few LSB has a direction, but no trust). */
+static bool accel_valid(const fc_attitude_estimator *est, const fc_vec3 *accel)
 {
-    if (!fc_vec3_within(accel, est->p.accel_range_mps2)) {
+    return fc_vec3_within(*accel, est->p.accel_range_mps2) &&
+           (accel->x != FC_INT(0, ACCEL) || accel->y != FC_INT(0, ACCEL) || accel->z != FC_INT(0, ACCEL));
+}
+
+#if FC_NUMERIC_FIXED
+/* 1/sqrt(m) for m in [1/4, 1), given in Q30 ([2^28, 2^30)), as Q15
+ * unsigned (in (1, 2]; 2 itself held at 2 - 2^-15): the chord of 1/sqrt
+ * over m's segment of 1/32 (within 1.3e-3), then one Newton step
+ * y + y (1 - m y^2) / 2 in 16 x 16-bit products (within 3e-6 and the
+ * roundings of its 16-bit operands), as fc_direction16 forms its own. */
+static uint16_t rsqrt_q15(uint32_t m_q30)
+{
+    /* round(2^14 / sqrt(1/4 + k/32)), k = 0..24 */
+    static const uint16_t knot_q14[25] = {32768, 30894, 29309, 27945, 26755, 25705, 24770, 23930, 23170,
+                                          22479, 21845, 21263, 20724, 20225, 19760, 19326, 18919, 18536,
+                                          18176, 17837, 17515, 17211, 16921, 16646, 16384};
+    const uint32_t segment = fc_fx_extract(m_q30, 0u, 25) - 8u; /* 0..23 */
+    const uint16_t knot_start = knot_q14[segment];
+    const int16_t knot_drop = (int16_t)(knot_start - knot_q14[segment + 1u]); /* below 2^11 */
+    const uint16_t position_q16 = (uint16_t)fc_fx_extract(m_q30, 0u, 25 - 16);
+    /* knot (Q14 as Q30) less the drop times the position (Q14 x Q16), to Q15 */
+    const uint32_t chord_q30 = ((uint32_t)knot_start << 16) - (uint32_t)fc_mul16_unsigned(position_q16, knot_drop);
+    const uint32_t y0_wide = fc_fx_extract(chord_q30, 0u, 15);
+    const uint16_t y0 = y0_wide > UINT16_MAX ? UINT16_MAX : (uint16_t)y0_wide;
+    /* m to Q16 (rounded; 1 - 2^-17 and above held below 2^16) and m y0 to Q15 */
+    const uint32_t m_rounded = fc_fx_extract(m_q30 + ((uint32_t)1u << 13), 0u, 14);
+    const uint16_t m_q16 = m_rounded > UINT16_MAX ? UINT16_MAX : (uint16_t)m_rounded;
+    const uint16_t t_q15 = (uint16_t)(((uint32_t)m_q16 * y0 + 0x8000u) >> 16); /* m y0 < 1.002 */
+    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - (uint32_t)t_q15 * y0); /* 1 - m y0^2 */
+    /* |d| < 2^-8.5: Q22 in 16 bits (a floor); y0 d / 2 from Q37 to Q15, rounded */
+    const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
+    const int32_t half_step_q38 = fc_mul16_unsigned(y0, d_q22) + ((int32_t)1 << 22);
+    const int32_t y = (int32_t)y0 + (int32_t)fc_fx_extract((uint32_t)half_step_q38,
+                                                            half_step_q38 < 0 ? UINT32_MAX : 0u, 23);
+    return y > UINT16_MAX ? UINT16_MAX : (uint16_t)y;
+}
+
+/* The accelerometer's direction (UNIT16) and length (ACCEL) where the trust
+ * can be above 0 (every component within accel16_limit), in 16 x 16-bit
+ * products: M_i = a_i 2^f rounded to 16 bits (f = accel16_frac), their
+ * squares summed exactly, S = m 4^-k 2^30 with m in [1/4, 1), y = 1/sqrt(m)
+ * (rsqrt_q15), and
+ *   d_i = M_i / |M| = M_i y 2^(k - 15)   rounded once to UNIT16
+ *   |a| = |M| 2^-f  = m y 2^(15 - k - f)  from m in Q16, rounded to ACCEL
+ * The rounding of M moves the direction and the length by at most
+ * (sqrt 3 / 2) / |M| of 1 and of itself: |M| > 2^13 at |a| = g (f below 14
+ * means g + band, below 2g, beyond 2^(14 - f)), as fc_direction16's 2^14
+ * within a factor 2. */
+static bool accel_direction(fc_attitude_estimator *est, const fc_vec3 *a, fc_vec3_16 *up, fc_real *norm_mps2)
+{
+    /* a_i 2^(f - 6) within 2^31 - 2^16 (|a_i| within the limit): its high
+     * half, rounded, is M_i = a_i 2^f (ACCEL's 22 bits less 16 less the shift) */
+    const int to_high = (int)est->accel16_frac - (FC_ACCEL_FRAC - 16);
+    const fc_real components[3] = {a->x, a->y, a->z};
+    int16_t m[3];
+    uint32_t s = 0u;
+    for (int i = 0; i < 3; i++) {
+        const uint32_t scaled = (uint32_t)components[i] << to_high;
+        m[i] = (int16_t)(uint16_t)((scaled + 0x8000u) >> 16);
+        s += (uint32_t)fc_mul16(m[i], m[i]); /* below 3 2^30 in all */
+    }
+    if (s == 0u) {
         return false;
     }
-    if (norm_mps2 == NULL || direction == NULL) {
-        return accel.x != FC_INT(0, ACCEL) || accel.y != FC_INT(0, ACCEL) || accel.z != FC_INT(0, ACCEL);
+    /* S = m_q30 4^-k, m_q30 in [2^28, 2^30) */
+    int k = 0;
+    uint32_t m_q30 = s;
+    if (m_q30 >= (uint32_t)1u << 30) {
+        m_q30 >>= 2;
+        k = -1;
     }
-    /* the one root of the step */
-    return fc_vec3_direction16(&est->ar, accel, direction, norm_mps2);
+    while (m_q30 < (uint32_t)1u << 28) {
+        m_q30 <<= 2;
+        k++;
+    }
+    const uint16_t y = rsqrt_q15(m_q30);
+    fc_real16 d[3];
+    for (int i = 0; i < 3; i++) {
+        /* M_i y 2^k below 2^30 + its share of y's error: no overflow */
+        int32_t scaled = fc_mul16_unsigned(y, m[i]);
+        scaled = k < 0 ? fc_fx_asr32(scaled, 1) : (int32_t)((uint32_t)scaled << k);
+        d[i] = fc_narrow16(&est->ar, scaled, 30, FC_UNIT16_FRAC);
+    }
+    up->x = d[0];
+    up->y = d[1];
+    up->z = d[2];
+    /* sqrt(m) = m y in Q31; |a| = sqrt(m) 2^(15 - k - f) in ACCEL: a shift by k + f - 6 >= 0 */
+    const uint32_t m_q16 = fc_fx_extract(m_q30 + ((uint32_t)1u << 13), 0u, 14);
+    const uint32_t root_q31 = m_q16 * y;
+    const int to_accel = k + (int)est->accel16_frac - (15 + FC_ACCEL_FRAC - 31);
+    *norm_mps2 = to_accel > 0 ? (fc_real)(((root_q31 >> (to_accel - 1)) + 1u) >> 1) : (fc_real)root_q31;
+    return true;
 }
+#else
+static bool accel_direction(fc_attitude_estimator *est, const fc_vec3 *a, fc_vec3_16 *up, fc_real *norm_mps2)
+{
+    return fc_vec3_direction16(&est->ar, *a, up, norm_mps2);
+}
+#endif
 
 /* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
 static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
@@ -367,18 +479,33 @@ void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_
     rate_radps->z = fc_add(ar, rate_radps->z, fc_mul16(we.z, kp));
     est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step(ar, est, we)),
                                              est->gyro_bias_limit_fine);
+    est->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
 }
 
-/* One corrected integration step, with the accelerometer's direction
- * (UNIT16) and length (ACCEL) when accel_ok; returns the weight used (RATIO). */
-static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3_16 up_measured,
-                                     fc_real norm_mps2)
+/* The trust of a valid accelerometer sample and, where it is above 0, its
+ * direction (UNIT16): none beyond the 16-bit format, whose range the trust
+ * band does not reach. */
+static fc_real accel_weight_and_direction(fc_attitude_estimator *est, const fc_vec3 *accel_mps2,
+                                          fc_vec3_16 *up_measured)
+{
+    fc_real norm_mps2 = FC_INT(0, ACCEL);
+    if (!fc_vec3_within(*accel_mps2, est->accel16_limit_mps2) ||
+        !accel_direction(est, accel_mps2, up_measured, &norm_mps2)) {
+        return FC_INT(0, RATIO);
+    }
+    return accel_trust(est, norm_mps2);
+}
+
+/* One corrected integration step, with the accelerometer's sample when
+ * accel_ok; returns the weight used (RATIO). */
+static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, const fc_vec3 *accel_mps2)
 {
     fc_arith *ar = &est->ar;
     fc_vec3 rate = est->rate_radps; /* gyro - b, RATE */
     fc_real weight = FC_INT(0, RATIO);
+    fc_vec3_16 up_measured = fc_vec3_16_zero();
     if (accel_ok) {
-        weight = accel_trust(est, norm_mps2);
+        weight = accel_weight_and_direction(est, accel_mps2, &up_measured);
     }
     if (weight > FC_INT(0, RATIO)) {
         const fc_vec3_16 up_estimated = estimated_up_body(ar, fc_quat16_round_unit(est->attitude));
@@ -397,11 +524,11 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
     return weight;
 }
 
-static void write_output(const fc_attitude_estimator *est, fc_arith *ar, fc_attitude_estimate *out)
+static void write_output(const fc_attitude_estimator *est, fc_attitude_estimate *out)
 {
     out->attitude = est->aligned ? est->attitude : fc_quat_identity();
     out->rate_radps = est->rate_radps;
-    out->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+    out->gyro_bias_radps = est->gyro_bias_radps;
     out->accel_weight = est->accel_weight;
     out->aligned = est->aligned;
 }
@@ -418,28 +545,22 @@ static void write_safe_output(fc_attitude_estimate *out)
 }
 
 /* The sample's checks, shared by both steps: a valid gyro sample, corrected
- * by the bias of the previous step, becomes the rate; a valid accelerometer
- * sample gives its length if asked (the full step; the rate step only
- * reports whether it is valid). */
+ * by the bias of the previous step, becomes the rate. */
 typedef struct sample_check {
     bool gyro_ok, accel_ok;
-    fc_vec3_16 up_measured; /* UNIT16: a / |a|, 0 unless accel_ok (full step) */
-    fc_real norm_mps2;      /* ACCEL: |a|, 0 unless accel_ok (full step) */
 } sample_check;
 
-static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu, bool with_length)
+static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu)
 {
-    sample_check c = {false, false, fc_vec3_16_zero(), FC_INT(0, ACCEL)};
+    sample_check c = {false, false};
     if (imu == NULL) {
         return c;
     }
     c.gyro_ok = gyro_valid(est, &imu->gyro_radps);
     if (c.gyro_ok) {
-        const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
-        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);
+        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, est->gyro_bias_radps);
     }
-    c.accel_ok = accel_valid(est, imu->accel_mps2, with_length ? &c.up_measured : NULL,
-                             with_length ? &c.norm_mps2 : NULL);
+    c.accel_ok = accel_valid(est, &imu->accel_mps2);
     return c;
 }
 
@@ -469,7 +590,7 @@ static fc_step_status step_ends(fc_attitude_estimator *est, sample_check sample,
                                 fc_step_status status)
 {
     if (out != NULL) {
-        write_output(est, &est->ar, out);
+        write_output(est, out);
         out->gyro_ok = sample.gyro_ok;
         out->accel_ok = sample.accel_ok;
     }
@@ -485,7 +606,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu, true);
+    const sample_check sample = check_sample(est, imu);
     fc_step_status status = sample_status(sample);
 
     fc_real weight = FC_INT(0, RATIO);
@@ -494,8 +615,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
             align(est, imu->accel_mps2);
         }
     } else if (sample.gyro_ok) {
-        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, sample.up_measured,
-                                       sample.norm_mps2);
+        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, &imu->accel_mps2);
         if (!(weight > FC_INT(0, RATIO))) {
             status |= FC_STEP_DEGRADED; /* gyro only */
         }
@@ -515,7 +635,7 @@ fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu, false);
+    const sample_check sample = check_sample(est, imu);
     est->accel_weight = FC_INT(0, RATIO);
     return step_ends(est, sample, out, sample_status(sample));
 }
