@@ -526,7 +526,7 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
 
 static void write_output(const fc_attitude_estimator *est, fc_attitude_estimate *out)
 {
-    out->attitude = est->aligned ? est->attitude : fc_quat_identity();
+    out->attitude = est->attitude; /* the identity until aligned (reset_state, align) */
     out->rate_radps = est->rate_radps;
     out->gyro_bias_radps = est->gyro_bias_radps;
     out->accel_weight = est->accel_weight;
