@@ -14,10 +14,8 @@
  * in 16-bit values and 16 x 16-bit products (fc/scalar.h); the rate, the
  * bias and the attitude it corrects keep 32 bits:
  *   a          ACCEL    |a_i| <= accel_range <= 256, |a| <= 444 < 512
- *   a (16 bit) Q(f)     f in [7, 14], the finest that holds g + band (the
- *                       largest |a| with trust), for the direction
- *   v_a, v_hat UNIT16   unit vectors: a / |a| (accel_direction, which also
- *                       gives |a| for the trust) and the third row of R(q)
+ *   v_a, v_hat UNIT16   unit vectors: a / |a| (fc_vec3_direction16, which
+ *                       also gives |a| for the trust) and the third row of R(q)
  *                       from q rounded to UNIT16
  *   e, w e     UNIT16   |e| = sin(tilt error) <= 1, each rounded once
  *   weight     RATIO    in [0, 1], UNIT16 where it scales e
@@ -63,25 +61,6 @@ static void set_ki_dt16(fc_attitude_estimator *est, fc_real ki_dt)
             return; /* Ki dt <= 1 fits Q14 at the latest */
         }
     }
-}
-
-/* The accelerometer's 16-bit format for its direction (accel_direction):
- * the finest Q(f), f in [7, 14], whose range holds g + band < 2g <= 200, the
- * largest length with trust, so that a component beyond it has none. Its
- * limit 2^(15-f) - 2^-f keeps the rounded components inside 16 bits; each
- * halving is exact in both backends. */
-static void set_accel16_format(fc_attitude_estimator *est, fc_real trusted_max_mps2)
-{
-    fc_arith never = {0u};
-    const int halve = FC_SHIFT(ACCEL, UNIT, ACCEL);
-    fc_real limit = FC_C(256.0f - 1.0f / 128.0f, ACCEL); /* Q7 */
-    uint8_t frac = 7u;
-    while (frac < 14u && trusted_max_mps2 <= fc_mul(&never, limit, FC_C(0.5f, UNIT), halve)) {
-        limit = fc_mul(&never, limit, FC_C(0.5f, UNIT), halve);
-        frac++;
-    }
-    est->accel16_frac = frac;
-    est->accel16_limit_mps2 = limit;
 }
 
 void fc_attitude_estimator_coast(fc_attitude_estimator *est, bool coast)
@@ -185,8 +164,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->ki_dt16 = 0;
     est->ki_dt16_frac = FC_UNIT16_FRAC;
     est->inv_band_s2pm = FC_INT(0, RATIO);
-    est->accel16_frac = 7u;
-    est->accel16_limit_mps2 = FC_INT(0, ACCEL);
+    est->accel_trusted_max_mps2 = FC_INT(0, ACCEL);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
     est->half_dt_s = FC_INT(0, DT);
@@ -233,7 +211,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->kp16_radps = fc_narrow16(&ar, kp, FC_RATE_FRAC, FC_RATE16_FRAC); /* Kp <= 20 < 32 */
     set_ki_dt16(est, ki_dt);
     est->inv_band_s2pm = inv_band;
-    set_accel16_format(est, fc_add(&ar, p->gravity_mps2, p->accel_trust_band_mps2));
+    est->accel_trusted_max_mps2 = fc_add(&ar, p->gravity_mps2, p->accel_trust_band_mps2);
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
     est->half_dt_s = fc_mul(&ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
@@ -294,101 +272,6 @@ static bool accel_valid(const fc_attitude_estimator *est, const fc_vec3 *accel)
            (accel->x != FC_INT(0, ACCEL) || accel->y != FC_INT(0, ACCEL) || accel->z != FC_INT(0, ACCEL));
 }
 
-#if FC_NUMERIC_FIXED
-/* 1/sqrt(m) for m in [1/4, 1), given in Q30 ([2^28, 2^30)), as Q15
- * unsigned (in (1, 2]; 2 itself held at 2 - 2^-15): the chord of 1/sqrt
- * over m's segment of 1/32 (within 1.3e-3), then one Newton step
- * y + y (1 - m y^2) / 2 in 16 x 16-bit products (within 3e-6 and the
- * roundings of its 16-bit operands), as fc_direction16 forms its own. */
-static uint16_t rsqrt_q15(uint32_t m_q30)
-{
-    /* round(2^14 / sqrt(1/4 + k/32)), k = 0..24 */
-    static const uint16_t knot_q14[25] = {32768, 30894, 29309, 27945, 26755, 25705, 24770, 23930, 23170,
-                                          22479, 21845, 21263, 20724, 20225, 19760, 19326, 18919, 18536,
-                                          18176, 17837, 17515, 17211, 16921, 16646, 16384};
-    const uint32_t segment = fc_fx_extract(m_q30, 0u, 25) - 8u; /* 0..23 */
-    const uint16_t knot_start = knot_q14[segment];
-    const int16_t knot_drop = (int16_t)(knot_start - knot_q14[segment + 1u]); /* below 2^11 */
-    const uint16_t position_q16 = (uint16_t)fc_fx_extract(m_q30, 0u, 25 - 16);
-    /* knot (Q14 as Q30) less the drop times the position (Q14 x Q16), to Q15 */
-    const uint32_t chord_q30 = ((uint32_t)knot_start << 16) - (uint32_t)fc_mul16_unsigned(position_q16, knot_drop);
-    const uint32_t y0_wide = fc_fx_extract(chord_q30, 0u, 15);
-    const uint16_t y0 = y0_wide > UINT16_MAX ? UINT16_MAX : (uint16_t)y0_wide;
-    /* m to Q16 (rounded; 1 - 2^-17 and above held below 2^16) and m y0 to Q15 */
-    const uint32_t m_rounded = fc_fx_extract(m_q30 + ((uint32_t)1u << 13), 0u, 14);
-    const uint16_t m_q16 = m_rounded > UINT16_MAX ? UINT16_MAX : (uint16_t)m_rounded;
-    const uint16_t t_q15 = (uint16_t)(((uint32_t)m_q16 * y0 + 0x8000u) >> 16); /* m y0 < 1.002 */
-    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - (uint32_t)t_q15 * y0); /* 1 - m y0^2 */
-    /* |d| < 2^-8.5: Q22 in 16 bits (a floor); y0 d / 2 from Q37 to Q15, rounded */
-    const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
-    const int32_t half_step_q38 = fc_mul16_unsigned(y0, d_q22) + ((int32_t)1 << 22);
-    const int32_t y = (int32_t)y0 + (int32_t)fc_fx_extract((uint32_t)half_step_q38,
-                                                            half_step_q38 < 0 ? UINT32_MAX : 0u, 23);
-    return y > UINT16_MAX ? UINT16_MAX : (uint16_t)y;
-}
-
-/* The accelerometer's direction (UNIT16) and length (ACCEL) where the trust
- * can be above 0 (every component within accel16_limit), in 16 x 16-bit
- * products: M_i = a_i 2^f rounded to 16 bits (f = accel16_frac), their
- * squares summed exactly, S = m 4^-k 2^30 with m in [1/4, 1), y = 1/sqrt(m)
- * (rsqrt_q15), and
- *   d_i = M_i / |M| = M_i y 2^(k - 15)   rounded once to UNIT16
- *   |a| = |M| 2^-f  = m y 2^(15 - k - f)  from m in Q16, rounded to ACCEL
- * The rounding of M moves the direction and the length by at most
- * (sqrt 3 / 2) / |M| of 1 and of itself: |M| > 2^13 at |a| = g (f below 14
- * means g + band, below 2g, beyond 2^(14 - f)), as fc_direction16's 2^14
- * within a factor 2. */
-static bool accel_direction(fc_attitude_estimator *est, const fc_vec3 *a, fc_vec3_16 *up, fc_real *norm_mps2)
-{
-    /* a_i 2^(f - 6) within 2^31 - 2^16 (|a_i| within the limit): its high
-     * half, rounded, is M_i = a_i 2^f (ACCEL's 22 bits less 16 less the shift) */
-    const int to_high = (int)est->accel16_frac - (FC_ACCEL_FRAC - 16);
-    const fc_real components[3] = {a->x, a->y, a->z};
-    int16_t m[3];
-    uint32_t s = 0u;
-    for (int i = 0; i < 3; i++) {
-        const uint32_t scaled = (uint32_t)components[i] << to_high;
-        m[i] = (int16_t)(uint16_t)((scaled + 0x8000u) >> 16);
-        s += (uint32_t)fc_mul16(m[i], m[i]); /* below 3 2^30 in all */
-    }
-    if (s == 0u) {
-        return false;
-    }
-    /* S = m_q30 4^-k, m_q30 in [2^28, 2^30) */
-    int k = 0;
-    uint32_t m_q30 = s;
-    if (m_q30 >= (uint32_t)1u << 30) {
-        m_q30 >>= 2;
-        k = -1;
-    }
-    while (m_q30 < (uint32_t)1u << 28) {
-        m_q30 <<= 2;
-        k++;
-    }
-    const uint16_t y = rsqrt_q15(m_q30);
-    fc_real16 d[3];
-    for (int i = 0; i < 3; i++) {
-        /* M_i y 2^k below 2^30 + its share of y's error: no overflow */
-        int32_t scaled = fc_mul16_unsigned(y, m[i]);
-        scaled = k < 0 ? fc_fx_asr32(scaled, 1) : (int32_t)((uint32_t)scaled << k);
-        d[i] = fc_narrow16(&est->ar, scaled, 30, FC_UNIT16_FRAC);
-    }
-    up->x = d[0];
-    up->y = d[1];
-    up->z = d[2];
-    /* sqrt(m) = m y in Q31; |a| = sqrt(m) 2^(15 - k - f) in ACCEL: a shift by k + f - 6 >= 0 */
-    const uint32_t m_q16 = fc_fx_extract(m_q30 + ((uint32_t)1u << 13), 0u, 14);
-    const uint32_t root_q31 = m_q16 * y;
-    const int to_accel = k + (int)est->accel16_frac - (15 + FC_ACCEL_FRAC - 31);
-    *norm_mps2 = to_accel > 0 ? (fc_real)(((root_q31 >> (to_accel - 1)) + 1u) >> 1) : (fc_real)root_q31;
-    return true;
-}
-#else
-static bool accel_direction(fc_attitude_estimator *est, const fc_vec3 *a, fc_vec3_16 *up, fc_real *norm_mps2)
-{
-    return fc_vec3_direction16(&est->ar, *a, up, norm_mps2);
-}
-#endif
 
 /* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
 static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
@@ -483,14 +366,14 @@ void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_
 }
 
 /* The trust of a valid accelerometer sample and, where it is above 0, its
- * direction (UNIT16): none beyond the 16-bit format, whose range the trust
- * band does not reach. */
+ * direction (UNIT16): a component beyond g + band makes |a| leave the band
+ * (no trust), and then no direction is formed. */
 static fc_real accel_weight_and_direction(fc_attitude_estimator *est, const fc_vec3 *accel_mps2,
                                           fc_vec3_16 *up_measured)
 {
     fc_real norm_mps2 = FC_INT(0, ACCEL);
-    if (!fc_vec3_within(*accel_mps2, est->accel16_limit_mps2) ||
-        !accel_direction(est, accel_mps2, up_measured, &norm_mps2)) {
+    if (!fc_vec3_within(*accel_mps2, est->accel_trusted_max_mps2) ||
+        !fc_vec3_direction16(&est->ar, *accel_mps2, up_measured, &norm_mps2)) {
         return FC_INT(0, RATIO);
     }
     return accel_trust(est, norm_mps2);

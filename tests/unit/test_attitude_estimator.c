@@ -622,19 +622,16 @@ static void test_no_trust_outside_band(void **state)
 }
 
 /* The weight's tolerance where g and the band are not the defaults: in fixed
- * 16 LSB of RATIO plus what the length's error moves it, the roundings of
- * the accelerometer in its 16-bit format Q(f) ((sqrt 3 / 2) 2^-f) and of
- * the root (2^-14 of |a|); in float 8 ulps. */
+ * 16 LSB of RATIO plus what the length's error moves it (fc_direction16's
+ * 16-bit mantissas and root, within 2^-13 of |a|); in float 8 ulps. */
 #if FC_NUMERIC_FIXED
-#define WEIGHT_TOL_IN(norm_mps2, band_mps2, frac)                                                   \
-    (16.0 / (double)(1 << FC_RATIO_FRAC) +                                                        \
-     (0.87 * ldexp(1.0, -(int)(frac)) + (norm_mps2) * ldexp(1.0, -14)) / (band_mps2))
+#define WEIGHT_TOL_IN(norm_mps2, band_mps2)                                                         \
+    (16.0 / (double)(1 << FC_RATIO_FRAC) + 2.0 * (norm_mps2) * ldexp(1.0, -14) / (band_mps2))
 #else
-#define WEIGHT_TOL_IN(norm_mps2, band_mps2, frac) (8.0 * (double)FLT_EPSILON)
+#define WEIGHT_TOL_IN(norm_mps2, band_mps2) (8.0 * (double)FLT_EPSILON)
 #endif
 
-/* Over the range of g (in fixed each g below takes another 16-bit format of
- * the accelerometer): the weight 1 - ||a| - g| / band along the band, and a
+/* Over the range of g: the weight 1 - ||a| - g| / band along the band, and a
  * tilted sample corrects the roll by as much whatever g. */
 static void test_trust_over_gravity_range(void **state)
 {
@@ -659,7 +656,7 @@ static void test_trust_over_gravity_range(void **state)
             assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
             const double expected = 1.0 - 0.1 * fabs((double)t);
             assert_true(fabs(from_fc(out.accel_weight, FC_RATIO_FRAC) - expected) <
-                        WEIGHT_TOL_IN(norm, band, est.accel16_frac));
+                        WEIGHT_TOL_IN(norm, band));
         }
         assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
         align_at(&est, level);

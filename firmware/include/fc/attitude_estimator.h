@@ -125,10 +125,8 @@ typedef struct fc_attitude_estimator {
                                         * step (rad/s) per unit of |e| */
     uint8_t ki_dt16_frac;              /* 26, 22, 18 or 14: the finest that holds Ki dt */
     fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
-    uint8_t accel16_frac;              /* 7..14: the finest 16-bit format of the accelerometer
-                                        * that holds every |a_i| up to g + band */
-    fc_real accel16_limit_mps2;        /* ACCEL: 2^(15-f) less its LSB: a component beyond it
-                                        * leaves the format, and has no trust */
+    fc_real accel_trusted_max_mps2;    /* ACCEL: g + band; a sample with a component beyond
+                                        * it has no trust (no direction formed) */
     fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
     fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */
     fc_real half_dt_s;                 /* DT: dt / 2, the integration's factor */
