@@ -15,8 +15,8 @@
  * bias and the attitude it corrects keep 32 bits:
  *   a          ACCEL    |a_i| <= accel_range <= 256, |a| <= 444 < 512
  *   v_a, v_hat UNIT16   unit vectors: a / |a| (fc_vec3_direction16, which
- *                       also gives |a| for the trust) and the third row of
- *                       R(q) from q rounded to UNIT16
+ *                       also gives |a| for the trust) and the third row of R(q)
+ *                       from q rounded to UNIT16
  *   e, w e     UNIT16   |e| = sin(tilt error) <= 1, each rounded once
  *   weight     RATIO    in [0, 1], UNIT16 where it scales e
  *   Kp         RATE16   <= 20 rad/s; Kp w e exact in RATE (Q14 + Q10 = Q24)
@@ -134,6 +134,7 @@ static void reset_state(fc_attitude_estimator *est)
     est->ar.saturated = 0u;
     est->attitude = fc_quat_identity();
     est->gyro_bias_fine = fc_vec3_zero();
+    est->gyro_bias_radps = fc_vec3_zero();
     est->rate_radps = fc_vec3_zero();
     est->last_gyro_radps = fc_vec3_zero();
     est->gyro_slack_radps = FC_INT(0, RATE);
@@ -163,6 +164,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->ki_dt16 = 0;
     est->ki_dt16_frac = FC_UNIT16_FRAC;
     est->inv_band_s2pm = FC_INT(0, RATIO);
+    est->accel_trusted_max_mps2 = FC_INT(0, ACCEL);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
     est->half_dt_s = FC_INT(0, DT);
@@ -209,6 +211,7 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->kp16_radps = fc_narrow16(&ar, kp, FC_RATE_FRAC, FC_RATE16_FRAC); /* Kp <= 20 < 32 */
     set_ki_dt16(est, ki_dt);
     est->inv_band_s2pm = inv_band;
+    est->accel_trusted_max_mps2 = fc_add(&ar, p->gravity_mps2, p->accel_trust_band_mps2);
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
     est->half_dt_s = fc_mul(&ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
@@ -261,22 +264,14 @@ static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
     return ok;
 }
 
-/* A valid accelerometer sample: inside its range, and a direction (its
- * length above zero). Its direction (UNIT16) and length (ACCEL) when asked
- * (the full step); without them (the rate step) a direction is a vector
- * that is not zero, which is the same test without the root (but in float
- * for a vector whose squares underflow, |a| < 1e-19 m/s^2). */
-static bool accel_valid(fc_attitude_estimator *est, fc_vec3 accel, fc_vec3_16 *direction, fc_real *norm_mps2)
+/* A valid accelerometer sample: inside its range, and a direction (not the
+ * zero vector; a vector of a few LSB has a direction, but no trust). */
+static bool accel_valid(const fc_attitude_estimator *est, const fc_vec3 *accel)
 {
-    if (!fc_vec3_within(accel, est->p.accel_range_mps2)) {
-        return false;
-    }
-    if (norm_mps2 == NULL || direction == NULL) {
-        return accel.x != FC_INT(0, ACCEL) || accel.y != FC_INT(0, ACCEL) || accel.z != FC_INT(0, ACCEL);
-    }
-    /* the one root of the step */
-    return fc_vec3_direction16(&est->ar, accel, direction, norm_mps2);
+    return fc_vec3_within(*accel, est->p.accel_range_mps2) &&
+           (accel->x != FC_INT(0, ACCEL) || accel->y != FC_INT(0, ACCEL) || accel->z != FC_INT(0, ACCEL));
 }
+
 
 /* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
 static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
@@ -367,18 +362,33 @@ void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_
     rate_radps->z = fc_add(ar, rate_radps->z, fc_mul16(we.z, kp));
     est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step(ar, est, we)),
                                              est->gyro_bias_limit_fine);
+    est->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
 }
 
-/* One corrected integration step, with the accelerometer's direction
- * (UNIT16) and length (ACCEL) when accel_ok; returns the weight used (RATIO). */
-static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, fc_vec3_16 up_measured,
-                                     fc_real norm_mps2)
+/* The trust of a valid accelerometer sample and, where it is above 0, its
+ * direction (UNIT16): a component beyond g + band makes |a| leave the band
+ * (no trust), and then no direction is formed. */
+static fc_real accel_weight_and_direction(fc_attitude_estimator *est, const fc_vec3 *accel_mps2,
+                                          fc_vec3_16 *up_measured)
+{
+    fc_real norm_mps2 = FC_INT(0, ACCEL);
+    if (!fc_vec3_within(*accel_mps2, est->accel_trusted_max_mps2) ||
+        !fc_vec3_direction16(&est->ar, *accel_mps2, up_measured, &norm_mps2)) {
+        return FC_INT(0, RATIO);
+    }
+    return accel_trust(est, norm_mps2);
+}
+
+/* One corrected integration step, with the accelerometer's sample when
+ * accel_ok; returns the weight used (RATIO). */
+static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, const fc_vec3 *accel_mps2)
 {
     fc_arith *ar = &est->ar;
     fc_vec3 rate = est->rate_radps; /* gyro - b, RATE */
     fc_real weight = FC_INT(0, RATIO);
+    fc_vec3_16 up_measured = fc_vec3_16_zero();
     if (accel_ok) {
-        weight = accel_trust(est, norm_mps2);
+        weight = accel_weight_and_direction(est, accel_mps2, &up_measured);
     }
     if (weight > FC_INT(0, RATIO)) {
         const fc_vec3_16 up_estimated = estimated_up_body(ar, fc_quat16_round_unit(est->attitude));
@@ -397,11 +407,11 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
     return weight;
 }
 
-static void write_output(const fc_attitude_estimator *est, fc_arith *ar, fc_attitude_estimate *out)
+static void write_output(const fc_attitude_estimator *est, fc_attitude_estimate *out)
 {
-    out->attitude = est->aligned ? est->attitude : fc_quat_identity();
+    out->attitude = est->attitude; /* the identity until aligned (reset_state, align) */
     out->rate_radps = est->rate_radps;
-    out->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
+    out->gyro_bias_radps = est->gyro_bias_radps;
     out->accel_weight = est->accel_weight;
     out->aligned = est->aligned;
 }
@@ -418,28 +428,22 @@ static void write_safe_output(fc_attitude_estimate *out)
 }
 
 /* The sample's checks, shared by both steps: a valid gyro sample, corrected
- * by the bias of the previous step, becomes the rate; a valid accelerometer
- * sample gives its length if asked (the full step; the rate step only
- * reports whether it is valid). */
+ * by the bias of the previous step, becomes the rate. */
 typedef struct sample_check {
     bool gyro_ok, accel_ok;
-    fc_vec3_16 up_measured; /* UNIT16: a / |a|, 0 unless accel_ok (full step) */
-    fc_real norm_mps2;      /* ACCEL: |a|, 0 unless accel_ok (full step) */
 } sample_check;
 
-static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu, bool with_length)
+static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample *imu)
 {
-    sample_check c = {false, false, fc_vec3_16_zero(), FC_INT(0, ACCEL)};
+    sample_check c = {false, false};
     if (imu == NULL) {
         return c;
     }
     c.gyro_ok = gyro_valid(est, &imu->gyro_radps);
     if (c.gyro_ok) {
-        const fc_vec3 bias = fc_vec3_convert(&est->ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
-        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, bias);
+        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, est->gyro_bias_radps);
     }
-    c.accel_ok = accel_valid(est, imu->accel_mps2, with_length ? &c.up_measured : NULL,
-                             with_length ? &c.norm_mps2 : NULL);
+    c.accel_ok = accel_valid(est, &imu->accel_mps2);
     return c;
 }
 
@@ -469,7 +473,7 @@ static fc_step_status step_ends(fc_attitude_estimator *est, sample_check sample,
                                 fc_step_status status)
 {
     if (out != NULL) {
-        write_output(est, &est->ar, out);
+        write_output(est, out);
         out->gyro_ok = sample.gyro_ok;
         out->accel_ok = sample.accel_ok;
     }
@@ -485,7 +489,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu, true);
+    const sample_check sample = check_sample(est, imu);
     fc_step_status status = sample_status(sample);
 
     fc_real weight = FC_INT(0, RATIO);
@@ -494,8 +498,7 @@ fc_step_status fc_attitude_estimator_step(fc_attitude_estimator *est, const fc_i
             align(est, imu->accel_mps2);
         }
     } else if (sample.gyro_ok) {
-        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, sample.up_measured,
-                                       sample.norm_mps2);
+        weight = correct_and_integrate(est, sample.accel_ok && !est->coasting, &imu->accel_mps2);
         if (!(weight > FC_INT(0, RATIO))) {
             status |= FC_STEP_DEGRADED; /* gyro only */
         }
@@ -515,7 +518,7 @@ fc_step_status fc_attitude_estimator_rate_step(fc_attitude_estimator *est, const
     if (!step_begins(est, out)) {
         return FC_STEP_NOT_READY;
     }
-    const sample_check sample = check_sample(est, imu, false);
+    const sample_check sample = check_sample(est, imu);
     est->accel_weight = FC_INT(0, RATIO);
     return step_ends(est, sample, out, sample_status(sample));
 }

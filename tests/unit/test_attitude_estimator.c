@@ -26,9 +26,9 @@
  * ANGLE each step) over 500 steps, 1.9e-6 rad */
 #define INTEGRATION_TOL_RAD (500.0 / (double)(1 << FC_ANGLE_FRAC))
 /* the trust weight against the exact one for the unquantised |a|: 16 LSB of
- * RATIO plus what the length's error moves it, |a| 1.37 2^-14 / band
- * (fc_direction16: the 16-bit mantissas' roundings, sqrt(3)/2, and the
- * root's, 1/2, over |M| >= 2^14) */
+ * RATIO plus what the length's error moves it, |a| 1.37 2^-14 / band (the
+ * accelerometer's 16-bit components' roundings, sqrt(3)/2 over |M| >= 15000
+ * for the |a| and g here, and the root's, 2^-16 of itself) */
 #define WEIGHT_TOL_FOR(norm_mps2, band_mps2) \
     (16.0 / (double)(1 << FC_RATIO_FRAC) + (norm_mps2) * 1.37 / 16384.0 / (band_mps2))
 /* a rate or a bias read back: 2 LSB of RATE */
@@ -621,6 +621,59 @@ static void test_no_trust_outside_band(void **state)
     }
 }
 
+/* The weight's tolerance where g and the band are not the defaults: in fixed
+ * 16 LSB of RATIO plus what the length's error moves it (fc_direction16's
+ * 16-bit mantissas and root, within 2^-13 of |a|); in float 8 ulps. */
+#if FC_NUMERIC_FIXED
+#define WEIGHT_TOL_IN(norm_mps2, band_mps2)                                                         \
+    (16.0 / (double)(1 << FC_RATIO_FRAC) + 2.0 * (norm_mps2) * ldexp(1.0, -14) / (band_mps2))
+#else
+#define WEIGHT_TOL_IN(norm_mps2, band_mps2) (8.0 * (double)FLT_EPSILON)
+#endif
+
+/* Over the range of g: the weight 1 - ||a| - g| / band along the band, and a
+ * tilted sample corrects the roll by as much whatever g. */
+static void test_trust_over_gravity_range(void **state)
+{
+    (void)state;
+    static const double gravities[] = {9.81, 1.5, 30.0, 99.0};
+    double up[3];
+    up_in_body(dq_from_rpy(10.0 * DEG, 0, 0), up);
+    double roll_at_default = 0.0;
+    for (size_t i = 0; i < sizeof gravities / sizeof gravities[0]; i++) {
+        const double g = gravities[i], band = 0.5 * g;
+        fc_attitude_estimator est;
+        fc_attitude_estimator_params p = default_params();
+        p.gravity_mps2 = to_fc(g, FC_ACCEL_FRAC);
+        p.accel_trust_band_mps2 = to_fc(band, FC_ACCEL_FRAC);
+        assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+        const dquat level = {1, 0, 0, 0};
+        align_at(&est, level);
+        fc_attitude_estimate out;
+        for (int t = -9; t <= 9; t += 3) {
+            const double norm = g + 0.1 * t * band;
+            const fc_imu_sample s = sample(0, 0, 0, norm * up[0], norm * up[1], norm * up[2]);
+            assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+            const double expected = 1.0 - 0.1 * fabs((double)t);
+            assert_true(fabs(from_fc(out.accel_weight, FC_RATIO_FRAC) - expected) <
+                        WEIGHT_TOL_IN(norm, band));
+        }
+        assert_int_equal(fc_attitude_estimator_init(&est, &p), FC_INIT_OK);
+        align_at(&est, level);
+        const fc_imu_sample s = sample(0, 0, 0, g * up[0], g * up[1], g * up[2]);
+        for (int k = 0; k < 250; k++) {
+            assert_int_equal(fc_attitude_estimator_step(&est, &s, &out), FC_STEP_OK);
+        }
+        double roll, pitch, yaw;
+        dq_to_rpy(dq_from_fc(out.attitude), &roll, &pitch, &yaw);
+        if (i == 0) {
+            roll_at_default = roll;
+        }
+        print_message("[%s] g %.2f m/s2: roll %.5f deg after 0.5 s\n", BACKEND, g, roll / DEG);
+        assert_true(roll > 0.0 && fabs(roll - roll_at_default) < 1e-3 * roll_at_default);
+    }
+}
+
 /* ---- gyro integration and the bias clamp ---------------------------------- */
 
 /* A yaw rate with the accelerometer level: the heading follows the gyro (the
@@ -1176,6 +1229,7 @@ int main(void)
         cmocka_unit_test(test_convergence_roll_and_pitch),
         cmocka_unit_test(test_reduced_trust_at_1_5_g),
         cmocka_unit_test(test_no_trust_outside_band),
+        cmocka_unit_test(test_trust_over_gravity_range),
         cmocka_unit_test(test_gyro_integration_yaw),
         cmocka_unit_test(test_bias_clamp),
         cmocka_unit_test(test_bad_gyro_nan),

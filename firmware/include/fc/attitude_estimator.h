@@ -125,6 +125,8 @@ typedef struct fc_attitude_estimator {
                                         * step (rad/s) per unit of |e| */
     uint8_t ki_dt16_frac;              /* 26, 22, 18 or 14: the finest that holds Ki dt */
     fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
+    fc_real accel_trusted_max_mps2;    /* ACCEL: g + band; a sample with a component beyond
+                                        * it has no trust (no direction formed) */
     fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
     fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */
     fc_real half_dt_s;                 /* DT: dt / 2, the integration's factor */
@@ -132,6 +134,8 @@ typedef struct fc_attitude_estimator {
     fc_vec3 gyro_bias_fine;            /* UNIT (Q30 holding rad/s, |b| <= 0.8): the bias
                                         * estimate, held finer than RATE so that the small
                                         * per-step increments Ki dt w e are not rounded away */
+    fc_vec3 gyro_bias_radps;           /* RATE: gyro_bias_fine rounded, as the rate and the
+                                        * output read it */
     fc_vec3 rate_radps;                /* RATE: last good bias-corrected rate */
     fc_vec3 last_gyro_radps;           /* RATE: the last good gyro sample */
     fc_real gyro_slack_radps;          /* RATE: the change a next sample may make */
