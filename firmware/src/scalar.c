@@ -72,9 +72,8 @@ FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shi
     return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
 }
 #define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
-/* the shifts of 32 and more that fc/scalar.h hands to the functions below on
- * the ATmega (FC_FX_FAR_INLINE): narrowed on the halves, the floor by a
- * counted ASR loop */
+/* the shifts of 32 and more (fc_fx_narrow_wide_far's) on the ATmega: narrowed
+ * on the halves, the floor by a counted ASR loop */
 #define OUTLINE_FAR_SHIFT(shift, extra) ((shift) >= 32 && (shift) <= FC_FX_FAR_SHIFT_MAX + (extra))
 FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, int shift)
 {
@@ -104,8 +103,8 @@ static __attribute__((noinline)) fc_real narrow_products(fc_arith *ar, fc_real a
 /* The out-of-line products (fc/scalar.h: the ATmega's fc_mul, fc_dotN). On
  * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
  * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
- * atmega.scalar_equivalence), and so are the shifts of 32 and more that
- * fc/scalar.h hands over (FC_FX_FAR_INLINE); other shifts, and every shift
+ * atmega.scalar_equivalence), and so are the shifts of 32 and more up to
+ * FC_FX_FAR_SHIFT_MAX (+ 2 for the sums); other shifts, and every shift
  * elsewhere, by the int64_t definition (narrow_products). */
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {

@@ -500,10 +500,6 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, difference, saturated);
 }
 
-/* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
- * does not hold another inlined multiply and narrowing per such site */
-#define FC_FX_FAR_INLINE 0
-
 /* fc_mul and fc_dotN out of line (fc/scalar.h, FC_FX_OUTLINE_PRODUCTS):
  * inlined at every site they overflow the flash, and the inner loop's
  * frequent products are the 16-bit ones (fc_mul16, ...), inline everywhere.
