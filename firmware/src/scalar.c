@@ -179,6 +179,14 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     return narrow_products(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 }
 
+#if defined(FC_PORT_ACC_MAC)
+/* the port's fc_acc_mac (fc/scalar_avr.h) */
+fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return fc_fx_acc_mac(acc, a, b);
+}
+#endif
+
 /* ----------------------------------------------------------------------- */
 /* fixed backend                                                           */
 /* ----------------------------------------------------------------------- */

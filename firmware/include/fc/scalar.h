@@ -555,12 +555,20 @@ FC_FX_INLINE fc_acc fc_acc_zero(void)
     return 0;
 }
 
-/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64 */
-FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64: fc_acc_mac's
+ * definition, which a port may form out of line. (port: FC_PORT_ACC_MAC) */
+FC_FX_INLINE fc_acc fc_fx_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
     const fc_fx_wide product = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
     return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), product));
 }
+
+#ifndef FC_PORT_ACC_MAC
+FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return fc_fx_acc_mac(acc, a, b);
+}
+#endif
 
 FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
 {

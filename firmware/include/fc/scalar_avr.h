@@ -500,6 +500,13 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, difference, saturated);
 }
 
+/* fc_acc_mac out of line (scalar.c, fc/scalar.h's fc_fx_acc_mac): the
+ * multiply, shift and 64-bit add of a term inlined at every site of the
+ * matrix loops cost far more flash than the call costs cycles. (fc_acc is
+ * fc/scalar.h's int64_t, declared after this file.) */
+#define FC_PORT_ACC_MAC
+int64_t fc_acc_mac(int64_t acc, int32_t a, int32_t b);
+
 /* fc_mul and fc_dotN out of line (fc/scalar.h, FC_FX_OUTLINE_PRODUCTS):
  * inlined at every site they overflow the flash, and the inner loop's
  * frequent products are the 16-bit ones (fc_mul16, ...), inline everywhere.
