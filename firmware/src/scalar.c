@@ -72,9 +72,8 @@ FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shi
     return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
 }
 #define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
-/* the shifts of 32 and more that fc/scalar.h hands to the functions below on
- * the ATmega (FC_FX_FAR_INLINE): narrowed on the halves, the floor by a
- * counted ASR loop */
+/* the shifts of 32 and more (fc_fx_narrow_wide_far's) on the ATmega: narrowed
+ * on the halves, the floor by a counted ASR loop */
 #define OUTLINE_FAR_SHIFT(shift, extra) ((shift) >= 32 && (shift) <= FC_FX_FAR_SHIFT_MAX + (extra))
 FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, int shift)
 {
@@ -90,12 +89,23 @@ FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, 
 #define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
 #endif
 
+/* The portable definition of the out-of-line products, for the shifts the
+ * ATmega's forms below do not take and for every shift elsewhere: one copy
+ * for the four (fc_fx_narrow_sum of a single product, or of two or three,
+ * is fc_fx_narrow's and fc_dot2/3's value: the missing terms are 0). */
+static __attribute__((noinline)) fc_real narrow_products(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1,
+                                                         fc_real b1, fc_real a2, fc_real b2, fc_real a3, fc_real b3,
+                                                         int shift)
+{
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
+}
+
 /* The out-of-line products (fc/scalar.h: the ATmega's fc_mul, fc_dotN). On
  * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
  * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
- * atmega.scalar_equivalence), and so are the shifts of 32 and more that
- * fc/scalar.h hands over (FC_FX_FAR_INLINE); other shifts, and every shift
- * elsewhere, by the int64_t definition. */
+ * atmega.scalar_equivalence), and so are the shifts of 32 and more up to
+ * FC_FX_FAR_SHIFT_MAX (+ 2 for the sums); other shifts, and every shift
+ * elsewhere, by the int64_t definition (narrow_products). */
 fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
     if (OUTLINE_RUNTIME_SHIFT(shift) || OUTLINE_FAR_SHIFT(shift, 0)) {
@@ -116,7 +126,7 @@ fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
             return shift < 32 ? narrow_wide_runtime(ar, product, shift) : fc_fx_narrow_wide_far(ar, product, shift);
         }
     }
-    return fc_fx_narrow(ar, (int64_t)a * b, shift);
+    return narrow_products(ar, a, b, 0, 0, 0, 0, 0, 0, shift);
 }
 
 fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
@@ -139,7 +149,7 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
             return narrow_quarters_runtime(ar, quarters, shift);
         }
     }
-    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
+    return narrow_products(ar, a0, b0, a1, b1, 0, 0, 0, 0, shift);
 }
 
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -152,7 +162,7 @@ fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
         return narrow_quarters_runtime(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
     }
-    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
+    return narrow_products(ar, a0, b0, a1, b1, a2, b2, 0, 0, shift);
 }
 
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
@@ -166,8 +176,16 @@ fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     if (OUTLINE_FAR_SHIFT(shift, 2)) {
         return narrow_quarters_runtime(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
     }
-    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
+    return narrow_products(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 }
+
+#if defined(FC_PORT_ACC_MAC)
+/* the port's fc_acc_mac (fc/scalar_avr.h) */
+fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return fc_fx_acc_mac(acc, a, b);
+}
+#endif
 
 /* ----------------------------------------------------------------------- */
 /* fixed backend                                                           */

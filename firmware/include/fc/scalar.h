@@ -339,12 +339,6 @@ FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
  * those of fc_fx_narrow's 64-bit form.
  */
 #define FC_FX_FAR_SHIFT_MAX 38
-/* Where those products are formed: inline, or (0) by the out-of-line
- * products of scalar.c (fc_fx_mul_outline, ...) even where the others are
- * inline. (port: FC_FX_FAR_INLINE) */
-#ifndef FC_FX_FAR_INLINE
-#define FC_FX_FAR_INLINE 1
-#endif
 FC_FX_INLINE fc_real fc_fx_narrow_wide_far(fc_arith *ar, fc_fx_wide value, int shift)
 {
     return fc_fx_narrow_wide(ar, fc_fx_asr_wide(value, shift - 31), 31);
@@ -465,9 +459,6 @@ FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift
         return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX) {
-        if (!FC_FX_FAR_INLINE) {
-            return fc_fx_mul_outline(ar, a, b, shift);
-        }
         return fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift);
     }
     return fc_fx_narrow(ar, (int64_t)a * b, shift);
@@ -504,9 +495,6 @@ FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_rea
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        if (!FC_FX_FAR_INLINE) {
-            return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
-        }
         return fc_fx_narrow_quarters(ar, fc_fx_quarters2(a0, b0, a1, b1), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
@@ -533,9 +521,6 @@ FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        if (!FC_FX_FAR_INLINE) {
-            return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
-        }
         return fc_fx_narrow_quarters(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
@@ -554,9 +539,6 @@ FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, f
         return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, p23), shift);
     }
     if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        if (!FC_FX_FAR_INLINE) {
-            return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
-        }
         return fc_fx_narrow_quarters(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
     }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
@@ -573,12 +555,20 @@ FC_FX_INLINE fc_acc fc_acc_zero(void)
     return 0;
 }
 
-/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64 */
-FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64: fc_acc_mac's
+ * definition, which a port may form out of line. (port: FC_PORT_ACC_MAC) */
+FC_FX_INLINE fc_acc fc_fx_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
     const fc_fx_wide product = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
     return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), product));
 }
+
+#ifndef FC_PORT_ACC_MAC
+FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    return fc_fx_acc_mac(acc, a, b);
+}
+#endif
 
 FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
 {

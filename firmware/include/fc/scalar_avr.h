@@ -455,27 +455,30 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
 /* fc_add, fc_sub: the 32-bit sum by ADD/ADC (SUB/SBC) and the overflow read
  * from the V flag (avr-gcc 5.4 forms __builtin_add_overflow by comparing the
  * sum with an operand, and the symmetric range's -2^31 by a second compare
- * chain). On overflow the wrapped sum has the sign opposite to the true one:
- * +INT32_MAX when it reads negative, -INT32_MAX when it reads positive. A sum
- * of exactly -2^31 is -INT32_MAX, saturated. OP is "add"/"sub" and CARRY
- * "adc"/"sbc". FLAG (r16-r31, for LDI) is 1 when it saturated. */
+ * chain). The sum is -2^31 iff sum - 1 overflows: one compare with FLAG,
+ * which holds the 1. On overflow the wrapped sum has the sign opposite to
+ * the true one: +INT32_MAX when it reads negative (its sign byte spread over
+ * the four, the top bit flipped), -INT32_MAX when it reads positive (the
+ * same gives -2^31, then one more). OP is "add"/"sub" and CARRY "adc"/"sbc".
+ * FLAG (r16-r31, for LDI) is 1 when it saturated, else 0. */
 #define FC_AVR_ADD_SATURATED(OP, CARRY)                                                        \
-    "ldi %1, 0\n\t" OP " %A0, %A2\n\t" CARRY " %B0, %B2\n\t" CARRY " %C0, %C2\n\t" CARRY       \
-    " %D0, %D2\n\t"                                                                            \
+    OP " %A0, %A2\n\t" CARRY " %B0, %B2\n\t" CARRY " %C0, %C2\n\t" CARRY " %D0, %D2\n\t"        \
+    "ldi %1, 1\n\t"                                                                            \
     "brvs 1f\n\t"                                                                              \
-    "cp %A0, __zero_reg__\n\tcpc %B0, __zero_reg__\n\tcpc %C0, __zero_reg__\n\t"               \
-    "ldi %1, 0x80\n\tcpc %D0, %1\n\tldi %1, 0\n\tbrne 3f\n\t"                                  \
-    "ldi %1, 1\n\tinc %A0\n\trjmp 3f\n"                                                        \
-    "1:\n\tldi %1, 1\n\tclr %A0\n\tsbrs %D0, 7\n\trjmp 2f\n\t"                                 \
-    "dec %A0\n\tmov %B0, %A0\n\tmov %C0, %A0\n\tmov %D0, %A0\n\tlsr %D0\n\trjmp 3f\n"          \
-    "2:\n\tinc %A0\n\tclr %B0\n\tclr %C0\n\tclr %D0\n\tsec\n\tror %D0\n"                       \
+    "cp %A0, %1\n\tcpc %B0, __zero_reg__\n\tcpc %C0, __zero_reg__\n\tcpc %D0, __zero_reg__\n\t"   \
+    "brvs 2f\n\t"                                                                              \
+    "clr %1\n\t"                                                                               \
+    "rjmp 3f\n"                                                                                \
+    "1:\n\tlsl %D0\n\tsbc %A0, %A0\n\tmov %B0, %A0\n\tmovw %C0, %A0\n\t"                       \
+    "ldi %1, 0x80\n\teor %D0, %1\n\tldi %1, 1\n\tsbrs %D0, 7\n\trjmp 3f\n"                      \
+    "2:\n\tinc %A0\n"                                                                          \
     "3:"
 
-/* the saturation of FC_AVR_ADD_SATURATED recorded in the caller's record */
+/* the saturation of FC_AVR_ADD_SATURATED (1 or 0) recorded in the caller's record */
 FC_FX_INLINE fc_real fc_avr_recorded(fc_arith *ar, fc_real value, uint8_t saturated)
 {
     if (saturated != 0u) {
-        ar->saturated = 1u;
+        ar->saturated = saturated;
     }
     return value;
 }
@@ -497,9 +500,12 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, difference, saturated);
 }
 
-/* the far products out of line (fc/scalar.h, FC_FX_FAR_INLINE): the flash
- * does not hold another inlined multiply and narrowing per such site */
-#define FC_FX_FAR_INLINE 0
+/* fc_acc_mac out of line (scalar.c, fc/scalar.h's fc_fx_acc_mac): the
+ * multiply, shift and 64-bit add of a term inlined at every site of the
+ * matrix loops cost far more flash than the call costs cycles. (fc_acc is
+ * fc/scalar.h's int64_t, declared after this file.) */
+#define FC_PORT_ACC_MAC
+int64_t fc_acc_mac(int64_t acc, int32_t a, int32_t b);
 
 /* fc_mul and fc_dotN out of line (fc/scalar.h, FC_FX_OUTLINE_PRODUCTS):
  * inlined at every site they overflow the flash, and the inner loop's
