@@ -76,13 +76,12 @@ static fc_real geometric_mean_s(fc_arith *ar, fc_real a_s, fc_real b_s)
     return fc_sqrt(ar, fc_mul(ar, a_s, b_s, FC_SHIFT(TIME, TIME, TIME)), FC_TIME_FRAC);
 }
 
-/* w_k and w_k^2; the rotation by w_k dt per step follows before the phases
+/* w_k; its gains and the rotation by w_k dt per step follow before the phases
  * next turn (update_rotations), the rotation by w_k H when a prediction is
  * asked for. */
 static void set_mode_frequency(fc_pad_motion *pm, unsigned k, fc_real omega_radps)
 {
     pm->omega_radps[k] = omega_radps;
-    pm->omega_sq[k] = fc_mul(&pm->ar, omega_radps, omega_radps, FC_SHIFT(RATE, RATE, RATIO));
     pm->rotation_stale = (uint8_t)(pm->rotation_stale | (1u << k));
 }
 
@@ -123,7 +122,9 @@ static void step_sin_cos(fc_arith *ar, fc_real x_rad, fc_real *sin_out, fc_real 
 }
 
 /* cos and sin of w_k dt for the modes whose w_k changed: the sine and cosine
- * of the step, out of the sample's step (FC_PAD_WORK_COVARIANCE_HEAD). */
+ * of the step, out of the sample's step (FC_PAD_WORK_COVARIANCE_HEAD); and
+ * w_k, w_k^2 as the gains the model's derivatives are formed with (so the
+ * estimate of a step that adapts w_k has its derivatives of the w_k before). */
 static void update_rotations(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -131,6 +132,9 @@ static void update_rotations(fc_pad_motion *pm)
         if ((pm->rotation_stale & (1u << k)) != 0u) {
             const fc_real step_angle = fc_mul(ar, pm->omega_radps[k], pm->p.dt_s, FC_SHIFT(RATE, DT, ANGLE));
             step_sin_cos(ar, step_angle, &pm->step_sin[k], &pm->step_cos[k]);
+            pm->omega_gain[k] = fc_gain_of(pm->omega_radps[k], FC_RATE_FRAC);
+            pm->omega_sq_gain[k] =
+                fc_gain_of_product(pm->omega_radps[k], FC_RATE_FRAC, pm->omega_radps[k], FC_RATE_FRAC);
         }
     }
     pm->rotation_stale = 0u;
@@ -177,9 +181,12 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
     pm->deferred = 0u;
     /* phases start at t = 0: sin 0, cos 0 (and zero past n) */
     pm->phi[0] = LEVEL_REGRESSOR;
+    pm->phi16[0] = FC_INT16(1, UNIT16);
     for (unsigned k = 0u; k < FC_PAD_MAX_MODES; k++) {
         pm->phi[sin_of(k)] = FC_INT(0, UNIT);
         pm->phi[cos_of(k)] = k < p->mode_count ? FC_INT(1, UNIT) : FC_INT(0, UNIT);
+        pm->phi16[sin_of(k)] = FC_INT16(0, UNIT16);
+        pm->phi16[cos_of(k)] = k < p->mode_count ? FC_INT16(1, UNIT16) : FC_INT16(0, UNIT16);
     }
     if (!pad_motion_params_valid(p)) {
         return FC_INIT_BAD_PARAM;
@@ -197,12 +204,17 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
         pm->omega_max_radps[k] = omega_of(ar, shortest);
         set_mode_frequency(pm, k, omega_of(ar, p->mode_period_s[k]));
     }
+    update_rotations(pm);
     pm->amplitude_min_sq =
         fc_mul(ar, p->adapt_amplitude_min_m, p->adapt_amplitude_min_m, FC_SHIFT(LENGTH, LENGTH, RATIO));
     pm->one_minus_lambda = fc_sub(ar, FC_INT(1, UNIT), p->forgetting);
     /* 1/lambda - 1 = (1 - lambda) / lambda */
-    pm->inflation = fc_div(ar, pm->one_minus_lambda, p->forgetting, FC_DIV_SHIFT(UNIT, UNIT, UNIT));
+    pm->inflation = fc_gain_of(fc_div(ar, pm->one_minus_lambda, p->forgetting, FC_DIV_SHIFT(UNIT, UNIT, UNIT)),
+                               FC_UNIT_FRAC);
     pm->step_s = fc_convert(ar, p->dt_s, FC_DT_FRAC, FC_TIME_FRAC);
+    /* 1/tolerance <= 1000 (tolerance >= 1 mm): GAIN */
+    pm->inv_tolerance =
+        fc_gain_of(fc_div(ar, FC_INT(1, LENGTH), p->tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, GAIN)), FC_GAIN_FRAC);
     if (pm->ar.saturated != 0u) {
         return FC_INIT_BAD_PARAM;
     }
@@ -221,35 +233,38 @@ fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params 
  * parameters therefore run over all FC_PAD_MAX_PARAMS: constant bounds,
  * unrolled where the compiler unrolls, the same result to the bit. */
 
-/* theta' phi: LENGTH x UNIT summed into LENGTH (over every entry: those
- * past n are zero, PARAMETERS_PAST_N; phi[0] is LEVEL_REGRESSOR). */
-static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real *phi)
+/* theta' phi16: LENGTH x UNIT16 summed into LENGTH (over every entry: those
+ * past n are zero, PARAMETERS_PAST_N; phi16[0] stands for LEVEL_REGRESSOR). */
+static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real16 *phi16)
 {
-    fc_acc acc = fc_acc_mac(fc_acc_zero(), theta[0], LEVEL_REGRESSOR);
+    fc_real z_m = theta[0];
     for (unsigned i = 1u; i < FC_PAD_MAX_PARAMS; i++) {
-        acc = fc_acc_mac(acc, theta[i], phi[i]);
+        z_m = fc_add(ar, z_m, fc_mul_by16(ar, theta[i], phi16[i], FC_SHIFT(LENGTH, UNIT16, LENGTH)));
     }
-    return fc_acc_result(ar, acc, FC_SHIFT(LENGTH, UNIT, LENGTH));
+    return z_m;
 }
 
-/* z, z', z'' of the model theta at the phases phi. */
-static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real *phi)
+/* z, z', z'' of the model theta at the phases phi16. */
+static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real16 *phi16)
 {
     fc_arith *ar = &pm->ar;
+    const int to_length = FC_SHIFT(LENGTH, UNIT16, LENGTH);
     fc_vertical_trajectory t;
-    t.z_m = model_value(ar, pm->theta, phi);
+    t.z_m = pm->theta[0];
     t.vz_mps = FC_INT(0, VEL);
     t.az_mps2 = FC_INT(0, ACCEL);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         const fc_real a = pm->theta[sin_of(k)], b = pm->theta[cos_of(k)];
-        const fc_real sin_k = phi[sin_of(k)], cos_k = phi[cos_of(k)];
-        /* z' = w (a cos - b sin),  z'' = -w^2 (a sin + b cos) */
-        const fc_real rate_part = fc_dot2(ar, a, cos_k, fc_neg(ar, b), sin_k, FC_SHIFT(LENGTH, UNIT, LENGTH));
-        const fc_real accel_part = fc_dot2(ar, a, sin_k, b, cos_k, FC_SHIFT(LENGTH, UNIT, LENGTH));
-        t.vz_mps =
-            fc_add(ar, t.vz_mps, fc_mul(ar, pm->omega_radps[k], rate_part, FC_SHIFT(RATE, LENGTH, VEL)));
+        const fc_real16 sin_k = phi16[sin_of(k)], cos_k = phi16[cos_of(k)];
+        /* z = c + sum (a sin + b cos), z' = sum w (a cos - b sin),
+         * z'' = -sum w^2 (a sin + b cos): four products a mode */
+        const fc_real wave_m = fc_add(ar, fc_mul_by16(ar, a, sin_k, to_length), fc_mul_by16(ar, b, cos_k, to_length));
+        const fc_real rate_part =
+            fc_sub(ar, fc_mul_by16(ar, a, cos_k, to_length), fc_mul_by16(ar, b, sin_k, to_length));
+        t.z_m = fc_add(ar, t.z_m, wave_m);
+        t.vz_mps = fc_add(ar, t.vz_mps, fc_mul_gain(ar, rate_part, pm->omega_gain[k], FC_GAIN_SHIFT(LENGTH, VEL)));
         t.az_mps2 =
-            fc_sub(ar, t.az_mps2, fc_mul(ar, pm->omega_sq[k], accel_part, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+            fc_sub(ar, t.az_mps2, fc_mul_gain(ar, wave_m, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
     }
     return t;
 }
@@ -263,9 +278,14 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
     *c = c_new;
 }
 
-/* One step of every phase, renormalised by one
- * Newton step of 1/sqrt: (s, c) (3 - s^2 - c^2) / 2, which keeps s^2 + c^2
- * at 1 to second order. */
+/* (1 - s^2 - c^2) / 2 of a phase pair, the defect of its length, in 16 bits:
+ * one step's rotation and roundings leave it at a few 2^-30, so a 16-bit
+ * value of UNIT's resolution (range +-2^-15) holds it exactly. */
+#define FC_PHASE_DEFECT16_FRAC 30
+
+/* One step of every phase, renormalised by one Newton step of 1/sqrt:
+ * (s, c) (3 - s^2 - c^2) / 2 = (s, c) + (s, c) d, d = (1 - s^2 - c^2) / 2,
+ * which keeps s^2 + c^2 at 1 to second order; then phi16. */
 static void advance_phases(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
@@ -274,11 +294,17 @@ static void advance_phases(fc_pad_motion *pm)
         fc_real *sin_k = &pm->phi[sin_of(k)], *cos_k = &pm->phi[cos_of(k)];
         rotate(ar, sin_k, cos_k, pm->step_cos[k], pm->step_sin[k]);
         const fc_real norm_sq = fc_dot2(ar, *sin_k, *sin_k, *cos_k, *cos_k, FC_SHIFT(UNIT, UNIT, UNIT));
-        const fc_real factor =
-            fc_add(ar, FC_INT(1, UNIT),
-                   fc_mul(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq), FC_C(0.5f, UNIT), FC_SHIFT(UNIT, UNIT, UNIT)));
-        *sin_k = fc_mul(ar, *sin_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
-        *cos_k = fc_mul(ar, *cos_k, factor, FC_SHIFT(UNIT, UNIT, UNIT));
+        const fc_real half_defect = fc_mul_by16(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq),
+                                                (fc_real16)FC_C(0.5f, UNIT16), FC_SHIFT(UNIT, UNIT16, UNIT));
+        /* a defect beyond 2^-15 (none in practice) is corrected by 2^-15 a
+         * step: a scratch record, the renormalisation still converges */
+        fc_arith scratch = {0u};
+        const fc_real16 d = fc_narrow16(&scratch, half_defect, FC_UNIT_FRAC, FC_PHASE_DEFECT16_FRAC);
+        const int to_unit = FC_SHIFT(UNIT, PHASE_DEFECT16, UNIT);
+        *sin_k = fc_add(ar, *sin_k, fc_mul_by16(ar, *sin_k, d, to_unit));
+        *cos_k = fc_add(ar, *cos_k, fc_mul_by16(ar, *cos_k, d, to_unit));
+        pm->phi16[sin_of(k)] = fc_narrow16(ar, *sin_k, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+        pm->phi16[cos_of(k)] = fc_narrow16(ar, *cos_k, FC_UNIT_FRAC, FC_UNIT16_FRAC);
     }
 }
 
@@ -315,21 +341,23 @@ static void prepare_sample(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
-    const fc_real *phi = pm->phi;
+    const fc_real16 *phi16 = pm->phi16;
     /* S phi (MAT; = (phi' S)' as S is symmetric) and phi' S phi (phi[0]:
-     * LEVEL_REGRESSOR) */
+     * LEVEL_REGRESSOR, no product), each product rounded: 6 roundings of
+     * MAT's 6e-8 a row, far inside what the fit resolves */
     fc_real *s_phi = pm->pending_s_phi;
-    fc_acc quad = fc_acc_zero();
-    for (unsigned i = 0u; i < n; i++) {
-        fc_acc acc = fc_acc_mac(fc_acc_zero(), pm->s[i][0], LEVEL_REGRESSOR);
-        for (unsigned j = 1u; j < n; j++) {
-            acc = fc_acc_mac(acc, pm->s[i][j], phi[j]);
-        }
-        s_phi[i] = fc_acc_result(ar, acc, FC_SHIFT(MAT, UNIT, MAT));
-        quad = fc_acc_mac(quad, i == 0u ? LEVEL_REGRESSOR : phi[i], s_phi[i]);
-    }
     /* phi' S phi <= (1 + K) trace(S) < 512: GAIN */
-    const fc_real phi_s_phi = fc_acc_result(ar, quad, FC_SHIFT(UNIT, MAT, GAIN));
+    fc_real phi_s_phi = FC_INT(0, GAIN);
+    for (unsigned i = 0u; i < n; i++) {
+        fc_real row = pm->s[i][0];
+        for (unsigned j = 1u; j < n; j++) {
+            row = fc_add(ar, row, fc_mul_by16(ar, pm->s[i][j], phi16[j], FC_SHIFT(MAT, UNIT16, MAT)));
+        }
+        s_phi[i] = row;
+        phi_s_phi = fc_add(ar, phi_s_phi,
+                           i == 0u ? fc_convert(ar, row, FC_MAT_FRAC, FC_GAIN_FRAC)
+                                   : fc_mul_by16(ar, row, phi16[i], FC_SHIFT(MAT, UNIT16, GAIN)));
+    }
     /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
     const fc_real denominator =
         fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
@@ -338,9 +366,9 @@ static void prepare_sample(fc_pad_motion *pm)
     for (unsigned i = 0u; i < n; i++) {
         pm->pending_gain[i] = fc_mul(ar, gain_scale, s_phi[i], FC_SHIFT(UNIT, MAT, MAT)); /* MAT */
     }
-    pm->prepared_z_m = model_value(ar, pm->theta, phi);
+    pm->prepared_z_m = model_value(ar, pm->theta, phi16);
     /* what theta_old (H..2H old) predicted for now, once there is one */
-    pm->prepared_z_old_m = pm->snapshots >= 2u ? model_value(ar, pm->theta_old, phi) : FC_INT(0, LENGTH);
+    pm->prepared_z_old_m = pm->snapshots >= 2u ? model_value(ar, pm->theta_old, phi16) : FC_INT(0, LENGTH);
 }
 
 /* The RLS update of theta with the a-priori residual e (see the header): theta
@@ -387,13 +415,13 @@ static void update_covariance_rows(fc_pad_motion *pm, unsigned row_begin, unsign
     const unsigned n = FC_PAD_MAX_PARAMS; /* PARAMETERS_PAST_N */
     const fc_real *gain = pm->pending_gain;
     const fc_real *s_phi = pm->pending_s_phi;
-    /* the products inlined on the ATmega too: two sites run 28 times an
-     * update (fc/scalar.h, fc_mul_inline) */
+    /* g_i (S phi)_j inlined on the ATmega too: it runs 28 times an update
+     * (fc/scalar.h, fc_mul_inline) */
     for (unsigned i = row_begin; i < row_end; i++) {
         for (unsigned j = i; j < n; j++) {
             fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
             if (pm->covariance_inflate) {
-                sij = fc_add(ar, sij, fc_mul_inline(ar, sij, pm->inflation, FC_SHIFT(MAT, UNIT, MAT)));
+                sij = fc_add(ar, sij, fc_mul_gain(ar, sij, pm->inflation, FC_GAIN_SHIFT(MAT, MAT)));
             }
             pm->s[i][j] = sij;
             pm->s[j][i] = sij;
@@ -444,7 +472,7 @@ static void summarise_fit(fc_pad_motion *pm)
         const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
         f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
         f->accel_bound_mps2 =
-            fc_add(ar, f->accel_bound_mps2, fc_mul(ar, pm->omega_sq[k], size, FC_SHIFT(RATIO, LENGTH, ACCEL)));
+            fc_add(ar, f->accel_bound_mps2, fc_mul_gain(ar, size, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
         if (size > largest) {
             largest = size;
             f->dominant_mode = (uint8_t)k;
@@ -453,7 +481,7 @@ static void summarise_fit(fc_pad_motion *pm)
     f->dominant_amplitude_m = fc_max(largest, FC_INT(0, LENGTH));
     f->dominant_period_s = fc_div(ar, FC_TWO_PI, pm->omega_radps[f->dominant_mode], FC_DIV_SHIFT(ANGLE, RATE, TIME));
     /* mean / tolerance for the confidence 1 - mean / tolerance */
-    f->error_ratio = fc_div(ar, pm->error_mean_m, pm->p.tolerance_m, FC_DIV_SHIFT(LENGTH, LENGTH, UNIT));
+    f->error_ratio = fc_mul_gain(ar, pm->error_mean_m, pm->inv_tolerance, FC_GAIN_SHIFT(LENGTH, UNIT));
     f->saturated = summary_ar.saturated; /* reported on every step the summary stands for */
 }
 
@@ -572,7 +600,7 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
 {
     fc_arith *ar = &pm->ar;
     const fc_pad_motion_summary *f = &pm->summary;
-    out->now = model_trajectory(pm, pm->phi);
+    out->now = model_trajectory(pm, pm->phi16);
     out->heave_bound_m = f->heave_bound_m;
     out->accel_bound_mps2 = f->accel_bound_mps2;
     out->dominant_mode = f->dominant_mode;
@@ -596,8 +624,8 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
     /* the slices of the header, about the same work each */
     static const uint8_t slices[] = {
         FC_PAD_WORK_COVARIANCE_HEAD,
-        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES,
-        FC_PAD_WORK_SUMMARY | FC_PAD_WORK_SAMPLE_GAIN,
+        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY,
+        FC_PAD_WORK_SAMPLE_GAIN,
     };
     if (!pm->ready) {
         return FC_STEP_NOT_READY;
@@ -635,7 +663,11 @@ void fc_pad_motion_predict_ahead(fc_pad_motion *pm, fc_vertical_trajectory *ahea
         fc_sincos(ar, ahead_rad, &ahead_sin, &ahead_cos);
         rotate(ar, &phi_ahead[sin_of(k)], &phi_ahead[cos_of(k)], ahead_cos, ahead_sin);
     }
-    *ahead = model_trajectory(pm, phi_ahead);
+    fc_real16 phi16_ahead[FC_PAD_MAX_PARAMS];
+    for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) {
+        phi16_ahead[i] = fc_narrow16(ar, phi_ahead[i], FC_UNIT_FRAC, FC_UNIT16_FRAC);
+    }
+    *ahead = model_trajectory(pm, phi16_ahead);
 }
 
 fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample *sample,

@@ -41,12 +41,15 @@ fc_init_result fc_position_control_init(fc_position_control *pc, const fc_positi
     }
     fc_arith *ar = &pc->ar;
     pc->p = *p;
-    pc->ki_dt = fc_mul(ar, p->ki_per_s3, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
-    pc->fb_dt = fc_mul(ar, p->accel_fb_gain_per_s, p->dt_s, FC_SHIFT(RATIO, DT, RATIO));
+    pc->kp = fc_gain_of(p->kp_per_s2, FC_RATIO_FRAC);
+    pc->kd = fc_gain_of(p->kd_per_s, FC_RATIO_FRAC);
+    pc->ki_dt = fc_gain_of_product(p->ki_per_s3, FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    pc->fb_dt = fc_gain_of_product(p->accel_fb_gain_per_s, FC_RATIO_FRAC, p->dt_s, FC_DT_FRAC);
+    pc->mass = fc_gain_of(p->mass_kg, FC_MASS_FRAC);
     /* tan(tilt_max) once (cos(1.4) = 0.17, so tan <= 5.8) */
     fc_real sin_tilt, cos_tilt;
     fc_sincos(ar, p->tilt_max_rad, &sin_tilt, &cos_tilt);
-    pc->tan_tilt_max = fc_div(ar, sin_tilt, cos_tilt, FC_DIV_SHIFT(UNIT, UNIT, RATIO));
+    pc->tan_tilt_max = fc_gain_of(fc_div(ar, sin_tilt, cos_tilt, FC_DIV_SHIFT(UNIT, UNIT, RATIO)), FC_RATIO_FRAC);
     if (ar->saturated != 0u) {
         return FC_INIT_BAD_PARAM;
     }
@@ -70,11 +73,11 @@ static bool clamp_norm2(fc_arith *ar, fc_real *x, fc_real *y, fc_real limit, int
 }
 
 /* One axis of the horizontal PID (2.6.4): k_P e + k_D e_v + I + a_ff. */
-AXIS_INLINE fc_real pid_axis(fc_arith *ar, const fc_position_control_params *p, fc_real e_m, fc_real ev_mps,
+AXIS_INLINE fc_real pid_axis(fc_arith *ar, const fc_position_control *pc, fc_real e_m, fc_real ev_mps,
                              fc_real integral_mps2, fc_real ff_mps2)
 {
-    const fc_real a_p = fc_mul(ar, e_m, p->kp_per_s2, FC_SHIFT(RATIO, LENGTH, ACCEL));
-    const fc_real a_d = fc_mul(ar, ev_mps, p->kd_per_s, FC_SHIFT(RATIO, VEL, ACCEL));
+    const fc_real a_p = fc_mul_gain(ar, e_m, pc->kp, FC_GAIN_SHIFT(LENGTH, ACCEL));
+    const fc_real a_d = fc_mul_gain(ar, ev_mps, pc->kd, FC_GAIN_SHIFT(VEL, ACCEL));
     return fc_add(ar, fc_add(ar, fc_add(ar, a_p, a_d), integral_mps2), ff_mps2);
 }
 
@@ -139,13 +142,13 @@ static bool unwinding(fc_real ex_m, fc_real ey_m, fc_real ax_mps2, fc_real ay_mp
 /* I_a += k_a dt (a_meas - a_des) on one axis (Figure 2.8): the increment of
  * a zero error is zero, and takes no product (the vertical axis in the
  * controller's use, where a_ff,z and the measured a_z are both 0). */
-AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_real fb_dt)
+AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_gain fb_dt)
 {
     const fc_real err_mps2 = fc_sub(ar, meas_mps2, des_mps2);
     if (err_mps2 == FC_INT(0, ACCEL)) {
         return fb_mps2;
     }
-    return fc_add(ar, fb_mps2, fc_mul(ar, err_mps2, fb_dt, FC_SHIFT(RATIO, ACCEL, ACCEL)));
+    return fc_add(ar, fb_mps2, fc_mul_gain(ar, err_mps2, fb_dt, FC_GAIN_SHIFT(ACCEL, ACCEL)));
 }
 
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
@@ -204,17 +207,17 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     /* 2.6.4: the error vector saturated by its length, its direction kept */
     (void)clamp_norm2(ar, &ex_m, &ey_m, p->error_max_m, FC_FRAC(LENGTH));
     /* PID: k_P e + k_D e_v + I + a_ff,h, then |a_h| <= accel_max */
-    const fc_real ax_unsat = pid_axis(ar, p, ex_m, evx_mps, pc->integral_mps2.x, ff.x);
-    const fc_real ay_unsat = pid_axis(ar, p, ey_m, evy_mps, pc->integral_mps2.y, ff.y);
+    const fc_real ax_unsat = pid_axis(ar, pc, ex_m, evx_mps, pc->integral_mps2.x, ff.x);
+    const fc_real ay_unsat = pid_axis(ar, pc, ey_m, evy_mps, pc->integral_mps2.y, ff.y);
     fc_real ax_mps2 = ax_unsat, ay_mps2 = ay_unsat;
     bool limited = clamp_norm2(ar, &ax_mps2, &ay_mps2, p->accel_max_mps2, FC_FRAC(ACCEL));
 
     /* (2.11) with the acceleration feedback: F = m (a_des - g - I_a), g = (0, 0, -g0) */
     const fc_vec3 *fb = &pc->accel_fb_mps2;
-    const int to_force = FC_SHIFT(MASS, ACCEL, FORCE);
-    fc_vec3 force = fc_vec3_make(fc_mul(ar, fc_sub(ar, ax_mps2, fb->x), p->mass_kg, to_force),
-                                 fc_mul(ar, fc_sub(ar, ay_mps2, fb->y), p->mass_kg, to_force),
-                                 fc_mul(ar, fc_sub(ar, fc_add(ar, ff.z, GRAVITY_MPS2), fb->z), p->mass_kg, to_force));
+    const int to_force = FC_GAIN_SHIFT(ACCEL, FORCE);
+    fc_vec3 force = fc_vec3_make(fc_mul_gain(ar, fc_sub(ar, ax_mps2, fb->x), pc->mass, to_force),
+                                 fc_mul_gain(ar, fc_sub(ar, ay_mps2, fb->y), pc->mass, to_force),
+                                 fc_mul_gain(ar, fc_sub(ar, fc_add(ar, ff.z, GRAVITY_MPS2), fb->z), pc->mass, to_force));
     /* limits: vertical floor, tilt (horizontal part, direction kept), collective */
     bool thrust_limited = false;
     if (force.z < p->thrust_min_n) {
@@ -224,7 +227,7 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     /* beyond the FORCE range (F_z tan > 2048 N) it saturates to "no tilt limit",
      * and the collective limit below still holds: a scratch record */
     fc_arith scratch_h = {0u};
-    const fc_real force_h_max = fc_mul(&scratch_h, force.z, pc->tan_tilt_max, FC_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real force_h_max = fc_mul_gain(&scratch_h, force.z, pc->tan_tilt_max, FC_GAIN_SHIFT(FORCE, FORCE));
     if (clamp_norm2(ar, &force.x, &force.y, force_h_max, FC_FRAC(FORCE))) {
         limited = true;
     }
@@ -253,9 +256,9 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     /* integrator with conditional integration (anti-windup): while limited
      * only if the error drives the output back (e . a_h,unsat < 0) */
     if (integrate && (!limited || unwinding(ex_m, ey_m, ax_unsat, ay_unsat))) {
-        const int to_accel = FC_SHIFT(RATIO, LENGTH, ACCEL);
-        fc_real ix_mps2 = fc_add(ar, pc->integral_mps2.x, fc_mul(ar, ex_m, pc->ki_dt, to_accel));
-        fc_real iy_mps2 = fc_add(ar, pc->integral_mps2.y, fc_mul(ar, ey_m, pc->ki_dt, to_accel));
+        const int to_accel = FC_GAIN_SHIFT(LENGTH, ACCEL);
+        fc_real ix_mps2 = fc_add(ar, pc->integral_mps2.x, fc_mul_gain(ar, ex_m, pc->ki_dt, to_accel));
+        fc_real iy_mps2 = fc_add(ar, pc->integral_mps2.y, fc_mul_gain(ar, ey_m, pc->ki_dt, to_accel));
         (void)clamp_norm2(ar, &ix_mps2, &iy_mps2, p->integral_max_mps2, FC_FRAC(ACCEL));
         pc->integral_mps2.x = ix_mps2;
         pc->integral_mps2.y = iy_mps2;

@@ -311,11 +311,12 @@ static void test_work_ahead_between_steps(void **state)
                 covariance_ahead++;
                 assert_int_equal(done, FC_PAD_WORK_COVARIANCE_HEAD);
                 assert_int_equal(split_model.rotation_stale, 0);
-            } else if ((before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES)) != 0u) {
-                /* slice 2: the rest of S and the phases */
-                assert_int_equal(done, before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES));
+            } else if ((before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY)) != 0u) {
+                /* slice 2: the rest of S, the phases and the summary */
+                assert_int_equal(done,
+                                 before & (FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY));
             } else {
-                /* slice 3, or nothing left: the summary, and the next sample's gain */
+                /* slice 3, or nothing left: the next sample's gain */
                 assert_int_equal(split_model.deferred, 0);
             }
         }

@@ -39,8 +39,8 @@
  *                  next step that needs no sample, one piece a frame: the
  *                  covariance update of the newest sample in two parts (the
  *                  first with the rotations of adapted frequencies, the second
- *                  with the phases turned to the next step), then the summary
- *                  of the newest fit and the RLS gain for those phases
+ *                  with the phases turned to the next step and the summary
+ *                  of the newest fit), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
  * (with outer_divider 1 both run on every step, as one group). The default

@@ -34,6 +34,11 @@
  * phi(t) is propagated without t: each (sin, cos) pair is rotated by w_k dt
  * per step and renormalised, so it never loses precision (at the start of the
  * next step, so that the rotation of a changed w_k can be formed between).
+ * The fit and the model's values read phi rounded to 16 bits (phi16, UNIT16:
+ * within 2^-15 of phi): the products with it are 32 x 16-bit (fc_mul_by16),
+ * and the fit is exact for the regressor it reads, so the rounding costs the
+ * model 2^-15 of sum (|a_k| + |b_k|) at most (0.03 mm a metre of heave),
+ * far below what a range finder resolves. The phases themselves stay 32-bit.
  * Derivatives are the model's:  z' = sum w_k (a_k cos - b_k sin),
  * z'' = -sum w_k^2 (a_k sin + b_k cos); the prediction at t + H rotates the
  * pairs by w_k H (H fixed at init), fc_pad_motion_predict_ahead.
@@ -129,19 +134,26 @@ typedef struct fc_pad_motion {
     fc_pad_motion_params p;
     uint8_t n;                                   /* 1 + 2K parameters */
     fc_real omega_radps[FC_PAD_MAX_MODES];       /* RATE: w_k */
-    fc_real omega_sq[FC_PAD_MAX_MODES];          /* RATIO: w_k^2 */
+    fc_gain omega_gain[FC_PAD_MAX_MODES];        /* w_k, rad/s, for the derivatives (fc_gain: 2^-15
+                                                    of z' and z'' at most) */
+    fc_gain omega_sq_gain[FC_PAD_MAX_MODES];     /* w_k^2, 1/s^2 */
     fc_real step_cos[FC_PAD_MAX_MODES];          /* UNIT: cos w_k dt */
-    fc_real step_sin[FC_PAD_MAX_MODES];          /* UNIT: sin w_k dt */
+    fc_real step_sin[FC_PAD_MAX_MODES];          /* UNIT: sin w_k dt (32 bits: as a gain, 2^-15 of
+                                                    it would turn the phases at w_k (1 +- 2^-15)) */
     uint8_t rotation_stale;                      /* bit k: step_cos/sin of mode k to form again */
     uint8_t deferred;                            /* FC_PAD_WORK_* bits: the pieces not yet done */
     fc_real omega_min_radps[FC_PAD_MAX_MODES];   /* RATE: the band of each mode */
     fc_real omega_max_radps[FC_PAD_MAX_MODES];   /* RATE */
     fc_real amplitude_min_sq;                    /* RATIO: adapt_amplitude_min^2 */
     fc_real since_sample_s;                      /* TIME: since the previous fresh sample */
-    fc_real inflation;                           /* UNIT: 1/lambda - 1 */
+    fc_gain inflation;                           /* 1/lambda - 1 (fc_gain: 2^-15 of itself moves the
+                                                    window T_w by as little) */
     fc_real one_minus_lambda;                    /* UNIT */
+    fc_gain inv_tolerance;                       /* 1/tolerance, 1/m */
     fc_real phi[FC_PAD_MAX_PARAMS];              /* UNIT: phi(t) itself, the phases of the modes
                                                     [1, sin w_1 t, cos w_1 t, ...], zero past n */
+    fc_real16 phi16[FC_PAD_MAX_PARAMS];          /* UNIT16: phi rounded, the regressor the fit and the
+                                                    model's values read (phi16[0] unused: 1) */
     fc_real theta[FC_PAD_MAX_PARAMS];            /* LENGTH */
     fc_real theta_old[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot H..2H old */
     fc_real theta_new[FC_PAD_MAX_PARAMS];        /* LENGTH: snapshot 0..H old */
@@ -186,9 +198,9 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
  * slice per call, the first slice with a piece left of:
  *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
  *      triangle for 3 modes)
- *   2. FC_PAD_WORK_COVARIANCE_TAIL and FC_PAD_WORK_PHASES
- *   3. FC_PAD_WORK_SUMMARY and FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S
- *      phi: 49 + 7 products; g; all of a sample's RLS update but theta += g e)
+ *   2. FC_PAD_WORK_COVARIANCE_TAIL, FC_PAD_WORK_PHASES and FC_PAD_WORK_SUMMARY
+ *   3. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
+ *      32 x 16 bits; g; all of a sample's RLS update but theta += g e)
  * The slices are about the same size (the controller calls one per spare
  * minor frame; fc/controller.h). A caller with spare minor frames calls this
  * in them, between two steps; what is not done ahead the next

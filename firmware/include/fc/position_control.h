@@ -75,11 +75,19 @@ typedef struct fc_position_control_output {
     fc_real thrust_n;          /* FORCE: collective thrust along body z, |F_req| */
 } fc_position_control_output;
 
+/* The law's constants as fc_gain (fc/scalar.h): a 32 x 16-bit product each.
+ * Their 15 significant bits hold every one within 2^-15 of itself, far
+ * inside the tolerance any of them is tuned or measured to (a mass known to
+ * 3e-5 of itself, a gain to 3e-5), and the signals they multiply keep their
+ * 32-bit formats. */
 typedef struct fc_position_control {
     fc_position_control_params p;
-    fc_real ki_dt;             /* RATIO: k_I dt */
-    fc_real fb_dt;             /* RATIO: k_a dt */
-    fc_real tan_tilt_max;      /* RATIO: tan(tilt_max), <= 5.8 */
+    fc_gain kp;                /* k_P, (m/s2)/m */
+    fc_gain kd;                /* k_D, (m/s2)/(m/s) */
+    fc_gain ki_dt;             /* k_I dt, (m/s2)/m */
+    fc_gain fb_dt;             /* k_a dt, dimensionless */
+    fc_gain mass;              /* m, kg */
+    fc_gain tan_tilt_max;      /* tan(tilt_max), <= 5.8 */
     fc_vec3 integral_mps2;     /* ACCEL: I (x, y; z = 0) */
     fc_vec3 accel_fb_mps2;     /* ACCEL: I_a */
     bool ready;
