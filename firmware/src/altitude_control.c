@@ -862,20 +862,26 @@ static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_cont
 }
 
 /* The Theta of this step's u_nom (see the header, "Adaptation in discrete time"):
- * Theta_I advanced first by (4.83), Theta_I <- Theta_I - gamma dt sigma phi,
- * projected onto [Theta_min, Theta_max] and frozen unless learn; then
- * Theta = Theta_I - gamma_p [sigma phi]_lp, projected too. */
+ * Theta_I advanced first by (4.83), Theta_I <- Theta_I - gamma dt sigma phi, with
+ * sigma phi bounded (header, "Bounded learning rate"), projected onto
+ * [Theta_min, Theta_max] and frozen unless learn; then
+ * Theta = Theta_I - gamma_p [sigma phi]_lp, projected too, the low-pass fed 0
+ * while held. */
 static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *t, bool learn)
 {
     fc_arith *ar = &c->ar;
     const fc_real sigma_phi = fc_mul(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
     if (learn) {
-        const fc_real step_kg = fc_mul_gain(ar, sigma_phi, c->k.gamma_dt, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
+        const fc_real learnt = fc_clamp(sigma_phi, FC_C(-FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI),
+                                        FC_C(FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI));
+        const fc_real step_kg = fc_mul_gain(ar, learnt, c->k.gamma_dt, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
         c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
     }
     /* the proportional part from sigma phi low-passed over tau_p (ZOH, one product:
-     * s <- s + (1 - f)(sigma phi - s)): one glitched sample moves it by (1 - f) of its jump */
-    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul_gain(ar, fc_sub(ar, sigma_phi, c->sigma_phi_lp),
+     * s <- s + (1 - f)(sigma phi - s)): one glitched sample moves it by (1 - f) of its jump;
+     * while held it fades out over tau_p */
+    const fc_real lp_input = c->hold ? FC_INT(0, SIGMA_PHI) : sigma_phi;
+    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul_gain(ar, fc_sub(ar, lp_input, c->sigma_phi_lp),
                                                             c->k.damping_lp, FC_GAIN_SHIFT(SIGMA_PHI, SIGMA_PHI)));
     /* bounded so that the product stays inside MASS: beyond (Theta_max - Theta_min) / gamma_p
      * the projection below clips it anyway */

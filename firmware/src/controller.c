@@ -474,7 +474,6 @@ static void watch_inputs(fc_controller *ctl, step_context *c)
         ctl->mission.last_command = FC_COMMAND_DISARM;
         fc_landing_force(&ctl->landing, FC_LANDING_IDLE, FC_REASON_INPUTS_BACK);
     }
-    fc_altitude_control_hold(&ctl->altitude, watch.hold);
     c->holding = watch.hold;
 }
 
@@ -843,6 +842,10 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
     }
     const fc_altitude_control_input altitude_in = {c->in.position_m.z, c->in.velocity_mps.z, tm->reference,
                                                    c->tilt_cos, ctl->last_saturation};
+    /* Theta learns from measurements, and not once contact is planned: the press and
+     * the pad's reaction are no parameter error (fc/altitude_control.h, "Adaptation
+     * in discrete time") */
+    fc_altitude_control_hold(&ctl->altitude, c->holding || tm->touchdown_window);
     tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
     *status |= passed_on(tm->altitude_status);
     *thrust_n = tm->altitude.thrust_n;

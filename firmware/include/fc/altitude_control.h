@@ -108,10 +108,11 @@
  * relay has a quasi-sliding band (sigma_bar moves by about kappa_m rho dt a step) inside
  * which it chatters symmetrically, so u0_av carries nothing of the mode and cannot damp
  * it: a limit cycle whose size is the band's, twice as large at half the rate. The law:
- *   Theta_I <- proj(Theta_I - gamma dt sigma phi)     first, frozen while clamped or held
- *   Theta    = proj(Theta_I - gamma_p [sigma phi]_lp) this step's u_nom = Theta phi
+ *   Theta_I <- proj(Theta_I - gamma dt sat(sigma phi)) first, frozen while clamped or held
+ *   Theta    = proj(Theta_I - gamma_p [sigma phi]_lp)  this step's u_nom = Theta phi
  * with [.]_lp a first-order low-pass of time constant tau_p = 1/(4 w_theta) (w_theta at
- * Theta0 and phi = g):
+ * Theta0 and phi = g), fed 0 while held (the proportional part fades out), and sat the
+ * bound of the learning rate below:
  * - update order: u_nom is formed with the Theta_I just updated, the semi-implicit
  *   (symplectic) Euler step of the lossless pair, which keeps its energy instead of
  *   growing it;
@@ -128,6 +129,22 @@
  * - the low-pass keeps one glitched sample of z or z' (SPEC "Plausibility") from
  *   reaching u_nom with the full gain gamma_p phi^2: it passes (1 - e^(-dt/tau_p)) of the
  *   jump; at the mode it lags by atan(1/4), so the damping is cos(atan(1/4)) of the above.
+ * Bounded learning rate. (3.4) delivers u at once; the motors deliver it through
+ * their lag tau_m, which with the measurement delay T takes about w_theta (tau_m + T)
+ * of phase at the mode (30-50 degrees for 50 ms motors and 20-30 ms of delay at
+ * w_theta ~ 11 rad/s): V' = -sigma u0_av no longer holds there, the lossless pair is
+ * pumped, and Theta swings between its bounds in a limit cycle near w_theta. So the
+ * integral learns from sigma phi bounded to +-FC_ALT_THETA_LEARN_SIGMA_PHI (about
+ * 2 cm/s of sigma at phi = g): inside the bound (4.83) and V are unchanged; beyond it
+ * the pumping gain falls with the amplitude, and V' gains at most
+ * |Theta - Theta*| (|sigma phi| - bound), while the SSC alone keeps sigma_tilde at 0
+ * for every Theta inside the projection's bounds (rho of (4.39) covers
+ * |(Theta - Theta*) phi| over [Theta_min, Theta_max], (4.15)): boundedness does not
+ * rest on the adaptation. The cost: Theta_I moves by at most gamma times the bound a
+ * second (a quarter of Theta0 a second with the gains of 4.4). The bound also keeps a
+ * reference step (the landing's press, fc/landing.h) from being learnt as a mass
+ * change; once contact is planned (the touchdown window) the controller holds the
+ * adaptation: Theta* becomes the pad's.
  * The alternatives, against the same V: a normalised gradient gamma/(1 + mu phi^2) only
  * rescales gamma (phi stays near g) and moves w_theta, without damping; an implicit
  * gradient (sigma of the next step) damps by O(dt), less the faster the loop runs; a
@@ -185,6 +202,10 @@
 /* Damping ratio of the adaptive mode (sigma, Theta) with the proportional part
  * of the adaptation ("Adaptation in discrete time" above). */
 #define FC_ALT_THETA_DAMPING 0.7f
+
+/* |sigma phi| in m^2/s^3 the integral part of the adaptation learns from at most
+ * ("Bounded learning rate" above): about 2 cm/s of sigma at phi = g. */
+#define FC_ALT_THETA_LEARN_SIGMA_PHI 0.2f
 
 /* Cells of the kp range on which the eta norm observer (relative degree two)
  * majorises the impulse response to d_eq3 (header comment, NORM_OBSERVER). */
@@ -408,10 +429,11 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
 /* Clear the states (filters, integrators, Theta back to Theta0). */
 void fc_altitude_control_reset(fc_altitude_control *c);
 
-/* While held, Theta does not adapt and the baselines' integrators do not
- * integrate, as while the thrust is clamped; the law itself runs on. For
- * inputs that are estimates standing in for lost measurements
- * (fc/failsafe.h's hold): what is learnt must come from measurements. */
+/* While held, Theta does not adapt (Theta_I frozen, the proportional part
+ * fading out) and the baselines' integrators do not integrate, as while the
+ * thrust is clamped; the law itself runs on. For inputs that are estimates
+ * standing in for lost measurements (fc/failsafe.h's hold): what is learnt
+ * must come from measurements; and for a landing once contact is planned. */
 void fc_altitude_control_hold(fc_altitude_control *c, bool hold);
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
