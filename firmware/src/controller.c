@@ -17,6 +17,8 @@
 #include "fc/controller.h"
 #include "controller_params.h"
 
+#include <stddef.h>
+
 /* ---------------------------------------------------------------------- */
 /* outputs and resets                                                     */
 /* ---------------------------------------------------------------------- */
@@ -164,13 +166,14 @@ typedef struct step_context {
     fc_quat attitude;               /* the estimate in use */
     bool attitude_ok;               /* the platform's attitude usable (always, with the filter) */
     fc_vec3 rate_radps;             /* RATE: for the attitude law's damping */
-    fc_vec3 specific_force_mps2;    /* ACCEL: this step's accelerometer sample, body */
-    fc_quat pad_attitude;           /* UNIT: the pad's, pad -> world (the descent's shaping) */
+    const fc_controller_inputs *raw; /* this step's inputs as given */
     bool rate_known;                /* false: no rate, the attitude law does not run */
     bool imu_ok;                    /* gyro and accelerometer usable */
     fc_real tilt_cos;               /* RATIO: k_h */
     fc_controller_command command;  /* the one flown: the input's if valid, else the mode kept */
-    fc_gated_inputs in;             /* position, velocity, setpoints, pad: what the gates let through */
+    const fc_gated_inputs *in;      /* position, velocity, setpoints, pad: what the gates let through */
+    fc_real height_m;               /* LENGTH: the z flown on, in->position_m.z or the reckoned one */
+    fc_real vz_mps;                 /* VEL: its speed */
     bool inputs_ok;                 /* this step's were accepted */
     bool holding;                   /* not accepted, and within the hold before the failsafe */
     bool range_fresh;
@@ -259,8 +262,7 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
     c->imu_ok = c->estimate.gyro_ok && c->estimate.accel_ok;
     c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &c->rate_radps);
     c->tilt_cos = tilt_cos_of(&ctl->ar, c->attitude);
-    c->specific_force_mps2 = in->imu.accel_mps2;
-    c->pad_attitude = in->pad_attitude;
+    c->raw = in;
     ctl->guard.last_attitude = c->attitude;
     tm->attitude = c->attitude; /* and the setpoint's telemetry, on the paths without one */
     tm->rate_radps = c->rate_radps;
@@ -273,7 +275,7 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
  * zero, and no rotation computed, without a rate. */
 static fc_vec3 yaw_rate_feedforward(fc_controller *ctl, const step_context *c)
 {
-    const fc_real rate = c->in.yaw_rate_setpoint_radps;
+    const fc_real rate = c->in->yaw_rate_setpoint_radps;
     if (rate == FC_INT(0, RATE)) {
         return fc_vec3_zero();
     }
@@ -454,7 +456,10 @@ static fc_step_status gate_inputs(fc_controller *ctl, const fc_controller_inputs
 {
     const fc_gated_inputs raw = {in->position_m, in->velocity_mps, in->pad, in->position_setpoint_m,
                                  in->yaw_setpoint_rad, in->yaw_rate_setpoint_radps};
-    c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->mission.armed, &c->in);
+    c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->mission.armed, NULL);
+    c->in = &ctl->gate.accepted;
+    c->height_m = c->in->position_m.z;
+    c->vz_mps = c->in->velocity_mps.z;
     return c->inputs_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT;
 }
 
@@ -484,13 +489,13 @@ static void watch_inputs(fc_controller *ctl, step_context *c)
 static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical_estimate *v)
 {
     if (c->inputs_ok) {
-        ctl->guard.reckoned_z_m = c->in.position_m.z;
+        ctl->guard.reckoned_z_m = c->height_m;
     } else if (c->holding) {
         fc_arith *ar = &ctl->ar;
         ctl->guard.reckoned_z_m =
-            fc_add(ar, ctl->guard.reckoned_z_m, fc_mul(ar, v->vz_mps, ctl->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
-        c->in.position_m.z = ctl->guard.reckoned_z_m;
-        c->in.velocity_mps.z = v->vz_mps;
+            fc_add(ar, ctl->guard.reckoned_z_m, fc_mul_gain(ar, v->vz_mps, ctl->p.dt, FC_GAIN_SHIFT(VEL, LENGTH)));
+        c->height_m = ctl->guard.reckoned_z_m;
+        c->vz_mps = v->vz_mps;
     } else {
         /* neither measured nor held: the failsafe flies on the estimate itself */
     }
@@ -509,7 +514,10 @@ static void pad_samples_init(fc_controller_pad_samples *ps)
     ps->pending_age_s = FC_INT(0, DT);
     ps->pending = false;
     ps->estimate = (fc_pad_motion_estimate){0};
-    ps->estimate_age_s = FC_INT(0, DT);
+    ps->pad_now = ps->estimate.now;
+    ps->height_step_m = FC_INT(0, LENGTH);
+    ps->height_step_change_m = FC_INT(0, LENGTH);
+    ps->speed_step_mps = FC_INT(0, VEL);
 }
 
 /* The pad as the range finder sees it: a sample of its surface height
@@ -536,17 +544,25 @@ static fc_step_status observe_pad(fc_controller_pad_samples *ps, fc_arith *ar, c
     return in->range_fresh && !range_ok ? FC_STEP_BAD_INPUT : FC_STEP_OK;
 }
 
-/* z + z' t + z'' t^2 / 2, z' + z'' t, z'': the trajectory t later. */
-static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory now, fc_real t_s)
+/* The steps along the estimate's trajectory z(t) = z + z' t + z'' t^2 / 2
+ * (constant z'') from the pad model's step on: z'(t + dt) - z'(t) = z'' dt,
+ * z(t + dt) - z(t) = (z' + z'' dt / 2) dt + z'' dt^2 t / dt, so that each
+ * later step only adds (second differences, no product between two pad frames). */
+static void start_extrapolation(fc_controller_pad_samples *ps, fc_arith *ar, const fc_controller_settings *p)
 {
-    /* z'' t, and the mean speed over t, z' + z'' t / 2, times t */
-    const fc_real speed_change_mps = fc_mul(ar, now.az_mps2, t_s, FC_SHIFT(ACCEL, DT, VEL));
-    const fc_real mean_speed_mps =
-        fc_add(ar, now.vz_mps, fc_mul(ar, speed_change_mps, FC_C(0.5f, UNIT), FC_SHIFT(VEL, UNIT, VEL)));
-    fc_vertical_trajectory later = now;
-    later.z_m = fc_add(ar, now.z_m, fc_mul(ar, mean_speed_mps, t_s, FC_SHIFT(VEL, DT, LENGTH)));
-    later.vz_mps = fc_add(ar, now.vz_mps, speed_change_mps);
-    return later;
+    const fc_vertical_trajectory *now = &ps->estimate.now;
+    const fc_real half_rise_m = fc_mul_gain(ar, now->az_mps2, p->half_dt_sq, FC_GAIN_SHIFT(ACCEL, LENGTH));
+    ps->speed_step_mps = fc_mul_gain(ar, now->az_mps2, p->dt, FC_GAIN_SHIFT(ACCEL, VEL));
+    ps->height_step_m = fc_add(ar, fc_mul_gain(ar, now->vz_mps, p->dt, FC_GAIN_SHIFT(VEL, LENGTH)), half_rise_m);
+    ps->height_step_change_m = fc_add(ar, half_rise_m, half_rise_m);
+}
+
+/* The estimate's trajectory one step later. */
+static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
+{
+    ps->pad_now.z_m = fc_add(ar, ps->pad_now.z_m, ps->height_step_m);
+    ps->pad_now.vz_mps = fc_add(ar, ps->pad_now.vz_mps, ps->speed_step_mps);
+    ps->height_step_m = fc_add(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
 /* Minor frame 1 of the outer group (every step with outer_divider 1): the
@@ -573,14 +589,15 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
             ps->pending = false;
         }
         status |= passed_on(fc_pad_motion_step(model, &sample, &ps->estimate));
-        ps->estimate_age_s = FC_INT(0, DT);
+        ps->pad_now = ps->estimate.now;
+        if (divider > 1u) {
+            start_extrapolation(ps, ar, p);
+        }
+    } else {
+        extrapolate_one_step(ps, ar);
     }
     *estimate = ps->estimate;
-    if (ps->estimate_age_s != FC_INT(0, DT)) {
-        estimate->now = extrapolated(ar, ps->estimate.now, ps->estimate_age_s);
-    }
-    /* one step older (bounded: the pad frame comes every outer_divider steps) */
-    ps->estimate_age_s = fc_min(fc_add(ar, ps->estimate_age_s, p->dt_s), FC_C(1.0f, DT));
+    estimate->now = ps->pad_now;
     if (ps->pending) {
         ps->pending_age_s = fc_min(fc_add(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
     }
@@ -591,7 +608,7 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
 static fc_step_status pad_samples_step(fc_controller *ctl, const fc_controller_inputs *in, uint8_t frame,
                                        step_context *c, fc_controller_telemetry *tm)
 {
-    fc_step_status status = observe_pad(&ctl->pad, &ctl->ar, &ctl->p, ctl->step_s, in, &c->in, c->inputs_ok,
+    fc_step_status status = observe_pad(&ctl->pad, &ctl->ar, &ctl->p, ctl->step_s, in, c->in, c->inputs_ok,
                                         c->tilt_cos, &c->range_fresh);
     status |= pad_step(&ctl->pad, &ctl->pad_motion, &ctl->ar, &ctl->p, frame, &tm->pad);
     tm->gear_height_m = ctl->pad.gear_height_m;
@@ -641,32 +658,34 @@ bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specif
     return true;
 }
 
-/* What the acceleration feedback is measured from: the attitude in use, this
- * step's IMU sample, and whether both are usable. */
-typedef struct feedback_accel_sample {
-    fc_quat attitude;
-    fc_vec3 specific_force_mps2; /* ACCEL, body */
-    bool usable;
-} feedback_accel_sample;
-
 /* Horizontal PID -> F = m (a_des - g - I_a) -> attitude setpoint (fc/position_control.h),
  * in minor frame 0 of the outer group only, so that its cost never adds to
  * that of another part; held, with its status, for the major frame. Until
  * its first run (after arming, a reset or a level phase: at most
  * outer_divider - 1 steps, 8 ms at 500 Hz) the setpoint is level at the heading. */
-static fc_step_status horizontal_step(fc_controller *ctl, const fc_gated_inputs *in, const feedback_accel_sample *accel,
-                                      bool position_frame, fc_quat *attitude_sp)
+static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c, bool position_frame,
+                                      fc_quat *attitude_sp)
 {
+    const fc_gated_inputs *in = c->in;
     if (position_frame) {
         update_heading(&ctl->heading, &ctl->ar, in->yaw_setpoint_rad);
         /* the newest IMU sample, no average over the major frame: k_a dt
-         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0) */
+         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0);
+         * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
         fc_vec3 accel_world_mps2;
-        const bool accel_ok = fc_controller_measured_accel(&ctl->ar, accel->attitude, accel->specific_force_mps2,
-                                                           accel->usable, &accel_world_mps2);
-        const fc_position_control_input pin = {in->position_m,   in->velocity_mps,  in->position_setpoint_m,
-                                               fc_vec3_zero(),    fc_vec3_zero(),    accel_world_mps2,
-                                               accel_ok,          ctl->heading.yaw_cos,  ctl->heading.yaw_sin};
+        const bool accel_ok =
+            fc_controller_measured_accel(&ctl->ar, c->attitude, c->raw->imu.accel_mps2,
+                                         c->estimate.accel_ok && c->attitude_ok, &accel_world_mps2);
+        const fc_position_control_input pin = {
+            fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
+            fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps),
+            in->position_setpoint_m,
+            fc_vec3_zero(),
+            fc_vec3_zero(),
+            accel_world_mps2,
+            accel_ok,
+            ctl->heading.yaw_cos,
+            ctl->heading.yaw_sin};
         fc_position_control_output pout;
         ctl->groups.held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
         ctl->groups.held_attitude_setpoint = pout.attitude_sp;
@@ -709,7 +728,7 @@ static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inpu
                                     fc_controller_telemetry *tm)
 {
     const fc_vertical_estimator_input vin = {c->attitude,        in->imu.accel_mps2, c->estimate.accel_ok,
-                                             c->in.velocity_mps.z, c->inputs_ok,     ctl->pad.gear_height_m,
+                                             c->vz_mps,            c->inputs_ok,     ctl->pad.gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
                                              hover_learnable(ctl, c), !ctl->mission.armed};
     return passed_on(fc_vertical_estimator_step(&ctl->vertical, &vin, &tm->vertical));
@@ -776,11 +795,11 @@ static fc_step_status landing_plan(fc_controller *ctl, const step_context *c, fc
                                    vertical_plan *plan)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_landing_input lin = {landing_request_of(c->command), c->in.position_m.z,
-                                  horizontal_error_m(ar, &c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
+    const fc_landing_input lin = {landing_request_of(c->command), c->height_m,
+                                  horizontal_error_m(ar, c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
                                   c->tilt_cos, ctl->pad.gear_height_m, c->range_fresh, ctl->last_thrust_n, &tm->pad,
-                                  fc_sub(ar, c->in.position_m.x, c->in.position_setpoint_m.x),
-                                  fc_sub(ar, c->in.position_m.y, c->in.position_setpoint_m.y), c->pad_attitude};
+                                  fc_sub(ar, c->in->position_m.x, c->in->position_setpoint_m.x),
+                                  fc_sub(ar, c->in->position_m.y, c->in->position_setpoint_m.y), c->raw->pad_attitude};
     fc_landing_output lout;
     const fc_step_status status = passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
     tm->reference = lout.reference;
@@ -814,7 +833,7 @@ static fc_step_status plan_vertical(fc_controller *ctl, const step_context *c, f
         return FC_STEP_DEGRADED;
     }
     if (c->command == FC_COMMAND_TRACK_PAD) {
-        return passed_on(fc_altitude_reference_step(&ctl->reference, &c->in.pad, &tm->reference));
+        return passed_on(fc_altitude_reference_step(&ctl->reference, &c->in->pad, &tm->reference));
     }
     return landing_plan(ctl, c, tm, plan);
 }
@@ -841,7 +860,7 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
     if (!plan->fly_reference) {
         return fc_allocation_thrust_fraction(&ctl->allocation, plan->thrust_n);
     }
-    const fc_altitude_control_input altitude_in = {c->in.position_m.z, c->in.velocity_mps.z, tm->reference,
+    const fc_altitude_control_input altitude_in = {c->height_m, c->vz_mps, tm->reference,
                                                    c->tilt_cos, ctl->last_saturation};
     tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
     *status |= passed_on(tm->altitude_status);
@@ -855,13 +874,10 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
                                 bool position_frame, fc_controller_telemetry *tm, fc_step_status *status)
 {
     if (plan->level) {
-        tm->attitude_setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in.yaw_setpoint_rad);
+        tm->attitude_setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
         ctl->groups.have_attitude_setpoint = false; /* the loop starts afresh after a level phase */
     } else {
-        /* the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
-        const feedback_accel_sample accel = {c->attitude, c->specific_force_mps2,
-                                             c->estimate.accel_ok && c->attitude_ok};
-        *status |= horizontal_step(ctl, &c->in, &accel, position_frame, &tm->attitude_setpoint);
+        *status |= horizontal_step(ctl, c, position_frame, &tm->attitude_setpoint);
     }
     /* on the pad (contact being confirmed, the thrust ramp) the feet and not
      * the moments hold the attitude: the integrals hold their trim */
@@ -964,11 +980,11 @@ static fc_real thrust_of_velocity(fc_controller *ctl, const step_context *c, con
 static fc_real yaw_rate_command(fc_controller *ctl, const step_context *c)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_quat setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in.yaw_setpoint_rad);
+    const fc_quat setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
     const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), c->attitude));
     const fc_real twice_z = fc_add(ar, error.z, error.z);
     const fc_real feedback = fc_mul(ar, ctl->p.yaw_gain_per_s, twice_z, FC_SHIFT(RATIO, UNIT, RATE));
-    const fc_real rate = fc_sub(ar, c->in.yaw_rate_setpoint_radps, feedback);
+    const fc_real rate = fc_sub(ar, c->in->yaw_rate_setpoint_radps, feedback);
     return fc_clamp(rate, fc_neg(ar, ctl->p.yaw_rate_max_radps), ctl->p.yaw_rate_max_radps);
 }
 
@@ -983,12 +999,13 @@ static fc_step_status velocity_output(fc_controller *ctl, const step_context *c,
     fc_vec3 u = fc_vec3_zero();
     fc_real yaw_rate = FC_INT(0, RATE);
     if (fly_reference) {
-        const fc_gated_inputs *in = &c->in;
+        const fc_gated_inputs *in = c->in;
         const fc_trajectory_tracking_input tin = {
             fc_vec3_make(in->position_setpoint_m.x, in->position_setpoint_m.y, tm->reference.z_m),
             fc_vec3_make(FC_INT(0, VEL), FC_INT(0, VEL), tm->reference.vz_mps),
-            fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), tm->reference.az_mps2), in->position_m,
-            in->velocity_mps};
+            fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), tm->reference.az_mps2),
+            fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
+            fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps)};
         status |= passed_on(fc_trajectory_tracking_step(&ctl->tracking, &tin, &u));
         yaw_rate = yaw_rate_command(ctl, c);
     } else {
@@ -1034,8 +1051,13 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
                                       p->velocity.yaw_rate_max_radps,
                                       FC_INT(0, RATIO),
                                       p->gravity_mps2,
-                                      p->velocity.tracking.k_p_per_s.z};
+                                      p->velocity.tracking.k_p_per_s.z,
+                                      fc_gain_of(p->dt_s, FC_DT_FRAC),
+                                      fc_gain_of(FC_INT(0, DT), FC_DT_FRAC)};
     ctl->ar.saturated = 0u;
+    /* dt^2 / 2, the pad trajectory's extrapolation (start_extrapolation) */
+    const fc_real half_dt_s = fc_mul(&ctl->ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
+    ctl->p.half_dt_sq = fc_gain_of_product(p->dt_s, FC_DT_FRAC, half_dt_s, FC_DT_FRAC);
     mission_init(&ctl->mission);
     guard_init(&ctl->guard);
     rate_groups_init(&ctl->groups);

@@ -272,6 +272,8 @@ typedef struct fc_controller_settings {
     fc_real inv_gravity_s2pm;           /* RATIO: 1 / g */
     fc_real gravity_mps2;               /* ACCEL */
     fc_real k_p_z_per_s;                /* RATIO: velocity.tracking.k_p_per_s.z */
+    fc_gain dt;                         /* dt, s: the step's integrations */
+    fc_gain half_dt_sq;                 /* dt^2 / 2, s^2 */
 } fc_controller_settings;
 
 /* The parts of the controller's own state, one job each (controller.c has
@@ -312,7 +314,10 @@ typedef struct fc_controller_pad_samples {
     fc_real pending_age_s;              /* DT: since it was taken */
     bool pending;
     fc_pad_motion_estimate estimate;    /* the pad model's newest output */
-    fc_real estimate_age_s;             /* DT: since the pad model made it */
+    fc_vertical_trajectory pad_now;     /* its trajectory carried to this step */
+    fc_real height_step_m;              /* LENGTH: pad_now.z_m's change over the next step */
+    fc_real height_step_change_m;       /* LENGTH: that change's own a step, z'' dt^2 */
+    fc_real speed_step_mps;             /* VEL: pad_now.vz_mps's change a step, z'' dt */
 } fc_controller_pad_samples;
 
 /* The heading of the setpoint, kept between steps: trigonometry only when
