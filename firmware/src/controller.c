@@ -163,9 +163,8 @@ static fc_quat level_attitude(fc_controller_heading *h, fc_arith *ar, fc_real ya
 /* What the parts of a step work from. */
 typedef struct step_context {
     fc_attitude_estimate estimate;
-    fc_quat attitude;               /* the estimate in use */
+    const fc_quat *attitude;        /* the estimate in use (the telemetry's) */
     bool attitude_ok;               /* the platform's attitude usable (always, with the filter) */
-    fc_vec3 rate_radps;             /* RATE: for the attitude law's damping */
     const fc_controller_inputs *raw; /* this step's inputs as given */
     bool rate_known;                /* false: no rate, the attitude law does not run */
     bool imu_ok;                    /* gyro and accelerometer usable */
@@ -217,27 +216,28 @@ static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *i
  * 2 vec(q_last* q) / dt (the sign of the shortest rotation); with the
  * filter's there is nothing to take it from (the filter holds still without
  * a gyro). */
-static bool rate_in_use(fc_controller *ctl, const fc_attitude_estimate *est, fc_quat attitude, bool attitude_fresh,
-                        fc_vec3 *rate_radps)
+static bool rate_in_use(fc_controller *ctl, const fc_attitude_estimate *est, const fc_quat *attitude,
+                        bool attitude_fresh, fc_vec3 *rate_radps)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_quat last = ctl->guard.last_external_attitude;
-    if (ctl->p.use_external_attitude && attitude_fresh) {
-        ctl->guard.last_external_attitude = attitude;
-    }
+    const bool external_fresh = ctl->p.use_external_attitude && attitude_fresh;
+    bool known = true;
     if (est->gyro_ok) {
         *rate_radps = est->rate_radps;
-        return true;
+    } else if (external_fresh) {
+        const fc_quat last = ctl->guard.last_external_attitude;
+        const fc_quat turn = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, last), *attitude));
+        const fc_vec3 half_angle = fc_quat_vector_part(turn);
+        const fc_vec3 angle = fc_vec3_add(ar, half_angle, half_angle);
+        *rate_radps = fc_vec3_scale(ar, angle, ctl->inv_dt_per_s, FC_SHIFT(UNIT, GAIN, RATE));
+    } else {
+        *rate_radps = fc_vec3_zero();
+        known = false;
     }
-    *rate_radps = fc_vec3_zero();
-    if (!ctl->p.use_external_attitude || !attitude_fresh) {
-        return false;
+    if (external_fresh) {
+        ctl->guard.last_external_attitude = *attitude;
     }
-    const fc_quat turn = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, last), attitude));
-    const fc_vec3 half_angle = fc_quat_vector_part(turn);
-    const fc_vec3 angle = fc_vec3_add(ar, half_angle, half_angle);
-    *rate_radps = fc_vec3_scale(ar, angle, ctl->inv_dt_per_s, FC_SHIFT(UNIT, GAIN, RATE));
-    return true;
+    return known;
 }
 
 /* k_h = cos(roll) cos(pitch): the world-z component of the body z axis,
@@ -257,15 +257,18 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
 {
     tm->estimator_status = estimator_step(ctl, in, &c->estimate);
     fc_step_status attitude_status = FC_STEP_OK;
-    c->attitude = attitude_in_use(ctl, in, &c->estimate, &attitude_status);
+    /* the telemetry's attitude and rate are the step's own (and the
+     * setpoint's telemetry, on the paths without one) */
+    tm->attitude = attitude_in_use(ctl, in, &c->estimate, &attitude_status);
+    c->attitude = &tm->attitude;
     c->attitude_ok = attitude_status == FC_STEP_OK;
     c->imu_ok = c->estimate.gyro_ok && c->estimate.accel_ok;
-    c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &c->rate_radps);
-    c->tilt_cos = tilt_cos_of(&ctl->ar, c->attitude);
+    c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &tm->rate_radps);
+    c->tilt_cos = tilt_cos_of(&ctl->ar, tm->attitude);
     c->raw = in;
-    ctl->guard.last_attitude = c->attitude;
-    tm->attitude = c->attitude; /* and the setpoint's telemetry, on the paths without one */
-    tm->rate_radps = c->rate_radps;
+    if (ctl->p.use_external_attitude) {
+        ctl->guard.last_attitude = tm->attitude; /* what a bad sample of the platform's is stood in for by */
+    }
     tm->tilt_cos = c->tilt_cos;
     return passed_on(tm->estimator_status) | attitude_status;
 }
@@ -279,7 +282,7 @@ static fc_vec3 yaw_rate_feedforward(fc_controller *ctl, const step_context *c)
     if (rate == FC_INT(0, RATE)) {
         return fc_vec3_zero();
     }
-    return fc_quat_rotate_inv(&ctl->ar, c->attitude, fc_vec3_make(FC_INT(0, RATE), FC_INT(0, RATE), rate));
+    return fc_quat_rotate_inv(&ctl->ar, *c->attitude, fc_vec3_make(FC_INT(0, RATE), FC_INT(0, RATE), rate));
 }
 
 /* ---------------------------------------------------------------------- */
@@ -674,7 +677,7 @@ static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c,
          * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
         fc_vec3 accel_world_mps2;
         const bool accel_ok =
-            fc_controller_measured_accel(&ctl->ar, c->attitude, c->raw->imu.accel_mps2,
+            fc_controller_measured_accel(&ctl->ar, *c->attitude, c->raw->imu.accel_mps2,
                                          c->estimate.accel_ok && c->attitude_ok, &accel_world_mps2);
         const fc_position_control_input pin = {
             fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
@@ -727,7 +730,7 @@ static bool hover_learnable(const fc_controller *ctl, const step_context *c)
 static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inputs *in, const step_context *c,
                                     fc_controller_telemetry *tm)
 {
-    const fc_vertical_estimator_input vin = {c->attitude,        in->imu.accel_mps2, c->estimate.accel_ok,
+    const fc_vertical_estimator_input vin = {*c->attitude,       in->imu.accel_mps2, c->estimate.accel_ok,
                                              c->vz_mps,            c->inputs_ok,     ctl->pad.gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
                                              hover_learnable(ctl, c), !ctl->mission.armed};
@@ -887,7 +890,7 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
         *status |= FC_STEP_DEGRADED; /* no rate: no moments (the header says why) */
         return fc_vec3_16_zero();
     }
-    const fc_attitude_control_input attitude_in = {c->attitude, tm->attitude_setpoint, c->rate_radps,
+    const fc_attitude_control_input attitude_in = {*c->attitude, tm->attitude_setpoint, tm->rate_radps,
                                                    yaw_rate_feedforward(ctl, c), ctl->last_saturation};
     fc_attitude_control_output attitude_out;
     tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
@@ -981,7 +984,7 @@ static fc_real yaw_rate_command(fc_controller *ctl, const step_context *c)
 {
     fc_arith *ar = &ctl->ar;
     const fc_quat setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
-    const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), c->attitude));
+    const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), *c->attitude));
     const fc_real twice_z = fc_add(ar, error.z, error.z);
     const fc_real feedback = fc_mul(ar, ctl->p.yaw_gain_per_s, twice_z, FC_SHIFT(RATIO, UNIT, RATE));
     const fc_real rate = fc_sub(ar, c->in->yaw_rate_setpoint_radps, feedback);

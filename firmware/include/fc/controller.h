@@ -289,7 +289,7 @@ typedef struct fc_controller_mission {
 
 /* The input guard: what the step flies on while an input is not usable. */
 typedef struct fc_controller_guard {
-    fc_quat last_attitude;              /* the attitude in use at the last step */
+    fc_quat last_attitude;              /* the platform's attitude in use at the last step */
     fc_quat last_external_attitude;     /* the platform's, for a rate without a gyro */
     fc_real reckoned_z_m;               /* LENGTH: the height flown on while inputs are held */
 } fc_controller_guard;
