@@ -517,7 +517,7 @@ static void pad_samples_init(fc_controller_pad_samples *ps)
     ps->pending_age_s = FC_INT(0, DT);
     ps->pending = false;
     ps->estimate = (fc_pad_motion_estimate){0};
-    ps->pad_now = ps->estimate.now;
+    ps->model_vz_mps = FC_INT(0, VEL);
     ps->height_step_m = FC_INT(0, LENGTH);
     ps->height_step_change_m = FC_INT(0, LENGTH);
     ps->speed_step_mps = FC_INT(0, VEL);
@@ -548,9 +548,10 @@ static fc_step_status observe_pad(fc_controller_pad_samples *ps, fc_arith *ar, c
 }
 
 /* The steps along the estimate's trajectory z(t) = z + z' t + z'' t^2 / 2
- * (constant z'') from the pad model's step on: z'(t + dt) - z'(t) = z'' dt,
- * z(t + dt) - z(t) = (z' + z'' dt / 2) dt + z'' dt^2 t / dt, so that each
- * later step only adds (second differences, no product between two pad frames). */
+ * (constant z'') from the pad model's step on, at t = k dt:
+ *   z'(t + dt) - z'(t) = z'' dt
+ *   z(t + dt) - z(t)   = (z' + z'' dt / 2) dt + k z'' dt^2
+ * so that each later step only adds (no product between two pad frames). */
 static void start_extrapolation(fc_controller_pad_samples *ps, fc_arith *ar, const fc_controller_settings *p)
 {
     const fc_vertical_trajectory *now = &ps->estimate.now;
@@ -563,8 +564,9 @@ static void start_extrapolation(fc_controller_pad_samples *ps, fc_arith *ar, con
 /* The estimate's trajectory one step later. */
 static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
 {
-    ps->pad_now.z_m = fc_add(ar, ps->pad_now.z_m, ps->height_step_m);
-    ps->pad_now.vz_mps = fc_add(ar, ps->pad_now.vz_mps, ps->speed_step_mps);
+    fc_vertical_trajectory *now = &ps->estimate.now;
+    now->z_m = fc_add(ar, now->z_m, ps->height_step_m);
+    now->vz_mps = fc_add(ar, now->vz_mps, ps->speed_step_mps);
     ps->height_step_m = fc_add(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
@@ -586,13 +588,13 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
     if (frame == (divider > 1u ? 1u : 0u)) {
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
         if (ps->pending) {
-            const fc_real carried_m = fc_mul(ar, ps->estimate.now.vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
+            const fc_real carried_m = fc_mul(ar, ps->model_vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
             sample.height_m = fc_add(ar, ps->pending_height_m, carried_m);
             sample.fresh = true;
             ps->pending = false;
         }
         status |= passed_on(fc_pad_motion_step(model, &sample, &ps->estimate));
-        ps->pad_now = ps->estimate.now;
+        ps->model_vz_mps = ps->estimate.now.vz_mps;
         if (divider > 1u) {
             start_extrapolation(ps, ar, p);
         }
@@ -600,7 +602,6 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
         extrapolate_one_step(ps, ar);
     }
     *estimate = ps->estimate;
-    estimate->now = ps->pad_now;
     if (ps->pending) {
         ps->pending_age_s = fc_min(fc_add(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
     }

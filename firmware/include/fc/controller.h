@@ -313,11 +313,12 @@ typedef struct fc_controller_pad_samples {
     fc_real pending_height_m;           /* LENGTH: the newest range sample as pad height, waiting */
     fc_real pending_age_s;              /* DT: since it was taken */
     bool pending;
-    fc_pad_motion_estimate estimate;    /* the pad model's newest output */
-    fc_vertical_trajectory pad_now;     /* its trajectory carried to this step */
-    fc_real height_step_m;              /* LENGTH: pad_now.z_m's change over the next step */
+    fc_pad_motion_estimate estimate;    /* the pad model's newest output, its trajectory
+                                         * (now) carried to this step */
+    fc_real model_vz_mps;               /* VEL: the model's own z' (at its step) */
+    fc_real height_step_m;              /* LENGTH: now.z_m's change over the next step */
     fc_real height_step_change_m;       /* LENGTH: that change's own a step, z'' dt^2 */
-    fc_real speed_step_mps;             /* VEL: pad_now.vz_mps's change a step, z'' dt */
+    fc_real speed_step_mps;             /* VEL: now.vz_mps's change a step, z'' dt */
 } fc_controller_pad_samples;
 
 /* The heading of the setpoint, kept between steps: trigonometry only when
