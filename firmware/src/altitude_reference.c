@@ -85,7 +85,8 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
         fc_sub(ar, pad_used.vz_mps, fc_mul_by16(ar, ref->offset_rate_mps, decay16, FC_SHIFT(VEL, UNIT16, VEL)));
     reference->az_mps2 = fc_add(
         ar, pad_used.az_mps2, fc_mul_by16(ar, ref->offset_accel_mps2, decay16, FC_SHIFT(ACCEL, UNIT16, ACCEL)));
-    ref->decay = fc_sub(ar, ref->decay, fc_mul_gain(ar, ref->decay, ref->decay_loss_per_step, FC_GAIN_SHIFT(UNIT, UNIT)));
+    const fc_real decay_loss = fc_mul_gain(ar, ref->decay, ref->decay_loss_per_step, FC_GAIN_SHIFT(UNIT, UNIT));
+    ref->decay = fc_sub(ar, ref->decay, decay_loss);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }
