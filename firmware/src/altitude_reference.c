@@ -25,9 +25,9 @@ fc_init_result fc_altitude_reference_init(fc_altitude_reference *ref,
         return FC_INIT_BAD_PARAM;
     }
     fc_arith *ar = &ref->ar;
-    /* dt / tau as RATIO, then the exact per-step decay e^(-dt/tau) */
+    /* dt / tau as RATIO, then the share of the decay a step takes, 1 - e^(-dt/tau) */
     const fc_real dt_over_tau = fc_div(ar, p->dt_s, p->tau_s, FC_DIV_SHIFT(DT, TIME, RATIO));
-    ref->decay_per_step = fc_exp_neg(ar, dt_over_tau);
+    ref->decay_loss_per_step = fc_gain_of(fc_sub(ar, FC_INT(1, UNIT), fc_exp_neg(ar, dt_over_tau)), FC_UNIT_FRAC);
     ref->inv_tau_per_s = fc_div(ar, FC_INT(1, TIME), p->tau_s, FC_DIV_SHIFT(TIME, TIME, GAIN));
     ref->bias_m = p->bias_m;
     ref->ready = true;
@@ -85,7 +85,8 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
         fc_sub(ar, pad_used.vz_mps, fc_mul_by16(ar, ref->offset_rate_mps, decay16, FC_SHIFT(VEL, UNIT16, VEL)));
     reference->az_mps2 = fc_add(
         ar, pad_used.az_mps2, fc_mul_by16(ar, ref->offset_accel_mps2, decay16, FC_SHIFT(ACCEL, UNIT16, ACCEL)));
-    ref->decay = fc_mul(ar, ref->decay, ref->decay_per_step, FC_SHIFT(UNIT, UNIT, UNIT));
+    const fc_real decay_loss = fc_mul_gain(ar, ref->decay, ref->decay_loss_per_step, FC_GAIN_SHIFT(UNIT, UNIT));
+    ref->decay = fc_sub(ar, ref->decay, decay_loss);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

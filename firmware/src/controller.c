@@ -17,6 +17,8 @@
 #include "fc/controller.h"
 #include "controller_params.h"
 
+#include <stddef.h>
+
 /* ---------------------------------------------------------------------- */
 /* outputs and resets                                                     */
 /* ---------------------------------------------------------------------- */
@@ -161,16 +163,16 @@ static fc_quat level_attitude(fc_controller_heading *h, fc_arith *ar, fc_real ya
 /* What the parts of a step work from. */
 typedef struct step_context {
     fc_attitude_estimate estimate;
-    fc_quat attitude;               /* the estimate in use */
+    const fc_quat *attitude;        /* the estimate in use (the telemetry's) */
     bool attitude_ok;               /* the platform's attitude usable (always, with the filter) */
-    fc_vec3 rate_radps;             /* RATE: for the attitude law's damping */
-    fc_vec3 specific_force_mps2;    /* ACCEL: this step's accelerometer sample, body */
-    fc_quat pad_attitude;           /* UNIT: the pad's, pad -> world (the descent's shaping) */
+    const fc_controller_inputs *raw; /* this step's inputs as given */
     bool rate_known;                /* false: no rate, the attitude law does not run */
     bool imu_ok;                    /* gyro and accelerometer usable */
     fc_real tilt_cos;               /* RATIO: k_h */
     fc_controller_command command;  /* the one flown: the input's if valid, else the mode kept */
-    fc_gated_inputs in;             /* position, velocity, setpoints, pad: what the gates let through */
+    const fc_gated_inputs *in;      /* position, velocity, setpoints, pad: what the gates let through */
+    fc_real height_m;               /* LENGTH: the z flown on, in->position_m.z or the reckoned one */
+    fc_real vz_mps;                 /* VEL: its speed */
     bool inputs_ok;                 /* this step's were accepted */
     bool holding;                   /* not accepted, and within the hold before the failsafe */
     bool range_fresh;
@@ -214,27 +216,28 @@ static fc_quat attitude_in_use(fc_controller *ctl, const fc_controller_inputs *i
  * 2 vec(q_last* q) / dt (the sign of the shortest rotation); with the
  * filter's there is nothing to take it from (the filter holds still without
  * a gyro). */
-static bool rate_in_use(fc_controller *ctl, const fc_attitude_estimate *est, fc_quat attitude, bool attitude_fresh,
-                        fc_vec3 *rate_radps)
+static bool rate_in_use(fc_controller *ctl, const fc_attitude_estimate *est, const fc_quat *attitude,
+                        bool attitude_fresh, fc_vec3 *rate_radps)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_quat last = ctl->guard.last_external_attitude;
-    if (ctl->p.use_external_attitude && attitude_fresh) {
-        ctl->guard.last_external_attitude = attitude;
-    }
+    const bool external_fresh = ctl->p.use_external_attitude && attitude_fresh;
+    bool known = true;
     if (est->gyro_ok) {
         *rate_radps = est->rate_radps;
-        return true;
+    } else if (external_fresh) {
+        const fc_quat last = ctl->guard.last_external_attitude;
+        const fc_quat turn = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, last), *attitude));
+        const fc_vec3 half_angle = fc_quat_vector_part(turn);
+        const fc_vec3 angle = fc_vec3_add(ar, half_angle, half_angle);
+        *rate_radps = fc_vec3_scale(ar, angle, ctl->inv_dt_per_s, FC_SHIFT(UNIT, GAIN, RATE));
+    } else {
+        *rate_radps = fc_vec3_zero();
+        known = false;
     }
-    *rate_radps = fc_vec3_zero();
-    if (!ctl->p.use_external_attitude || !attitude_fresh) {
-        return false;
+    if (external_fresh) {
+        ctl->guard.last_external_attitude = *attitude;
     }
-    const fc_quat turn = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, last), attitude));
-    const fc_vec3 half_angle = fc_quat_vector_part(turn);
-    const fc_vec3 angle = fc_vec3_add(ar, half_angle, half_angle);
-    *rate_radps = fc_vec3_scale(ar, angle, ctl->inv_dt_per_s, FC_SHIFT(UNIT, GAIN, RATE));
-    return true;
+    return known;
 }
 
 /* k_h = cos(roll) cos(pitch): the world-z component of the body z axis,
@@ -254,16 +257,18 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
 {
     tm->estimator_status = estimator_step(ctl, in, &c->estimate);
     fc_step_status attitude_status = FC_STEP_OK;
-    c->attitude = attitude_in_use(ctl, in, &c->estimate, &attitude_status);
+    /* the telemetry's attitude and rate are the step's own (and the
+     * setpoint's telemetry, on the paths without one) */
+    tm->attitude = attitude_in_use(ctl, in, &c->estimate, &attitude_status);
+    c->attitude = &tm->attitude;
     c->attitude_ok = attitude_status == FC_STEP_OK;
     c->imu_ok = c->estimate.gyro_ok && c->estimate.accel_ok;
-    c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &c->rate_radps);
-    c->tilt_cos = tilt_cos_of(&ctl->ar, c->attitude);
-    c->specific_force_mps2 = in->imu.accel_mps2;
-    c->pad_attitude = in->pad_attitude;
-    ctl->guard.last_attitude = c->attitude;
-    tm->attitude = c->attitude; /* and the setpoint's telemetry, on the paths without one */
-    tm->rate_radps = c->rate_radps;
+    c->rate_known = rate_in_use(ctl, &c->estimate, c->attitude, c->attitude_ok, &tm->rate_radps);
+    c->tilt_cos = tilt_cos_of(&ctl->ar, tm->attitude);
+    c->raw = in;
+    if (ctl->p.use_external_attitude) {
+        ctl->guard.last_attitude = tm->attitude; /* what a bad sample of the platform's is stood in for by */
+    }
     tm->tilt_cos = c->tilt_cos;
     return passed_on(tm->estimator_status) | attitude_status;
 }
@@ -273,11 +278,11 @@ static fc_step_status sense(fc_controller *ctl, const fc_controller_inputs *in, 
  * zero, and no rotation computed, without a rate. */
 static fc_vec3 yaw_rate_feedforward(fc_controller *ctl, const step_context *c)
 {
-    const fc_real rate = c->in.yaw_rate_setpoint_radps;
+    const fc_real rate = c->in->yaw_rate_setpoint_radps;
     if (rate == FC_INT(0, RATE)) {
         return fc_vec3_zero();
     }
-    return fc_quat_rotate_inv(&ctl->ar, c->attitude, fc_vec3_make(FC_INT(0, RATE), FC_INT(0, RATE), rate));
+    return fc_quat_rotate_inv(&ctl->ar, *c->attitude, fc_vec3_make(FC_INT(0, RATE), FC_INT(0, RATE), rate));
 }
 
 /* ---------------------------------------------------------------------- */
@@ -454,7 +459,10 @@ static fc_step_status gate_inputs(fc_controller *ctl, const fc_controller_inputs
 {
     const fc_gated_inputs raw = {in->position_m, in->velocity_mps, in->pad, in->position_setpoint_m,
                                  in->yaw_setpoint_rad, in->yaw_rate_setpoint_radps};
-    c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->mission.armed, &c->in);
+    c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->mission.armed, NULL);
+    c->in = &ctl->gate.accepted;
+    c->height_m = c->in->position_m.z;
+    c->vz_mps = c->in->velocity_mps.z;
     return c->inputs_ok ? FC_STEP_OK : FC_STEP_BAD_INPUT;
 }
 
@@ -483,13 +491,13 @@ static void watch_inputs(fc_controller *ctl, step_context *c)
 static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical_estimate *v)
 {
     if (c->inputs_ok) {
-        ctl->guard.reckoned_z_m = c->in.position_m.z;
+        ctl->guard.reckoned_z_m = c->height_m;
     } else if (c->holding) {
         fc_arith *ar = &ctl->ar;
         ctl->guard.reckoned_z_m =
-            fc_add(ar, ctl->guard.reckoned_z_m, fc_mul(ar, v->vz_mps, ctl->p.dt_s, FC_SHIFT(VEL, DT, LENGTH)));
-        c->in.position_m.z = ctl->guard.reckoned_z_m;
-        c->in.velocity_mps.z = v->vz_mps;
+            fc_add(ar, ctl->guard.reckoned_z_m, fc_mul_gain(ar, v->vz_mps, ctl->p.dt, FC_GAIN_SHIFT(VEL, LENGTH)));
+        c->height_m = ctl->guard.reckoned_z_m;
+        c->vz_mps = v->vz_mps;
     } else {
         /* neither measured nor held: the failsafe flies on the estimate itself */
     }
@@ -508,7 +516,10 @@ static void pad_samples_init(fc_controller_pad_samples *ps)
     ps->pending_age_s = FC_INT(0, DT);
     ps->pending = false;
     ps->estimate = (fc_pad_motion_estimate){0};
-    ps->estimate_age_s = FC_INT(0, DT);
+    ps->model_vz_mps = FC_INT(0, VEL);
+    ps->height_step_m = FC_INT(0, LENGTH);
+    ps->height_step_change_m = FC_INT(0, LENGTH);
+    ps->speed_step_mps = FC_INT(0, VEL);
 }
 
 /* The pad as the range finder sees it: a sample of its surface height
@@ -535,17 +546,27 @@ static fc_step_status observe_pad(fc_controller_pad_samples *ps, fc_arith *ar, c
     return in->range_fresh && !range_ok ? FC_STEP_BAD_INPUT : FC_STEP_OK;
 }
 
-/* z + z' t + z'' t^2 / 2, z' + z'' t, z'': the trajectory t later. */
-static fc_vertical_trajectory extrapolated(fc_arith *ar, fc_vertical_trajectory now, fc_real t_s)
+/* The steps along the estimate's trajectory z(t) = z + z' t + z'' t^2 / 2
+ * (constant z'') from the pad model's step on, at t = k dt:
+ *   z'(t + dt) - z'(t) = z'' dt
+ *   z(t + dt) - z(t)   = (z' + z'' dt / 2) dt + k z'' dt^2
+ * so that each later step only adds (no product between two pad frames). */
+static void start_extrapolation(fc_controller_pad_samples *ps, fc_arith *ar, const fc_controller_settings *p)
 {
-    /* z'' t, and the mean speed over t, z' + z'' t / 2, times t */
-    const fc_real speed_change_mps = fc_mul(ar, now.az_mps2, t_s, FC_SHIFT(ACCEL, DT, VEL));
-    const fc_real mean_speed_mps =
-        fc_add(ar, now.vz_mps, fc_mul(ar, speed_change_mps, FC_C(0.5f, UNIT), FC_SHIFT(VEL, UNIT, VEL)));
-    fc_vertical_trajectory later = now;
-    later.z_m = fc_add(ar, now.z_m, fc_mul(ar, mean_speed_mps, t_s, FC_SHIFT(VEL, DT, LENGTH)));
-    later.vz_mps = fc_add(ar, now.vz_mps, speed_change_mps);
-    return later;
+    const fc_vertical_trajectory *now = &ps->estimate.now;
+    const fc_real half_rise_m = fc_mul_gain(ar, now->az_mps2, p->half_dt_sq, FC_GAIN_SHIFT(ACCEL, LENGTH));
+    ps->speed_step_mps = fc_mul_gain(ar, now->az_mps2, p->dt, FC_GAIN_SHIFT(ACCEL, VEL));
+    ps->height_step_m = fc_add(ar, fc_mul_gain(ar, now->vz_mps, p->dt, FC_GAIN_SHIFT(VEL, LENGTH)), half_rise_m);
+    ps->height_step_change_m = fc_add(ar, half_rise_m, half_rise_m);
+}
+
+/* The estimate's trajectory one step later. */
+static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
+{
+    fc_vertical_trajectory *now = &ps->estimate.now;
+    now->z_m = fc_add(ar, now->z_m, ps->height_step_m);
+    now->vz_mps = fc_add(ar, now->vz_mps, ps->speed_step_mps);
+    ps->height_step_m = fc_add(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
 /* Minor frame 1 of the outer group (every step with outer_divider 1): the
@@ -566,20 +587,20 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
     if (frame == (divider > 1u ? 1u : 0u)) {
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
         if (ps->pending) {
-            const fc_real carried_m = fc_mul(ar, ps->estimate.now.vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
+            const fc_real carried_m = fc_mul(ar, ps->model_vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
             sample.height_m = fc_add(ar, ps->pending_height_m, carried_m);
             sample.fresh = true;
             ps->pending = false;
         }
         status |= passed_on(fc_pad_motion_step(model, &sample, &ps->estimate));
-        ps->estimate_age_s = FC_INT(0, DT);
+        ps->model_vz_mps = ps->estimate.now.vz_mps;
+        if (divider > 1u) {
+            start_extrapolation(ps, ar, p);
+        }
+    } else {
+        extrapolate_one_step(ps, ar);
     }
     *estimate = ps->estimate;
-    if (ps->estimate_age_s != FC_INT(0, DT)) {
-        estimate->now = extrapolated(ar, ps->estimate.now, ps->estimate_age_s);
-    }
-    /* one step older (bounded: the pad frame comes every outer_divider steps) */
-    ps->estimate_age_s = fc_min(fc_add(ar, ps->estimate_age_s, p->dt_s), FC_C(1.0f, DT));
     if (ps->pending) {
         ps->pending_age_s = fc_min(fc_add(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
     }
@@ -590,7 +611,7 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
 static fc_step_status pad_samples_step(fc_controller *ctl, const fc_controller_inputs *in, uint8_t frame,
                                        step_context *c, fc_controller_telemetry *tm)
 {
-    fc_step_status status = observe_pad(&ctl->pad, &ctl->ar, &ctl->p, ctl->step_s, in, &c->in, c->inputs_ok,
+    fc_step_status status = observe_pad(&ctl->pad, &ctl->ar, &ctl->p, ctl->step_s, in, c->in, c->inputs_ok,
                                         c->tilt_cos, &c->range_fresh);
     status |= pad_step(&ctl->pad, &ctl->pad_motion, &ctl->ar, &ctl->p, frame, &tm->pad);
     tm->gear_height_m = ctl->pad.gear_height_m;
@@ -627,6 +648,19 @@ static uint8_t next_minor_frame(fc_controller_rate_groups *g, uint8_t outer_divi
  * g tan(tilt) under an altitude law that holds T cos(tilt) = m g does not
  * depend on the mass: what I_a,h corrects is a horizontal force the model
  * lacks (wind, drag, a thrust axis off the body's z) per unit of the true mass. */
+/* q_a q_b in UNIT, the products of R(q)'s entries, inline: one copy with
+ * its shift a constant (fc_mul would pass it to the out-of-line product). */
+static fc_real rotation_product(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_mul_inline(ar, a, b, FC_SHIFT(UNIT, UNIT, UNIT));
+}
+
+/* 2 a, the entries of R(q) as fc_quat_rotate forms them. */
+static fc_real rotation_twice(fc_arith *ar, fc_real a)
+{
+    return fc_add(ar, a, a);
+}
+
 bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specific_force_mps2, bool usable,
                                   fc_vec3 *accel_world_mps2)
 {
@@ -634,38 +668,54 @@ bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specif
     if (!usable) {
         return false;
     }
-    /* R(q) f: any format in, the same out (ACCEL); g has no horizontal part */
-    const fc_vec3 f_world_mps2 = fc_quat_rotate(ar, attitude, specific_force_mps2);
-    *accel_world_mps2 = fc_vec3_make(f_world_mps2.x, f_world_mps2.y, FC_INT(0, ACCEL));
+    /* (R(q) f)_x and (R(q) f)_y, g having no horizontal part: the first two
+     * rows of fc_quat_rotate's R(q), the same entries and sums (the same
+     * bits), without the third */
+    const fc_quat q = attitude;
+    const fc_vec3 f = specific_force_mps2;
+    const fc_real xx = rotation_product(ar, q.x, q.x), yy = rotation_product(ar, q.y, q.y);
+    const fc_real zz = rotation_product(ar, q.z, q.z), xy = rotation_product(ar, q.x, q.y);
+    const fc_real xz = rotation_product(ar, q.x, q.z), yz = rotation_product(ar, q.y, q.z);
+    const fc_real wx = rotation_product(ar, q.w, q.x), wy = rotation_product(ar, q.w, q.y);
+    const fc_real wz = rotation_product(ar, q.w, q.z);
+    const fc_real half = FC_C(0.5f, UNIT); /* 2 (1/2 - ..) keeps every intermediate in [-1, 1] */
+    const fc_real r00 = rotation_twice(ar, fc_sub(ar, half, fc_add(ar, yy, zz)));
+    const fc_real r11 = rotation_twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
+    const fc_real r01 = rotation_twice(ar, fc_sub(ar, xy, wz)), r10 = rotation_twice(ar, fc_add(ar, xy, wz));
+    const fc_real r02 = rotation_twice(ar, fc_add(ar, xz, wy)), r12 = rotation_twice(ar, fc_sub(ar, yz, wx));
+    *accel_world_mps2 = fc_vec3_make(fc_dot3(ar, r00, f.x, r01, f.y, r02, f.z, FC_UNIT_FRAC),
+                                     fc_dot3(ar, r10, f.x, r11, f.y, r12, f.z, FC_UNIT_FRAC), FC_INT(0, ACCEL));
     return true;
 }
-
-/* What the acceleration feedback is measured from: the attitude in use, this
- * step's IMU sample, and whether both are usable. */
-typedef struct feedback_accel_sample {
-    fc_quat attitude;
-    fc_vec3 specific_force_mps2; /* ACCEL, body */
-    bool usable;
-} feedback_accel_sample;
 
 /* Horizontal PID -> F = m (a_des - g - I_a) -> attitude setpoint (fc/position_control.h),
  * in minor frame 0 of the outer group only, so that its cost never adds to
  * that of another part; held, with its status, for the major frame. Until
  * its first run (after arming, a reset or a level phase: at most
  * outer_divider - 1 steps, 8 ms at 500 Hz) the setpoint is level at the heading. */
-static fc_step_status horizontal_step(fc_controller *ctl, const fc_gated_inputs *in, const feedback_accel_sample *accel,
-                                      bool position_frame, fc_quat *attitude_sp)
+static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c, bool position_frame,
+                                      fc_quat *attitude_sp)
 {
+    const fc_gated_inputs *in = c->in;
     if (position_frame) {
         update_heading(&ctl->heading, &ctl->ar, in->yaw_setpoint_rad);
         /* the newest IMU sample, no average over the major frame: k_a dt
-         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0) */
+         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0);
+         * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
         fc_vec3 accel_world_mps2;
-        const bool accel_ok = fc_controller_measured_accel(&ctl->ar, accel->attitude, accel->specific_force_mps2,
-                                                           accel->usable, &accel_world_mps2);
-        const fc_position_control_input pin = {in->position_m,   in->velocity_mps,  in->position_setpoint_m,
-                                               fc_vec3_zero(),    fc_vec3_zero(),    accel_world_mps2,
-                                               accel_ok,          ctl->heading.yaw_cos,  ctl->heading.yaw_sin};
+        const bool accel_ok =
+            fc_controller_measured_accel(&ctl->ar, *c->attitude, c->raw->imu.accel_mps2,
+                                         c->estimate.accel_ok && c->attitude_ok, &accel_world_mps2);
+        const fc_position_control_input pin = {
+            fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
+            fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps),
+            in->position_setpoint_m,
+            fc_vec3_zero(),
+            fc_vec3_zero(),
+            accel_world_mps2,
+            accel_ok,
+            ctl->heading.yaw_cos,
+            ctl->heading.yaw_sin};
         fc_position_control_output pout;
         ctl->groups.held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
         ctl->groups.held_attitude_setpoint = pout.attitude_sp;
@@ -707,8 +757,8 @@ static bool hover_learnable(const fc_controller *ctl, const step_context *c)
 static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inputs *in, const step_context *c,
                                     fc_controller_telemetry *tm)
 {
-    const fc_vertical_estimator_input vin = {c->attitude,        in->imu.accel_mps2, c->estimate.accel_ok,
-                                             c->in.velocity_mps.z, c->inputs_ok,     ctl->pad.gear_height_m,
+    const fc_vertical_estimator_input vin = {*c->attitude,       in->imu.accel_mps2, c->estimate.accel_ok,
+                                             c->vz_mps,            c->inputs_ok,     ctl->pad.gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
                                              hover_learnable(ctl, c), !ctl->mission.armed};
     return passed_on(fc_vertical_estimator_step(&ctl->vertical, &vin, &tm->vertical));
@@ -775,11 +825,11 @@ static fc_step_status landing_plan(fc_controller *ctl, const step_context *c, fc
                                    vertical_plan *plan)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_landing_input lin = {landing_request_of(c->command), c->in.position_m.z,
-                                  horizontal_error_m(ar, &c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
+    const fc_landing_input lin = {landing_request_of(c->command), c->height_m,
+                                  horizontal_error_m(ar, c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
                                   c->tilt_cos, ctl->pad.gear_height_m, c->range_fresh, ctl->last_thrust_n, &tm->pad,
-                                  fc_sub(ar, c->in.position_m.x, c->in.position_setpoint_m.x),
-                                  fc_sub(ar, c->in.position_m.y, c->in.position_setpoint_m.y), c->pad_attitude};
+                                  fc_sub(ar, c->in->position_m.x, c->in->position_setpoint_m.x),
+                                  fc_sub(ar, c->in->position_m.y, c->in->position_setpoint_m.y), c->raw->pad_attitude};
     fc_landing_output lout;
     const fc_step_status status = passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
     tm->reference = lout.reference;
@@ -813,7 +863,7 @@ static fc_step_status plan_vertical(fc_controller *ctl, const step_context *c, f
         return FC_STEP_DEGRADED;
     }
     if (c->command == FC_COMMAND_TRACK_PAD) {
-        return passed_on(fc_altitude_reference_step(&ctl->reference, &c->in.pad, &tm->reference));
+        return passed_on(fc_altitude_reference_step(&ctl->reference, &c->in->pad, &tm->reference));
     }
     return landing_plan(ctl, c, tm, plan);
 }
@@ -840,7 +890,7 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
     if (!plan->fly_reference) {
         return fc_allocation_thrust_fraction(&ctl->allocation, plan->thrust_n);
     }
-    const fc_altitude_control_input altitude_in = {c->in.position_m.z, c->in.velocity_mps.z, tm->reference,
+    const fc_altitude_control_input altitude_in = {c->height_m, c->vz_mps, tm->reference,
                                                    c->tilt_cos, ctl->last_saturation};
     /* Theta learns from measurements, and not once contact is planned: the press and
      * the pad's reaction are no parameter error (fc/altitude_control.h, "Adaptation
@@ -858,13 +908,10 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
                                 bool position_frame, fc_controller_telemetry *tm, fc_step_status *status)
 {
     if (plan->level) {
-        tm->attitude_setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in.yaw_setpoint_rad);
+        tm->attitude_setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
         ctl->groups.have_attitude_setpoint = false; /* the loop starts afresh after a level phase */
     } else {
-        /* the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
-        const feedback_accel_sample accel = {c->attitude, c->specific_force_mps2,
-                                             c->estimate.accel_ok && c->attitude_ok};
-        *status |= horizontal_step(ctl, &c->in, &accel, position_frame, &tm->attitude_setpoint);
+        *status |= horizontal_step(ctl, c, position_frame, &tm->attitude_setpoint);
     }
     /* on the pad (contact being confirmed, the thrust ramp) the feet and not
      * the moments hold the attitude: the integrals hold their trim */
@@ -874,7 +921,7 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
         *status |= FC_STEP_DEGRADED; /* no rate: no moments (the header says why) */
         return fc_vec3_16_zero();
     }
-    const fc_attitude_control_input attitude_in = {c->attitude, tm->attitude_setpoint, c->rate_radps,
+    const fc_attitude_control_input attitude_in = {*c->attitude, tm->attitude_setpoint, tm->rate_radps,
                                                    yaw_rate_feedforward(ctl, c), ctl->last_saturation};
     fc_attitude_control_output attitude_out;
     tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
@@ -967,11 +1014,11 @@ static fc_real thrust_of_velocity(fc_controller *ctl, const step_context *c, con
 static fc_real yaw_rate_command(fc_controller *ctl, const step_context *c)
 {
     fc_arith *ar = &ctl->ar;
-    const fc_quat setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in.yaw_setpoint_rad);
-    const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), c->attitude));
+    const fc_quat setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
+    const fc_quat error = fc_quat_shortest(ar, fc_quat_mul(ar, fc_quat_conj(ar, setpoint), *c->attitude));
     const fc_real twice_z = fc_add(ar, error.z, error.z);
     const fc_real feedback = fc_mul(ar, ctl->p.yaw_gain_per_s, twice_z, FC_SHIFT(RATIO, UNIT, RATE));
-    const fc_real rate = fc_sub(ar, c->in.yaw_rate_setpoint_radps, feedback);
+    const fc_real rate = fc_sub(ar, c->in->yaw_rate_setpoint_radps, feedback);
     return fc_clamp(rate, fc_neg(ar, ctl->p.yaw_rate_max_radps), ctl->p.yaw_rate_max_radps);
 }
 
@@ -986,12 +1033,13 @@ static fc_step_status velocity_output(fc_controller *ctl, const step_context *c,
     fc_vec3 u = fc_vec3_zero();
     fc_real yaw_rate = FC_INT(0, RATE);
     if (fly_reference) {
-        const fc_gated_inputs *in = &c->in;
+        const fc_gated_inputs *in = c->in;
         const fc_trajectory_tracking_input tin = {
             fc_vec3_make(in->position_setpoint_m.x, in->position_setpoint_m.y, tm->reference.z_m),
             fc_vec3_make(FC_INT(0, VEL), FC_INT(0, VEL), tm->reference.vz_mps),
-            fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), tm->reference.az_mps2), in->position_m,
-            in->velocity_mps};
+            fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), tm->reference.az_mps2),
+            fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
+            fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps)};
         status |= passed_on(fc_trajectory_tracking_step(&ctl->tracking, &tin, &u));
         yaw_rate = yaw_rate_command(ctl, c);
     } else {
@@ -1037,8 +1085,13 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
                                       p->velocity.yaw_rate_max_radps,
                                       FC_INT(0, RATIO),
                                       p->gravity_mps2,
-                                      p->velocity.tracking.k_p_per_s.z};
+                                      p->velocity.tracking.k_p_per_s.z,
+                                      fc_gain_of(p->dt_s, FC_DT_FRAC),
+                                      fc_gain_of(FC_INT(0, DT), FC_DT_FRAC)};
     ctl->ar.saturated = 0u;
+    /* dt^2 / 2, the pad trajectory's extrapolation (start_extrapolation) */
+    const fc_real half_dt_s = fc_mul(&ctl->ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
+    ctl->p.half_dt_sq = fc_gain_of_product(p->dt_s, FC_DT_FRAC, half_dt_s, FC_DT_FRAC);
     mission_init(&ctl->mission);
     guard_init(&ctl->guard);
     rate_groups_init(&ctl->groups);

@@ -1,6 +1,8 @@
 /* input_gate.c - plausibility gates and command rate limits (fc/input_gate.h). */
 #include "fc/input_gate.h"
 
+#include <stddef.h>
+
 #define GATE_PI_RAD FC_C(3.14159265f, ANGLE)
 #define GATE_TWO_PI_RAD FC_C(6.28318531f, ANGLE)
 
@@ -64,6 +66,9 @@ fc_init_result fc_input_gate_init(fc_input_gate *g, const fc_input_gate_params *
     l->yaw_step_rad = fc_mul(ar, p->yaw_rate_max_radps, p->dt_s, FC_SHIFT(RATE, DT, ANGLE));
     l->pad_speed_step_mps = fc_mul(ar, p->pad_accel_max_mps2, p->dt_s, FC_SHIFT(ACCEL, DT, VEL));
     l->pad_accel_step_mps2 = fc_mul(ar, p->pad_jerk_max_mps3, p->dt_s, FC_SHIFT(GAIN, DT, ACCEL));
+    g->accel_max = fc_gain_of(p->accel_max_mps2, FC_ACCEL_FRAC);
+    g->speed_max = fc_gain_of(p->speed_max_mps, FC_VEL_FRAC);
+    g->pad_speed_max = fc_gain_of(p->pad_speed_max_mps, FC_VEL_FRAC);
     g->ready = true;
     return FC_INIT_OK;
 }
@@ -77,15 +82,15 @@ void fc_input_gate_reset(fc_input_gate *g)
 }
 
 /* rate t + margin, t the time since the last accepted sample (in the
- * format of margin); one_step: its value for t = dt, formed at init */
-static fc_real slack_since_accepted(fc_input_gate *g, fc_real rate, fc_real margin, fc_real one_step,
-                                    int rate_time_shift)
+ * format of margin: time_shift = FC_GAIN_SHIFT(TIME, that format));
+ * one_step: its value for t = dt, formed at init */
+static fc_real slack_since_accepted(fc_input_gate *g, fc_gain rate, fc_real margin, fc_real one_step, int time_shift)
 {
     const fc_real t_s = g->since_accepted_s;
     if (t_s == g->per_step.step_s) {
         return one_step;
     }
-    return fc_add(&g->ar, fc_mul(&g->ar, rate, t_s, rate_time_shift), margin);
+    return fc_add(&g->ar, fc_mul_gain(&g->ar, t_s, rate, time_shift), margin);
 }
 
 /* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
@@ -105,16 +110,16 @@ static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad
     const fc_input_gate_params *p = &g->p;
     const fc_input_gate_step_limits *l = &g->per_step;
     const fc_gated_inputs *last = &g->accepted;
-    const fc_real velocity_slack = slack_since_accepted(g, p->accel_max_mps2, p->velocity_jump_mps,
-                                                        l->velocity_slack_mps, FC_SHIFT(ACCEL, TIME, VEL));
-    const fc_real position_slack = slack_since_accepted(g, p->speed_max_mps, p->position_jump_m,
-                                                        l->position_slack_m, FC_SHIFT(VEL, TIME, LENGTH));
+    const fc_real velocity_slack = slack_since_accepted(g, g->accel_max, p->velocity_jump_mps, l->velocity_slack_mps,
+                                                        FC_GAIN_SHIFT(TIME, VEL));
+    const fc_real position_slack = slack_since_accepted(g, g->speed_max, p->position_jump_m, l->position_slack_m,
+                                                        FC_GAIN_SHIFT(TIME, LENGTH));
     const bool velocity_ok = fc_vec3_within(fc_vec3_sub(ar, in->velocity_mps, last->velocity_mps), velocity_slack);
     const bool position_ok = fc_vec3_within(fc_vec3_sub(ar, in->position_m, last->position_m), position_slack);
     bool pad_ok = true;
     if (use_pad && g->pad_accepted) {
-        const fc_real pad_slack = slack_since_accepted(g, p->pad_speed_max_mps, p->position_jump_m, l->pad_slack_m,
-                                                       FC_SHIFT(VEL, TIME, LENGTH));
+        const fc_real pad_slack = slack_since_accepted(g, g->pad_speed_max, p->position_jump_m, l->pad_slack_m,
+                                                       FC_GAIN_SHIFT(TIME, LENGTH));
         pad_ok = fc_within(fc_sub(ar, in->pad.z_m, last->pad.z_m), pad_slack);
     }
     return velocity_ok && position_ok && pad_ok;
@@ -203,7 +208,9 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
                         fc_gated_inputs *out)
 {
     if (!g->ready) {
-        *out = (fc_gated_inputs){0};
+        if (out != NULL) {
+            *out = (fc_gated_inputs){0};
+        }
         return false;
     }
     fc_arith *ar = &g->ar;
@@ -227,6 +234,8 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     if (reanchor) {
         g->rejected_s = FC_INT(0, TIME);
     }
-    *out = g->accepted;
+    if (out != NULL) {
+        *out = g->accepted;
+    }
     return accepted;
 }

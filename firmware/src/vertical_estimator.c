@@ -101,8 +101,7 @@ void fc_vertical_estimator_reset(fc_vertical_estimator *v)
  * a bias at a steady attitude that the bias loop takes out. */
 static fc_real vertical_accel_mps2(fc_arith *ar, fc_quat q, fc_vec3 f, fc_real gravity_mps2)
 {
-    bool unit = false;
-    const fc_quat16 h = fc_quat16_normalize(ar, q, &unit); /* q is the filter's unit quaternion */
+    const fc_quat16 h = fc_quat16_round_unit(q); /* q is unit (fc_vertical_estimator_input) */
     const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
     /* each sum of two products within 1 + 2^-12: twice it fits 32 bits */
     const fc_real16 r20 = fc_narrow16(ar, 2 * fc_dot2_16(h.x, h.z, fc_neg16(h.w), h.y), sq, to);

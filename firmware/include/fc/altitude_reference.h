@@ -10,7 +10,8 @@
  *     z_r'  = z_d'  - (z_r_init / tau_zr)   e^(-t / tau_zr)
  *     z_r'' = z_d'' + (z_r_init / tau_zr^2) e^(-t / tau_zr)
  *
- * The decay e^(-t/tau) is propagated exactly: multiplied by e^(-dt/tau) each step.
+ * The decay e^(-t/tau) is propagated step by step: each step it loses the
+ * share 1 - e^(-dt/tau) of itself, a gain (fc_gain, to 2^-15 of that share).
  */
 #ifndef FC_ALTITUDE_REFERENCE_H
 #define FC_ALTITUDE_REFERENCE_H
@@ -34,7 +35,7 @@ typedef struct fc_vertical_trajectory {
 
 typedef struct fc_altitude_reference {
     fc_real decay;              /* UNIT: e^(-t / tau), starts at 1 */
-    fc_real decay_per_step;     /* UNIT: e^(-dt / tau) */
+    fc_gain decay_loss_per_step; /* 1 - e^(-dt / tau) */
     fc_real offset_m;           /* LENGTH: z_r_init */
     fc_real bias_m;             /* LENGTH */
     fc_real offset_rate_mps;    /* VEL: z_r_init / tau */

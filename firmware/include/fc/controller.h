@@ -272,6 +272,8 @@ typedef struct fc_controller_settings {
     fc_real inv_gravity_s2pm;           /* RATIO: 1 / g */
     fc_real gravity_mps2;               /* ACCEL */
     fc_real k_p_z_per_s;                /* RATIO: velocity.tracking.k_p_per_s.z */
+    fc_gain dt;                         /* dt, s: the step's integrations */
+    fc_gain half_dt_sq;                 /* dt^2 / 2, s^2 */
 } fc_controller_settings;
 
 /* The parts of the controller's own state, one job each (controller.c has
@@ -287,7 +289,7 @@ typedef struct fc_controller_mission {
 
 /* The input guard: what the step flies on while an input is not usable. */
 typedef struct fc_controller_guard {
-    fc_quat last_attitude;              /* the attitude in use at the last step */
+    fc_quat last_attitude;              /* the platform's attitude in use at the last step */
     fc_quat last_external_attitude;     /* the platform's, for a rate without a gyro */
     fc_real reckoned_z_m;               /* LENGTH: the height flown on while inputs are held */
 } fc_controller_guard;
@@ -311,8 +313,12 @@ typedef struct fc_controller_pad_samples {
     fc_real pending_height_m;           /* LENGTH: the newest range sample as pad height, waiting */
     fc_real pending_age_s;              /* DT: since it was taken */
     bool pending;
-    fc_pad_motion_estimate estimate;    /* the pad model's newest output */
-    fc_real estimate_age_s;             /* DT: since the pad model made it */
+    fc_pad_motion_estimate estimate;    /* the pad model's newest output, its trajectory
+                                         * (now) carried to this step */
+    fc_real model_vz_mps;               /* VEL: the model's own z' (at its step) */
+    fc_real height_step_m;              /* LENGTH: now.z_m's change over the next step */
+    fc_real height_step_change_m;       /* LENGTH: that change's own a step, z'' dt^2 */
+    fc_real speed_step_mps;             /* VEL: now.vz_mps's change a step, z'' dt */
 } fc_controller_pad_samples;
 
 /* The heading of the setpoint, kept between steps: trigonometry only when

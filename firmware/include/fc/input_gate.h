@@ -75,6 +75,9 @@ typedef struct fc_input_gate_step_limits {
 typedef struct fc_input_gate {
     fc_input_gate_params p;
     fc_input_gate_step_limits per_step;
+    fc_gain accel_max;            /* accel_max_mps2, m/s^2: the slacks of a longer interval */
+    fc_gain speed_max;            /* speed_max_mps, m/s */
+    fc_gain pad_speed_max;        /* pad_speed_max_mps, m/s */
     fc_gated_inputs accepted;     /* the last accepted measurements, the limited commands */
     fc_real since_accepted_s;     /* TIME: since the last accepted measurement */
     fc_real rejected_s;           /* TIME: rejected in a row this long */
@@ -96,9 +99,10 @@ fc_init_result fc_input_gate_init(fc_input_gate *g, const fc_input_gate_params *
 /* Forget the reference: the next usable sample is accepted as it is. */
 void fc_input_gate_reset(fc_input_gate *g);
 
-/* One step: out holds what to fly on (in's measurements if accepted, else
- * the last accepted ones; the commands limited). Returns true when the
- * measurements (and the pad, with use_pad) were accepted. */
+/* One step: g->accepted holds what to fly on (in's measurements if
+ * accepted, else the last accepted ones; the commands limited), and so does
+ * out unless it is NULL (a caller that reads g->accepted in place). Returns
+ * true when the measurements (and the pad, with use_pad) were accepted. */
 bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
                         fc_gated_inputs *out);
 

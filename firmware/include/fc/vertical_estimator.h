@@ -60,7 +60,7 @@ typedef struct fc_vertical_estimator_params {
 } fc_vertical_estimator_params;
 
 typedef struct fc_vertical_estimator_input {
-    fc_quat attitude;               /* UNIT: body -> world */
+    fc_quat attitude;               /* UNIT: body -> world, of unit length (read at UNIT16) */
     fc_vec3 accel_mps2;             /* ACCEL: specific force, body */
     bool accel_ok;                  /* accel_mps2 is a good sample */
     fc_real vz_mps;                 /* VEL: measured vertical speed, world */
