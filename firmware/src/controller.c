@@ -648,19 +648,6 @@ static uint8_t next_minor_frame(fc_controller_rate_groups *g, uint8_t outer_divi
  * g tan(tilt) under an altitude law that holds T cos(tilt) = m g does not
  * depend on the mass: what I_a,h corrects is a horizontal force the model
  * lacks (wind, drag, a thrust axis off the body's z) per unit of the true mass. */
-/* q_a q_b in UNIT, the products of R(q)'s entries, inline: one copy with
- * its shift a constant (fc_mul would pass it to the out-of-line product). */
-static fc_real rotation_product(fc_arith *ar, fc_real a, fc_real b)
-{
-    return fc_mul_inline(ar, a, b, FC_SHIFT(UNIT, UNIT, UNIT));
-}
-
-/* 2 a, the entries of R(q) as fc_quat_rotate forms them. */
-static fc_real rotation_twice(fc_arith *ar, fc_real a)
-{
-    return fc_add(ar, a, a);
-}
-
 bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specific_force_mps2, bool usable,
                                   fc_vec3 *accel_world_mps2)
 {
@@ -668,23 +655,8 @@ bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specif
     if (!usable) {
         return false;
     }
-    /* (R(q) f)_x and (R(q) f)_y, g having no horizontal part: the first two
-     * rows of fc_quat_rotate's R(q), the same entries and sums (the same
-     * bits), without the third */
-    const fc_quat q = attitude;
-    const fc_vec3 f = specific_force_mps2;
-    const fc_real xx = rotation_product(ar, q.x, q.x), yy = rotation_product(ar, q.y, q.y);
-    const fc_real zz = rotation_product(ar, q.z, q.z), xy = rotation_product(ar, q.x, q.y);
-    const fc_real xz = rotation_product(ar, q.x, q.z), yz = rotation_product(ar, q.y, q.z);
-    const fc_real wx = rotation_product(ar, q.w, q.x), wy = rotation_product(ar, q.w, q.y);
-    const fc_real wz = rotation_product(ar, q.w, q.z);
-    const fc_real half = FC_C(0.5f, UNIT); /* 2 (1/2 - ..) keeps every intermediate in [-1, 1] */
-    const fc_real r00 = rotation_twice(ar, fc_sub(ar, half, fc_add(ar, yy, zz)));
-    const fc_real r11 = rotation_twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
-    const fc_real r01 = rotation_twice(ar, fc_sub(ar, xy, wz)), r10 = rotation_twice(ar, fc_add(ar, xy, wz));
-    const fc_real r02 = rotation_twice(ar, fc_add(ar, xz, wy)), r12 = rotation_twice(ar, fc_sub(ar, yz, wx));
-    *accel_world_mps2 = fc_vec3_make(fc_dot3(ar, r00, f.x, r01, f.y, r02, f.z, FC_UNIT_FRAC),
-                                     fc_dot3(ar, r10, f.x, r11, f.y, r12, f.z, FC_UNIT_FRAC), FC_INT(0, ACCEL));
+    /* g has no horizontal part: (R(q) f)_x and (R(q) f)_y */
+    *accel_world_mps2 = fc_quat_rotate_horizontal(ar, attitude, specific_force_mps2);
     return true;
 }
 

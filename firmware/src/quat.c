@@ -154,28 +154,51 @@ fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q)
     return q;
 }
 
+/* The entries of R(q) in UNIT (|r_ij| <= 1), its third row only when asked
+ * (zero otherwise). The diagonal 1 - 2(..): the same matrix as
+ * v + 2w (u x v) + 2 u x (u x v), also for a q that is unit only to its
+ * rounding. The products inline, their shift a constant (the position
+ * frame's measured acceleration, the heaviest step, forms them). */
+static void rotation_matrix(fc_arith *ar, fc_quat q, bool third_row, fc_real r[3][3])
+{
+    const fc_real xx = fc_mul_inline(ar, q.x, q.x, UNIT_X_UNIT);
+    const fc_real yy = fc_mul_inline(ar, q.y, q.y, UNIT_X_UNIT), zz = fc_mul_inline(ar, q.z, q.z, UNIT_X_UNIT);
+    const fc_real xy = fc_mul_inline(ar, q.x, q.y, UNIT_X_UNIT), xz = fc_mul_inline(ar, q.x, q.z, UNIT_X_UNIT);
+    const fc_real yz = fc_mul_inline(ar, q.y, q.z, UNIT_X_UNIT), wx = fc_mul_inline(ar, q.w, q.x, UNIT_X_UNIT);
+    const fc_real wy = fc_mul_inline(ar, q.w, q.y, UNIT_X_UNIT), wz = fc_mul_inline(ar, q.w, q.z, UNIT_X_UNIT);
+    const fc_real half = FC_C(0.5f, UNIT); /* 2 (1/2 - ..) keeps every intermediate in [-1, 1] */
+    r[0][0] = twice(ar, fc_sub(ar, half, fc_add(ar, yy, zz)));
+    r[0][1] = twice(ar, fc_sub(ar, xy, wz));
+    r[0][2] = twice(ar, fc_add(ar, xz, wy));
+    r[1][0] = twice(ar, fc_add(ar, xy, wz));
+    r[1][1] = twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
+    r[1][2] = twice(ar, fc_sub(ar, yz, wx));
+    r[2][0] = third_row ? twice(ar, fc_sub(ar, xz, wy)) : FC_INT(0, UNIT);
+    r[2][1] = third_row ? twice(ar, fc_add(ar, yz, wx)) : FC_INT(0, UNIT);
+    r[2][2] = third_row ? twice(ar, fc_sub(ar, half, fc_add(ar, xx, yy))) : FC_INT(0, UNIT);
+}
+
+/* Row i of R(q) times v: one 64-bit dot product, so a vector anywhere in its
+ * format rotates without an intermediate leaving it (the two-cross-product
+ * form's 2 q_v x v does). */
+static fc_real rotated_component(fc_arith *ar, const fc_real row[3], fc_vec3 v)
+{
+    return fc_dot3(ar, row[0], v.x, row[1], v.y, row[2], v.z, FC_UNIT_FRAC);
+}
+
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v)
 {
-    /* v' = R(q) v with R's entries in UNIT (|r_ij| <= 1): one 64-bit dot product
-     * per component, so a vector anywhere in its format rotates without an
-     * intermediate leaving it (the two-cross-product form's 2 q_v x v does) */
-    const fc_real xx = fc_mul(ar, q.x, q.x, UNIT_X_UNIT);
-    const fc_real yy = fc_mul(ar, q.y, q.y, UNIT_X_UNIT), zz = fc_mul(ar, q.z, q.z, UNIT_X_UNIT);
-    const fc_real xy = fc_mul(ar, q.x, q.y, UNIT_X_UNIT), xz = fc_mul(ar, q.x, q.z, UNIT_X_UNIT);
-    const fc_real yz = fc_mul(ar, q.y, q.z, UNIT_X_UNIT), wx = fc_mul(ar, q.w, q.x, UNIT_X_UNIT);
-    const fc_real wy = fc_mul(ar, q.w, q.y, UNIT_X_UNIT), wz = fc_mul(ar, q.w, q.z, UNIT_X_UNIT);
-    /* diagonal 1 - 2(..): the same matrix as v + 2w (u x v) + 2 u x (u x v),
-     * also for a q that is unit only to its rounding */
-    const fc_real half = FC_C(0.5f, UNIT); /* 2 (1/2 - ..) keeps every intermediate in [-1, 1] */
-    const fc_real r00 = twice(ar, fc_sub(ar, half, fc_add(ar, yy, zz)));
-    const fc_real r11 = twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
-    const fc_real r22 = twice(ar, fc_sub(ar, half, fc_add(ar, xx, yy)));
-    const fc_real r01 = twice(ar, fc_sub(ar, xy, wz)), r10 = twice(ar, fc_add(ar, xy, wz));
-    const fc_real r02 = twice(ar, fc_add(ar, xz, wy)), r20 = twice(ar, fc_sub(ar, xz, wy));
-    const fc_real r12 = twice(ar, fc_sub(ar, yz, wx)), r21 = twice(ar, fc_add(ar, yz, wx));
-    return fc_vec3_make(fc_dot3(ar, r00, v.x, r01, v.y, r02, v.z, FC_UNIT_FRAC),
-                        fc_dot3(ar, r10, v.x, r11, v.y, r12, v.z, FC_UNIT_FRAC),
-                        fc_dot3(ar, r20, v.x, r21, v.y, r22, v.z, FC_UNIT_FRAC));
+    fc_real r[3][3];
+    rotation_matrix(ar, q, true, r);
+    return fc_vec3_make(rotated_component(ar, r[0], v), rotated_component(ar, r[1], v),
+                        rotated_component(ar, r[2], v));
+}
+
+fc_vec3 fc_quat_rotate_horizontal(fc_arith *ar, fc_quat q, fc_vec3 v)
+{
+    fc_real r[3][3];
+    rotation_matrix(ar, q, false, r);
+    return fc_vec3_make(rotated_component(ar, r[0], v), rotated_component(ar, r[1], v), FC_INT(0, UNIT));
 }
 
 fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v)

@@ -123,6 +123,10 @@ fc_quat16 fc_quat16_shortest(fc_quat16 q);
 /* q (x) [0, v] (x) q*: v from body to world; v of any format. */
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v);
 
+/* x and y of fc_quat_rotate (the same bits), z 0: a world vector's
+ * horizontal part without R(q)'s third row. */
+fc_vec3 fc_quat_rotate_horizontal(fc_arith *ar, fc_quat q, fc_vec3 v);
+
 /* q* (x) [0, v] (x) q: v from world to body. */
 fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v);
 
