@@ -12,8 +12,8 @@ TOUCHDOWN_MAX_MPS or, where the preset (1, 1) lands faster, than the preset's
 worst. The admissible cell of least objective wins; with none, the
 preset (1, 1) stays and the table says so.
 
-Writes build/results/tuning.md (winner and preset per scenario and variant)
-and build/results/tuned.json (the winning knobs, which
+Writes sim_host/results/tuning.md (winner and preset per scenario and variant)
+and sim_host/results/tuned.json (the winning knobs, which
 tools/compare-variants.sh flies).
 
   tools/tune-variants.py [--numeric float|fixed] [--scenario NAME ...] [--coarse] [--cached-only]
@@ -33,7 +33,10 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FC_SIL = os.path.join(ROOT, "build", "host", "sim_host", "fc-sil")
-OUT_DIR = os.path.join(ROOT, "build", "results")
+# the results, kept in the repository (sim_host/README.md points to them)
+OUT_DIR = os.path.join(ROOT, "sim_host", "results")
+# the runs behind them, per fc-sil build
+CACHE_DIR = os.path.join(ROOT, "build", "results", "tuning-runs")
 
 BANDWIDTH = (0.5, 0.7, 1.0, 1.4, 2.0)
 AUTHORITY = (0.25, 0.5, 1.0, 2.0, 4.0)
@@ -106,7 +109,7 @@ def tune(scenarios, numeric, cached_only, grid):
     cached; cached_only: only the cached cells)."""
     # the cache: one directory per fc-sil build, so that a rebuilt fc-sil runs again
     stamp = os.stat(FC_SIL)
-    cache_dir = os.path.join(OUT_DIR, "tuning-runs", f"{numeric}-{int(stamp.st_mtime)}-{stamp.st_size}")
+    cache_dir = os.path.join(CACHE_DIR, f"{numeric}-{int(stamp.st_mtime)}-{stamp.st_size}")
     os.makedirs(cache_dir, exist_ok=True)
     cells = [(s, v, b, a) for s in scenarios for v in variants() for b in grid[0] for a in grid[1]]
     if cached_only:
