@@ -1277,6 +1277,29 @@ static void test_direction16(void **state)
     assert_true(worst_length <= 1.0);
 }
 
+#if FC_NUMERIC_FIXED
+/* Case i of a 32 x 16-bit product test: first every pair of the formats'
+ * edges, then random operands of every size and sign (never INT32_MIN or
+ * INT16_MIN, outside the symmetric range). */
+static void product_operands(ts_rng *rng, int i, int32_t *a_out, int16_t *b_out)
+{
+    static const int32_t edges32[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff0000, -0x7fff0000, 0xffff, -0xffff,
+                                      0x10000};
+    static const int16_t edges16[] = {0, 1, -1, INT16_MAX, -INT16_MAX, 0x4000, -0x4000};
+    const size_t n32 = sizeof edges32 / sizeof edges32[0], n16 = sizeof edges16 / sizeof edges16[0];
+    int32_t a = (int32_t)(ts_rand_u32(rng) >> (ts_rand_u32(rng) % 32u));
+    a = (ts_rand_u32(rng) & 1u) != 0u ? -a : a;
+    int16_t b = (int16_t)(ts_rand_u32(rng) >> (16u + ts_rand_u32(rng) % 16u));
+    b = (int16_t)((ts_rand_u32(rng) & 1u) != 0u ? -b : b);
+    if ((size_t)i < n32 * n16) {
+        a = edges32[(size_t)i / n16];
+        b = edges16[(size_t)i % n16];
+    }
+    *a_out = a == INT32_MIN ? -INT32_MAX : a;
+    *b_out = b == INT16_MIN ? -INT16_MAX : b;
+}
+#endif
+
 /* fc_mul_by16 against the exact product rounded to nearest (half up, as
  * every fixed product) and saturated at +-INT32_MAX with the flag, from
  * 64-bit integers: every shift 1..31, operands of every size and the
@@ -1286,22 +1309,12 @@ static void test_mul_by16_exact(void **state)
     (void)state;
 #if FC_NUMERIC_FIXED
     ts_rng rng = ts_rng_seed(1616u);
-    const int32_t edges32[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff0000, -0x7fff0000, 0xffff, -0xffff, 0x10000};
-    const int16_t edges16[] = {0, 1, -1, INT16_MAX, -INT16_MAX, 0x4000, -0x4000};
-    const size_t n32 = sizeof edges32 / sizeof edges32[0], n16 = sizeof edges16 / sizeof edges16[0];
     unsigned cases = 0u, saturated = 0u;
     for (int shift = 1; shift <= 31; shift++) {
         for (int i = 0; i < 20000; i++) {
-            int32_t a = (int32_t)(ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u));
-            a = (ts_rand_u32(&rng) & 1u) != 0u ? -a : a;
-            int16_t b = (int16_t)(ts_rand_u32(&rng) >> (16u + ts_rand_u32(&rng) % 16u));
-            b = (int16_t)((ts_rand_u32(&rng) & 1u) != 0u ? -b : b);
-            if ((size_t)i < n32 * n16) {
-                a = edges32[(size_t)i / n16];
-                b = edges16[(size_t)i % n16];
-            }
-            a = a == INT32_MIN ? -INT32_MAX : a;
-            b = b == INT16_MIN ? -INT16_MAX : b;
+            int32_t a;
+            int16_t b;
+            product_operands(&rng, i, &a, &b);
             const int64_t exact = ((int64_t)a * b + ((int64_t)1 << (shift - 1))) >> shift; /* floor (gcc) */
             const bool over = exact > INT32_MAX || exact < -(int64_t)INT32_MAX;
             const int32_t want = over ? (exact > 0 ? INT32_MAX : -INT32_MAX) : (int32_t)exact;
@@ -1381,22 +1394,12 @@ static void test_mul_gain_exact(void **state)
     (void)state;
 #if FC_NUMERIC_FIXED
     ts_rng rng = ts_rng_seed(4646u);
-    const int32_t edges32[] = {0, 1, -1, INT32_MAX, -INT32_MAX, 0x7fff0000, -0x7fff0000, 0xffff, -0xffff, 0x10000};
-    const int16_t edges16[] = {0, 1, -1, INT16_MAX, -INT16_MAX, 0x4000, -0x4000};
-    const size_t n32 = sizeof edges32 / sizeof edges32[0], n16 = sizeof edges16 / sizeof edges16[0];
     unsigned cases = 0u, saturated = 0u;
     for (int shift = -4; shift <= 50; shift++) {
         for (int i = 0; i < 4000; i++) {
-            int32_t x = (int32_t)(ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u));
-            x = (ts_rand_u32(&rng) & 1u) != 0u ? -x : x;
-            int16_t m = (int16_t)(ts_rand_u32(&rng) >> (16u + ts_rand_u32(&rng) % 16u));
-            m = (int16_t)((ts_rand_u32(&rng) & 1u) != 0u ? -m : m);
-            if ((size_t)i < n32 * n16) {
-                x = edges32[(size_t)i / n16];
-                m = edges16[(size_t)i % n16];
-            }
-            x = x == INT32_MIN ? -INT32_MAX : x;
-            m = m == INT16_MIN ? -INT16_MAX : m;
+            int32_t x;
+            int16_t m;
+            product_operands(&rng, i, &x, &m);
             const int64_t product = (int64_t)x * m;
             const int64_t exact = shift <= 0 ? product * ((int64_t)1 << -shift)
                                              : (product + ((int64_t)1 << (shift - 1))) >> shift; /* floor (gcc) */
