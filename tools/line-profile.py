@@ -72,16 +72,20 @@ def main():
         if len(fields) == 3 and fields[1] in "tTwW" and fields[2] not in ("__stack", "__heap_end"):
             symbols.append((int(fields[0], 16), fields[2]))
     starts = [a for a, _ in symbols]
+    holders = [bisect.bisect_right(starts, int(a, 16)) - 1 for a, _ in rows]
+    no_lines = symbols_without_lines(args, sorted({symbols[k] for k in holders if k >= 0}), symbols)
     per_line = collections.Counter()
     per_func = collections.Counter()
     total = 0.0
     for i, (_, cycles) in enumerate(rows):
         func, where = out[2 * i], out[2 * i + 1]
         where = where.split(" ")[0]
-        k = bisect.bisect_right(starts, int(rows[i][0], 16)) - 1
+        k = holders[i]
         holder = symbols[k][1] if k >= 0 else "?"
         if holder.startswith("__"):
             func, where = holder, "libgcc:0"
+        elif holder in no_lines:
+            func, where = holder, "asm:0"
         path, _, number = where.rpartition(":")
         per_line["%s:%s (%s)" % (os.path.basename(path) or "?", number, func)] += cycles
         per_func[func] += cycles
@@ -100,6 +104,20 @@ def main():
         print("\nby inlined call chain (outermost first, %d deep), top %d:" % (args.chain, args.top))
         for key, cycles in per_chain.most_common(args.top):
             print("  %8.0f %5.1f %%  %s" % (cycles, 100.0 * cycles / total, key))
+
+
+def symbols_without_lines(args, symbols, all_symbols):
+    """The code symbols with no line information of their own (routines in
+    assembly): addr2line names, at their first address, another function
+    that is a symbol of its own, the last one before them that has lines
+    (an inlined function's name, at the start of a .part copy, is not one)."""
+    if not symbols:
+        return set()
+    out = subprocess.run([args.addr2line, "-f", "-e", args.elf] + ["0x%x" % a for a, _ in symbols],
+                         check=True, capture_output=True, text=True).stdout.splitlines()
+    named = {name.split(".")[0] for _, name in all_symbols}
+    return {name for (_, name), func in zip(symbols, out[0::2])
+            if func != name.split(".")[0] and func in named}
 
 
 def inline_chains(args, addresses):
