@@ -10,8 +10,8 @@ rms_error_m x control_tv_per_s. A cell is admissible only if
     transient (thrust_saturated_s = 0) and, in a landing, a touchdown no faster
     than TOUCHDOWN_MAX_MPS (issue 29's p99 bounds; the preset gets no
     allowance: a variant that lands harder everywhere keeps its presets);
-  - every neighbouring cell (one grid step along either knob) passes these
-    tests too: a margin against their boundary, which the comparison's 100
+  - every neighbouring cell (one grid step along either knob) that flew passes
+    these tests too: a margin against their boundary, which the comparison's 100
     other seeds would otherwise find (tuned on three seeds, robustness ssc
     diverged in 14 of them; on ten, hexa-deck ssc-adaptive's best cell touched
     down within 0.10 m/s on every seed, and faster on 15 of the 100);
@@ -184,9 +184,11 @@ def judge_variant(s, cells, grid, margin, confirm):
              "preset_objective": objective(preset["per_run"]) if preset and "per_run" in preset else None,
              "preset_rejected": own.get(PRESET, "not run"), "cells_run": len(in_grid)}
     while True:
-        # a candidate passes every test, as do its neighbours (those run)
+        # a candidate passes every test, as do its neighbours that flew (a neighbour that
+        # fc-sil could not initialise, its knobs out of the law's range, is no flight failure)
         why = {k: "a neighbour failed" if margin and own[k] is None
-               and any(own.get(n) is not None for n in neighbours(k, grid) if n in cells) else own[k]
+               and any(own.get(n) is not None and "per_run" in cells[n]
+                       for n in neighbours(k, grid) if n in cells) else own[k]
                for k in in_grid}
         candidates = [k for k in in_grid if why[k] is None]
         entry.setdefault("admissible_cells", len(candidates))
