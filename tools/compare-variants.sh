@@ -7,8 +7,12 @@
 # for a scenario it lacks, the presets: both 1); then one table per scenario:
 # the knobs and the median and p95 of rms error, control total variation and
 # Theta error, the diverged runs and, in a landing, the p99 touchdown speed.
+# Then tools/variants-readme.py copies the medians of one backend into
+# sim_host/README.md between its marker comments (a compact table; the figures
+# are never copied by hand).
 #
 #   tools/compare-variants.sh [RUNS] [NUMERIC] [SCENARIO...]
+#   tools/compare-variants.sh --from-results   README's table from the kept comparison.md, no run
 #     RUNS       runs per scenario, variant and backend, seeds 1..RUNS (default 100)
 #     NUMERIC    float, fixed or float,fixed (default float,fixed)
 #     SCENARIO   default: seed-4.4 robustness cf2-pad hexa-deck; seed-4.4 with its
@@ -18,6 +22,9 @@
 # fc-sil runs under nice -n 19, two at a time.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+if [ "${1:-}" = --from-results ]; then
+  exec python3 "$root/tools/variants-readme.py"
+fi
 runs=${1:-100}
 numeric=${2:-float,fixed}
 if [ $# -gt 2 ]; then shift 2; scenarios=("$@"); else scenarios=(seed-4.4 robustness cf2-pad hexa-deck); fi
@@ -105,3 +112,4 @@ EOF
   done
 } >"$out"
 echo "compare-variants: $out"
+python3 "$root/tools/variants-readme.py"
