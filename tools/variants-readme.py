@@ -3,10 +3,10 @@
 
 Reads sim_host/results/comparison.md (written by tools/compare-variants.sh) and
 sim_host/results/tuned.json (tools/tune-variants.py) and replaces what stands
-between the README's two marker comments (BEGIN, END below) with, per scenario,
-one row a variant: the knobs flown (bandwidth x authority), the medians of rms
-error, control total variation and Theta error, the diverged runs and, in a
-landing, the p99 touchdown speed, of one backend. A knob at the tuning grid's
+between the README's two marker comments (BEGIN, END below) with one table, a
+row a variant and a column a scenario: the medians of rms error, control total
+variation and Theta error, the knobs flown (bandwidth x authority) and the
+diverged runs, of one backend. A knob at the tuning grid's
 largest or smallest value is marked with an arrow (the optimum may lie beyond);
 a variant with no admissible cell (it flies its presets) with a dagger. The
 figures are copied by this script only, never by hand; comparison.md stays the
@@ -70,45 +70,61 @@ def knob_text(value, grid):
     return f"{float(value):g}{mark}"
 
 
+def cell(row, entry, grids):
+    """One scenario's figures of one variant: rms/tv, /Θ where it adapts, the knobs."""
+    figures = f"{number(row['rms [mm]'])}/{number(row['control_tv [N/s]'])}"
+    if row["theta_err"] != "-":
+        figures += f"/{number(str(100.0 * float(row['theta_err'])), 2)}%"
+    knobs = f"{knob_text(row['bandwidth'], grids[0])}×{knob_text(row['authority'], grids[1])}"
+    if entry and entry.get("objective") is None:
+        knobs += "†"
+    diverged = row["diverged"].split("/")[0]
+    return f"{figures} ({knobs})" + ("" if diverged == "0" else f" {diverged}div")
+
+
 def section(backend):
-    """The README's generated lines between the markers."""
+    """The README's generated lines between the markers: one table, a row a
+    variant, a column a scenario."""
     tables, generated = comparison_tables(COMPARISON)
     tuned = json.load(open(TUNED)) if os.path.exists(TUNED) else {"scenarios": {}}
     grids = (tuned.get("bandwidth_grid"), tuned.get("authority_grid"))
     runs = re.search(r"compare-variants\.sh (\d+)", generated)
     revision = re.search(r" at (\S+), (\S+)\.", generated)
+    scenarios = list(tables)
     lines = [BEGIN,
-             f"Medians over {runs.group(1) if runs else '?'} runs, backend {backend}, from "
-             f"[`results/comparison.md`](results/comparison.md)"
-             + (f" ({revision.group(1)}, {revision.group(2)})" if revision else "")
-             + "; knobs bandwidth×authority (↑, ↓: at the tuning grid's largest, smallest value, "
-             "`†` no admissible cell: the presets; td p99: touchdown speed's 99th percentile). "
-             "Written by `tools/compare-variants.sh`, never by hand.", ""]
+             f"Medians over {runs.group(1) if runs else '?'} runs, backend {backend}"
+             + (f", {revision.group(1)}, {revision.group(2)}" if revision else "")
+             + ": rms error mm / control_tv N/s / Θ error (adaptive laws), then the knobs "
+             "bandwidth×authority (↑ ↓: the grid's largest, smallest; † no admissible cell, the "
+             "presets) and the diverged runs (Ndiv). p95, touchdown speeds and float: "
+             "[`results/comparison.md`](results/comparison.md). Written by "
+             "`tools/compare-variants.sh`, never by hand.", "",
+             "| variant | " + " | ".join(scenarios) + " |",
+             "|---" * (len(scenarios) + 1) + "|"]
+    variants = []
+    for scenario in scenarios:
+        for row in tables[scenario]:
+            if row.get("numeric") == backend and row["variant"] not in variants:
+                variants.append(row["variant"])
     stale = []
-    for scenario, rows in tables.items():
-        landing = any(row.get("touchdown p99 [m/s]", "-") != "-" for row in rows)
-        lines += [f"{scenario}:", "",
-                  "|variant|knobs|rms mm|tv N/s|Θ err|diverged|" + ("td p99 m/s|" if landing else ""),
-                  "|-|-|-|-|-|-|" + ("-|" if landing else "")]
-        for row in rows:
-            if row.get("numeric") != backend:
+    for variant in variants:
+        cells = []
+        for scenario in scenarios:
+            row = next((r for r in tables[scenario] if r["variant"] == variant and r.get("numeric") == backend),
+                       None)
+            if row is None:
+                cells.append("-")
                 continue
-            variant = row["variant"]
             entry = tuned["scenarios"].get(scenario, {}).get(variant)
-            flown = (float(row["bandwidth"]), float(row["authority"]))
-            if entry and (entry["bandwidth_scale"], entry["authority_scale"]) != flown:
+            if entry and (entry["bandwidth_scale"], entry["authority_scale"]) != (float(row["bandwidth"]),
+                                                                                    float(row["authority"])):
                 stale.append(f"{scenario} {variant}")
-            knobs = f"{knob_text(row['bandwidth'], grids[0])}×{knob_text(row['authority'], grids[1])}"
-            if entry and entry.get("objective") is None:
-                knobs += "†"
-            lines.append(f"|{variant}|{knobs}|{number(row['rms [mm]'])}|{number(row['control_tv [N/s]'])}"
-                         f"|{number(row['theta_err'], 2)}|{row['diverged'].split('/')[0]}|"
-                         + (f"{number(row['touchdown p99 [m/s]'], 2)}|" if landing else ""))
-        lines.append("")
+            cells.append(cell(row, entry, grids))
+        lines.append(f"| {variant} | " + " | ".join(cells) + " |")
     if stale:
         print("variants-readme: comparison.md flew other knobs than tuned.json holds (rerun "
               "tools/compare-variants.sh): " + ", ".join(stale), file=sys.stderr)
-    return lines + [END]
+    return lines + ["", END]
 
 
 def main():
