@@ -600,6 +600,13 @@ bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
     return !wide_above(sum, bound);
 }
 
+/* a b for unsigned 16-bit a and b, as one 16 x 16 -> 32 product (avr-gcc
+ * otherwise may widen an operand and call a 32 x 16 or 32 x 32 routine) */
+static uint32_t umul16(uint16_t a, uint16_t b)
+{
+    return (uint32_t)a * b;
+}
+
 /* Bit length of a positive value: X lies in [2^(len-1), 2^len). */
 static int bit_length_u32(uint32_t x)
 {
@@ -649,7 +656,7 @@ static inline __attribute__((always_inline)) uint32_t rsqrt_chord_q30(uint32_t m
     uint16_t knot_start, knot_end;
     rsqrt_knots(fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
     const uint16_t position_q16 = (uint16_t)fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT - 16);
-    const uint32_t drop_q30 = (uint32_t)(uint16_t)(knot_start - knot_end) * position_q16;
+    const uint32_t drop_q30 = umul16((uint16_t)(knot_start - knot_end), position_q16);
     return ((uint32_t)knot_start << 16) - drop_q30;
 }
 
@@ -741,9 +748,9 @@ static uint16_t rsqrt_newton_q15(uint32_t m)
     const uint16_t m_q16 = m_rounded >= (uint32_t)1u << UNIT2_M_FRAC
                                ? UINT16_MAX
                                : (uint16_t)fc_fx_extract(m_rounded, 0u, UNIT2_M_FRAC - 16);
-    const uint32_t t_q31 = (uint32_t)m_q16 * y0 + ((uint32_t)1u << 15);
+    const uint32_t t_q31 = umul16(m_q16, y0) + ((uint32_t)1u << 15);
     const uint16_t t_q15 = (uint16_t)(t_q31 >> 16); /* m y0 < 1.002: below 2^16 */
-    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - (uint32_t)t_q15 * y0); /* 1 - m y0^2 */
+    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - umul16(t_q15, y0)); /* 1 - m y0^2 */
     /* |d| < 2^-8.5: below 2^13.5 in Q22 (a floor, by a byte move) */
     const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
     /* y0 d / 2: Q15 x Q22 = Q37, the half Q38, rounded to Q15 */
@@ -774,31 +781,40 @@ void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16
 
 /*
  * The direction and the length of (a, b, c), in 16-bit products:
- *   v = M 2^e      each component rounded to a 16-bit M_i, the largest
- *                  |M_i| in [2^14, 2^15) (e <= 0 where v is that small or
- *                  smaller: M exact, shifted left)
+ *   v = M 2^e      v shifted left by k (k = 16 - e) until the largest |v_i|
+ *                  holds bit 30, each M_i the top half rounded: the largest
+ *                  |M_i| in [2^14, 2^15) (M exact where e <= 0)
  *   S = sum M_i^2  below 3 2^30: exact in 32 bits unsigned; |M| = sqrt(S)
  *                  in [2^14, 2^15 sqrt 3)
- *   1/|M|          S/2^30 = m 4^k, m in [1/4, 1) and k = 0 or -1, and 1/sqrt(m)
- *                  by rsqrt_newton_q15 (Q15 within 2.5e-6 relative, and the
- *                  roundings of its 16-bit operands)
- *   d_i = M_i / |M| the products M_i y (Q30), halved for k = -1, rounded to
+ *   y = 1/|M|      S/2^30 = m 4^-h, m in [1/4, 1) and h = 0 or 1, and
+ *                  1/sqrt(m) by rsqrt_newton_q15 (Q15 within 2.5e-6
+ *                  relative, and the roundings of its 16-bit operands)
+ *   d_i = M_i / |M| the products M_i y (Q30), halved for h = 1, rounded to
  *                  UNIT16
- *   |v| = |M| 2^e  |M| the root of S rounded to an integer (isqrt_u32),
- *                  saturated where |v| leaves the format
+ *   |M| = S y      r0 = the top half of S times y, within 7 of sqrt(S), and
+ *                  one Heron step with y for 1/(2 r0):
+ *                  |M| = r0 + (S - r0^2) y / 2^(31+h), in Q4
+ *   |v| = |M| 2^e  rounded, or saturated where it leaves the format
  * The rounding of M moves the direction by at most (sqrt 3 / 2) 2^-14 (0.87
  * UNIT16 LSB), to which y's error and the output's rounding add what they
- * add in fc_unit2_16 (test_scalar.test_direction16 derives the bound).
+ * add in fc_unit2_16; it moves |M| by at most sqrt(3) / 2, the Heron step's
+ * Q4 rounding adds 1/32 and its other errors 1/64
+ * (test_scalar.test_direction16 derives both bounds).
  */
-#define DIRECTION_M_BITS 15 /* bits of the largest |M_i| */
+#define DIRECTION_TOP_BIT 30      /* the largest |v_i| 2^k in [2^30, 2^31) */
+#define DIRECTION_LENGTH_FRAC 4   /* |M| in Q4 */
+#define DIRECTION_RESIDUAL_SHIFT 8 /* S - r0^2 (below 2^21) to 16 bits */
 
-static fc_real16 direction_component(fc_arith *ar, int16_t m_i, uint16_t y_q15, bool halve)
+/* M_i y (Q30, |.| <= 2^30 (1 + 3e-5): no saturation) rounded to UNIT16, half
+ * up, halved first for h = 1: the rounding of floor(M_i y / 2) is
+ * floor((M_i y + 2^16) / 2^17) */
+static fc_real16 direction_component(int16_t m_i, uint16_t y_q15, bool halve)
 {
-    int32_t m_y = fc_mul16_unsigned(y_q15, m_i); /* Q15 x Q15 = Q30, |.| <= 2^30 */
+    const int32_t m_y = fc_mul16_unsigned(y_q15, m_i); /* Q15 x Q15 = Q30 */
     if (halve) {
-        m_y = (int32_t)fc_fx_extract((uint32_t)m_y, m_y < 0 ? UINT32_MAX : 0u, 1); /* a floor */
+        return (fc_real16)fc_fx_asr32(m_y + ((int32_t)1 << 16), 30 + 1 - FC_UNIT16_FRAC);
     }
-    return fc_narrow16(ar, m_y, 30, FC_UNIT16_FRAC);
+    return (fc_real16)fc_fx_asr32(m_y + ((int32_t)1 << 15), 30 - FC_UNIT16_FRAC);
 }
 
 /* |x| of an fc_real (symmetric: never INT32_MIN) */
@@ -807,20 +823,36 @@ static uint32_t magnitude_u32(fc_real x)
     return x < 0 ? (uint32_t)-x : (uint32_t)x;
 }
 
-/* x / 2^e rounded to nearest (e >= 1; a rounding up to 2^15 held at
- * 2^15 - 1), or x 2^-e exactly (e <= 0: |x| 2^-e stays below 2^15 by the
- * choice of e) */
-static int16_t direction_mantissa(fc_real x, int e)
+/* The top half of a shifted component rounded to nearest (half up; a
+ * positive one rounding up to 2^15 held at 2^15 - 1) */
+static int16_t direction_mantissa(uint32_t shifted)
 {
-    if (e <= 0) {
-        return (int16_t)fc_fx_shl32(x, -e);
-    }
-    const int32_t half = fc_fx_asr32(x, e - 1); /* floor(x / 2^(e-1)) */
-    const int32_t rounded = (half >> 1) + (half & 1);
-    if (rounded > INT16_MAX) {
+    const uint32_t rounded = shifted + ((uint32_t)1u << 15);
+    if ((int32_t)shifted >= 0 && (int32_t)rounded < 0) {
         return INT16_MAX;
     }
-    return (int16_t)rounded;
+    return (int16_t)(uint16_t)fc_fx_extract(rounded, 0u, 16);
+}
+
+/* |M| = sqrt(S) in Q4 from y = 2^(30+h) / sqrt(S) (Q15 of 1/sqrt(m)):
+ * r0 = floor(S_hi y / 2^(14+h)) is sqrt(S) less S_lo y / 2^(30+h) < 4, less
+ * the floor, within y's error (2^16 3e-5 < 2): |r0 - sqrt(S)| < 7, so
+ * |S - r0^2| < 2 2^16 7 + 49 < 2^20 and 2^-8 of it fits 16 bits. The Heron
+ * step's error is (r0 - sqrt S)^2 / (2 sqrt S) < 2^-9, its residual's floor
+ * 2^8 / (2 sqrt S) <= 2^-7, its Q4 rounding 1/32: below half a Q4 LSB
+ * before the rounding, so a whole root (an axis-aligned v) is exact. */
+static uint32_t direction_length_q4(uint32_t s, uint16_t y_q15, bool halve)
+{
+    const uint32_t top = umul16((uint16_t)fc_fx_extract(s, 0u, 16), y_q15);
+    const uint16_t r0 = (uint16_t)(halve ? fc_fx_extract(top, 0u, 15) : fc_fx_extract(top, 0u, 14));
+    const int32_t residual = (int32_t)(s - umul16(r0, r0));
+    const int16_t residual16 = (int16_t)fc_fx_asr32(residual, DIRECTION_RESIDUAL_SHIFT);
+    /* (S - r0^2) y / 2^(31+h) in Q4, rounded: the product (below 2^29)
+     * shifted by 31 + h - 8 - 4 */
+    const int32_t step = fc_mul16_unsigned(y_q15, residual16);
+    const int32_t step_q4 =
+        halve ? fc_fx_asr32(step + ((int32_t)1 << 19), 20) : fc_fx_asr32(step + ((int32_t)1 << 18), 19);
+    return ((uint32_t)r0 << DIRECTION_LENGTH_FRAC) + (uint32_t)step_q4;
 }
 
 bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 direction[3], fc_real *length)
@@ -829,40 +861,56 @@ bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 dir
     direction[1] = 0;
     direction[2] = 0;
     *length = 0;
-    uint32_t largest = magnitude_u32(a);
-    const uint32_t mag_b = magnitude_u32(b), mag_c = magnitude_u32(c);
-    largest = mag_b > largest ? mag_b : largest;
-    largest = mag_c > largest ? mag_c : largest;
-    if (largest == 0u) {
+    /* the bits of the largest |v_i| are those of the three's OR */
+    uint32_t top = magnitude_u32(a) | magnitude_u32(b) | magnitude_u32(c);
+    if (top == 0u) {
         return false;
     }
-    /* the largest |M_i| in [2^14, 2^15) */
-    const int e = bit_length_u32(largest) - DIRECTION_M_BITS;
-    const int16_t m[3] = {direction_mantissa(a, e), direction_mantissa(b, e), direction_mantissa(c, e)};
-    const uint32_t s = (uint32_t)((int32_t)m[0] * m[0]) + (uint32_t)((int32_t)m[1] * m[1]) +
-                       (uint32_t)((int32_t)m[2] * m[2]);
-    /* S / 2^30 = m 4^k with m in [1/4, 1): k = -1 for S >= 2^30; m in Q28 */
+    /* v 2^k with the largest at bit 30: whole bytes first (moves on the
+     * ATmega), then bits, the three components in one loop */
+    uint32_t va = (uint32_t)a, vb = (uint32_t)b, vc = (uint32_t)c;
+    int k = 0;
+    while (top < ((uint32_t)1u << (DIRECTION_TOP_BIT - 7))) {
+        top <<= 8;
+        va <<= 8;
+        vb <<= 8;
+        vc <<= 8;
+        k += 8;
+    }
+    while (top < ((uint32_t)1u << DIRECTION_TOP_BIT)) {
+        top <<= 1;
+        va <<= 1;
+        vb <<= 1;
+        vc <<= 1;
+        k++;
+    }
+    const int16_t m[3] = {direction_mantissa(va), direction_mantissa(vb), direction_mantissa(vc)};
+    const uint32_t s = (uint32_t)fc_mul16(m[0], m[0]) + (uint32_t)fc_mul16(m[1], m[1]) +
+                       (uint32_t)fc_mul16(m[2], m[2]);
+    /* S / 2^30 = m 4^-h with m in [1/4, 1): h = 1 for S >= 2^30; m in Q28 */
     const bool halve = s >= (uint32_t)1u << 30;
-    const uint32_t m_q28 = halve ? s >> 4 : s >> 2;
+    const uint32_t m_q28 = halve ? fc_fx_extract(s, 0u, 4) : fc_fx_extract(s, 0u, 2);
     const uint16_t y_q15 = rsqrt_newton_q15(m_q28);
-    direction[0] = direction_component(ar, m[0], y_q15, halve);
-    direction[1] = direction_component(ar, m[1], y_q15, halve);
-    direction[2] = direction_component(ar, m[2], y_q15, halve);
+    direction[0] = direction_component(m[0], y_q15, halve);
+    direction[1] = direction_component(m[1], y_q15, halve);
+    direction[2] = direction_component(m[2], y_q15, halve);
 
-    uint32_t remainder;
-    const uint32_t root = isqrt_u32(s, &remainder);
-    const uint32_t rounded = remainder > root ? root + 1u : root; /* (above fc_sqrt_unit16) */
-    if (e <= 0) {
-        /* rounded to nearest, below 2^16 */
-        *length = (fc_real)shr_u32(rounded + (shl_u32(1u, -e) >> 1), -e);
+    /* |v| = |M| 2^e = |M|_Q4 2^(e - 4), e = 16 - k */
+    const uint32_t length_q4 = direction_length_q4(s, y_q15, halve);
+    const int shift = 16 - DIRECTION_LENGTH_FRAC - k;
+    if (shift <= 0) {
+        /* rounded to nearest (half up), below 2^16 */
+        const uint32_t half = shl_u32(1u, -shift) >> 1;
+        *length = (fc_real)shr_u32(length_q4 + half, -shift);
         return true;
     }
-    if (rounded > shr_u32((uint32_t)INT32_MAX, e)) {
+    /* |M| < 2^16 (Q4: below 2^20) leaves the format only for k = 0 (shift 12) */
+    if (k == 0 && length_q4 >= (uint32_t)1u << (31 - 12)) {
         ar->saturated = 1u;
         *length = FC_REAL_MAX;
         return true;
     }
-    *length = (fc_real)shl_u32(rounded, e);
+    *length = (fc_real)shl_u32(length_q4, shift);
     return true;
 }
 

@@ -1193,8 +1193,10 @@ static void test_unit2_16(void **state)
  *   float: five roundings (the squares' sum, the root, the reciprocal, the
  *     product) within gamma_5;
  * and the length within 1.37 2^e raw LSB (fixed: sqrt(3)/2 of the
- * mantissas and 1/2 of the root, times 2^e; at least 1 LSB of the final
- * shift for e <= 0), float gamma_4 of itself. */
+ * mantissas and 1/32 + 1/64 of the Heron step, times 2^e, and half a raw
+ * LSB of the final rounding for e < 4; at least 1 LSB for e <= 0), float
+ * gamma_4 of itself; a whole length (axis-aligned and 3-4-5 vectors) exact
+ * in fixed. */
 static double direction16_bound_lsb(void)
 {
 #if FC_NUMERIC_FIXED
@@ -1270,6 +1272,17 @@ static void test_direction16(void **state)
     fc_real length = 1;
     assert_false(fc_direction16(&ar, 0, 0, 0, d, &length));
     assert_true(d[0] == 0 && d[1] == 0 && d[2] == 0 && length == 0);
+#if FC_NUMERIC_FIXED
+    /* whole lengths exact, at every scale */
+    for (int j = 0; j <= 27; j++) {
+        const fc_real unit = (fc_real)1 << j;
+        assert_true(fc_direction16(&ar, 0, 0, unit, d, &length));
+        assert_true(length == unit && d[2] == FC_INT16(1, UNIT16));
+        assert_true(fc_direction16(&ar, 3 * unit, -4 * unit, 0, d, &length));
+        assert_true(length == 5 * unit);
+    }
+    assert_int_equal(ar.saturated, 0);
+#endif
     print_message("direction16: %u vectors, direction worst %.4f UNIT16 LSB (bound %.4f), length worst %.3f of "
                   "its bound\n",
                   cases, worst, direction16_bound_lsb(), worst_length);

@@ -1030,9 +1030,10 @@ static inline void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n
  * and *length = |.| in the components' format; false (all 0) for the zero
  * vector, and in float for a length that is not a finite number. Fixed: the
  * vector scaled by a power of two into 16-bit components, 1/|.| as in
- * fc_unit2_16 and the length from the integer root of their squares: the
- * direction within 2.2 UNIT16 LSB of the exact one, the length within
- * 1.37 2^-14 of itself (test_scalar.test_direction16 derives both bounds).
+ * fc_unit2_16 and the length from their squares' sum times it (one Heron
+ * step, no root): the direction within 2.2 UNIT16 LSB of the exact one, the
+ * length within 1.37 2^-14 of itself (test_scalar.test_direction16 derives
+ * both bounds).
  * Float: the root and a reciprocal. */
 #if FC_NUMERIC_FIXED
 bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 direction[3], fc_real *length);
