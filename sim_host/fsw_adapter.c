@@ -131,6 +131,7 @@ static bool params_of_config(const fsw_config *cfg, fc_controller_params *out, c
     scale_law_gains(&p.altitude, cfg->bandwidth_scale, cfg->authority_scale);
     override(&p.altitude.rho_n, cfg->rho_n, FC_FORCE_FRAC);
     override(&p.altitude.gamma, cfg->gamma, FC_GAIN_FRAC);
+    override(&p.altitude.actuator_lag_s, cfg->actuator_lag_s, FC_DT_FRAC);
     override(&p.altitude.tau_av_s, cfg->tau_av_s, FC_DT_FRAC);
     override(&p.altitude.l0_per_s, cfg->l0_per_s, FC_GAIN_FRAC);
     override(&p.altitude.a_m_per_s, cfg->a_m_per_s, FC_GAIN_FRAC);

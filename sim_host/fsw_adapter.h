@@ -47,6 +47,7 @@ typedef struct fsw_config {
     double thrust_min_n, thrust_max_n; /* the altitude law's clamp */
     double ground_gain_max;
     double rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg;
+    double actuator_lag_s; /* the altitude law's lag schedule (NaN: the default, 0) */
     /* factors on the variant's defaults (NaN: 1), e.g. to carry the 4 kg gains to a 27 g vehicle */
     double rho_scale, gamma_scale, kappa_m_scale;
     /* the tuning knobs, factors on the law's own gains (NaN: 1; fsw_adapter.c's

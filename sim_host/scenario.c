@@ -59,6 +59,7 @@ void fsw_config_defaults(fsw_config *c)
     c->use_external_attitude = -1;
     c->mass_kg = c->ref_tau_s = c->ref_offset_init_m = c->ref_bias_m = (double)NAN;
     c->thrust_min_n = c->thrust_max_n = c->ground_gain_max = (double)NAN;
+    c->actuator_lag_s = (double)NAN;
     c->rho_n = c->gamma = c->tau_av_s = c->l0_per_s = c->a_m_per_s = c->kappa_m_per_kg = (double)NAN;
     c->rho_scale = c->gamma_scale = c->kappa_m_scale = c->bandwidth_scale = c->authority_scale = (double)NAN;
     c->horizontal_kp_per_s2 = c->horizontal_kd_per_s = c->tilt_max_rad = (double)NAN;
@@ -97,7 +98,7 @@ typedef struct raw {
     int airframe, variant, attitude_external;
     double rate_hz, nominal_mass_kg, z_r_tau_s, z_r_init_m, z_r_bias_m, thrust_min_n, thrust_max_n, ground_gain_max,
         rho_n, gamma, tau_av_s, l0_per_s, a_m_per_s, kappa_m_per_kg, hkp, hkd, tilt_max_deg, rho_scale, gamma_scale,
-        kappa_m_scale, bandwidth_scale, authority_scale, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
+        kappa_m_scale, bandwidth_scale, authority_scale, actuator_lag_s, pid_kp_z, pid_ki_z, pid_kp_v, pid_ki_v, accel_fb_gain;
     int figure;
     int output_velocity;
     v3 fsw_k_p, fsw_a_p;
@@ -219,6 +220,7 @@ static const key_def keys[] = {
     {"controller", "ground_gain_max", K_DOUBLE, R(ground_gain_max), 1.0, 10.0, NULL, OPTIONAL},
     {"controller", "rho_n", K_DOUBLE, R(rho_n), 0.0, 2000.0, NULL, OPTIONAL},
     {"controller", "gamma", K_DOUBLE, R(gamma), 0.0, 10000.0, NULL, OPTIONAL},
+    {"controller", "actuator_lag_s", K_DOUBLE, R(actuator_lag_s), 0.0, 1.0, NULL, OPTIONAL},
     {"controller", "tau_av_s", K_DOUBLE, R(tau_av_s), 0.0, 1.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "l0_per_s", K_DOUBLE, R(l0_per_s), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
     {"controller", "a_m_per_s", K_DOUBLE, R(a_m_per_s), 0.0, 1000.0, NULL, OPEN_LO | OPTIONAL},
@@ -451,6 +453,7 @@ static void raw_defaults(raw *r)
     r->attitude_external = 0;
     r->nominal_mass_kg = r->z_r_tau_s = r->z_r_init_m = r->z_r_bias_m = (double)NAN;
     r->thrust_min_n = r->thrust_max_n = r->ground_gain_max = (double)NAN;
+    r->actuator_lag_s = (double)NAN;
     r->rho_n = r->gamma = r->tau_av_s = r->l0_per_s = r->a_m_per_s = r->kappa_m_per_kg = (double)NAN;
     r->hkp = r->hkd = r->tilt_max_deg = r->accel_fb_gain = (double)NAN;
     r->pid_kp_z = r->pid_ki_z = r->pid_kp_v = r->pid_ki_v = (double)NAN;
@@ -986,6 +989,7 @@ static bool build(parse_ctx *c, scenario *sc)
     f->ground_gain_max = r->ground_gain_max;
     f->rho_n = r->rho_n;
     f->gamma = r->gamma;
+    f->actuator_lag_s = r->actuator_lag_s;
     f->tau_av_s = r->tau_av_s;
     f->l0_per_s = r->l0_per_s;
     f->a_m_per_s = r->a_m_per_s;

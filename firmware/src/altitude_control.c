@@ -45,6 +45,7 @@ void fc_altitude_control_default_params(fc_altitude_control_params *p, fc_real d
     p->k0_ns_per_m = fc_mul(&ar, FC_C(1.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
     p->tau_f_s = FC_C(0.01f, DT);
     p->gamma = fc_mul(&ar, FC_C(5.0f, GAIN), mass_ratio, FC_SHIFT(GAIN, RATIO, GAIN));
+    p->actuator_lag_s = FC_INT(0, DT);
     /* baselines, tuned by the rules in the header for w_v = 8 rad/s, zeta = 1,
      * and the disturbance bounds of 4.4 */
     p->boundary_layer_mps = FC_C(0.05f, VEL);
@@ -63,7 +64,7 @@ static bool all_finite(const fc_altitude_control_params *p)
         p->dt_s, p->gravity_mps2, p->theta0_kg, p->mass_min_kg, p->mass_max_kg,
         p->ground_gain_max, p->tilt_cos_min, p->thrust_min_n, p->thrust_max_n, p->l0_per_s,
         p->tau_av_s, p->a_m_per_s, p->kappa_m_per_kg, p->rho_n, p->delta_n, p->k0_ns_per_m,
-        p->tau_f_s, p->gamma, p->boundary_layer_mps,
+        p->tau_f_s, p->gamma, p->actuator_lag_s, p->boundary_layer_mps,
         p->stw_k1, p->stw_k2_nps, p->pid_kp_z_per_s, p->pid_ki_z_per_s2, p->pid_kp_v_n_per_mps,
         p->pid_ki_v_n_per_m, p->pid_vel_limit_mps};
     for (unsigned i = 0u; i < sizeof values / sizeof values[0]; i++) {
@@ -129,6 +130,7 @@ static bool altitude_params_valid(const fc_altitude_control_params *p)
            p->a_m_per_s > zero && p->kappa_m_per_kg > zero && p->rho_n >= zero &&
            p->delta_n >= zero && p->k0_ns_per_m >= zero &&
            (p->velocity_measured || p->tau_f_s > zero) && p->gamma >= zero && p->boundary_layer_mps > zero &&
+           p->actuator_lag_s >= zero && p->actuator_lag_s <= FC_INT(1, DT) &&
            p->stw_k1 >= zero && p->stw_k2_nps >= zero && p->pid_kp_z_per_s >= zero &&
            p->pid_ki_z_per_s2 >= zero && p->pid_kp_v_n_per_mps >= zero &&
            p->pid_ki_v_n_per_m >= zero && p->pid_vel_limit_mps > zero &&
@@ -223,8 +225,10 @@ static void adaptation_and_feed_forward_constants(fc_altitude_control *c)
      * "Adaptation in discrete time"), capped like the gains (GAIN holds 32768) */
     const fc_real gain_cap = FC_INT(30000, GAIN);
     const fc_real gamma_theta0 = fc_min(fc_mul(&scratch, p->gamma, p->theta0_kg, FC_SHIFT(GAIN, MASS, GAIN)), gain_cap);
-    const fc_real two_zeta_sqrt = fc_mul(ar, FC_C(2.0f * FC_ALT_THETA_DAMPING, RATIO),
-                                         fc_sqrt(ar, gamma_theta0, FC_GAIN_FRAC), FC_SHIFT(RATIO, GAIN, GAIN));
+    const fc_real two_zeta = fc_div(ar, FC_C(2.0f * FC_ALT_THETA_DAMPING, RATIO), c->lag_divisor,
+                                    FC_DIV_SHIFT(RATIO, RATIO, RATIO)); /* the lag schedule */
+    const fc_real two_zeta_sqrt =
+        fc_mul(ar, two_zeta, fc_sqrt(ar, gamma_theta0, FC_GAIN_FRAC), FC_SHIFT(RATIO, GAIN, GAIN));
     const fc_real gamma_p = fc_min(fc_div(&scratch, two_zeta_sqrt, p->gravity_mps2, FC_DIV_SHIFT(GAIN, ACCEL, GAIN)),
                                    gain_cap);
     c->k.gamma_p = fc_gain_of(gamma_p, FC_GAIN_FRAC);
@@ -247,6 +251,24 @@ static void adaptation_and_feed_forward_constants(fc_altitude_control *c)
         c->sigma_phi_max = fc_div(ar, fc_sub(ar, c->theta_max_kg, c->theta_min_kg), gamma_p,
                                   FC_DIV_SHIFT(MASS, GAIN, SIGMA_PHI));
     }
+}
+
+/* The lag schedule (header, "Lag schedule"): d = 1 + w_theta L with
+ * w_theta = g sqrt(gamma/Theta0) of the tuning given, capped at 100, and
+ * gamma <- gamma/d; the damping ratio is divided by d where gamma_p is formed. */
+static void lag_schedule(fc_altitude_control *c)
+{
+    fc_arith *ar = &c->ar;
+    fc_arith scratch = {0u};
+    fc_altitude_control_params *p = &c->p;
+    const fc_real gamma_over_theta0 =
+        fc_min(fc_div(&scratch, p->gamma, p->theta0_kg, FC_DIV_SHIFT(GAIN, MASS, GAIN)), FC_INT(30000, GAIN));
+    const fc_real mode_rate_per_s = fc_mul(ar, p->gravity_mps2, fc_sqrt(ar, gamma_over_theta0, FC_GAIN_FRAC),
+                                           FC_SHIFT(ACCEL, GAIN, GAIN));
+    const fc_real lag_phase =
+        fc_min(fc_mul(&scratch, mode_rate_per_s, p->actuator_lag_s, FC_SHIFT(GAIN, DT, RATIO)), FC_INT(99, RATIO));
+    c->lag_divisor = fc_add(ar, FC_INT(1, RATIO), lag_phase);
+    p->gamma = fc_div(ar, p->gamma, c->lag_divisor, FC_DIV_SHIFT(GAIN, RATIO, GAIN));
 }
 
 static void compute_discretisation(fc_altitude_control *c)
@@ -568,6 +590,7 @@ fc_init_result fc_altitude_control_init(fc_altitude_control *c, const fc_altitud
         fc_altitude_control_reset(c);
         return FC_INIT_BAD_PARAM;
     }
+    lag_schedule(c);
     compute_discretisation(c);
     fc_altitude_control_reset(c);
     /* the eta norm observer's constants, only where it runs (SSC, relative degree

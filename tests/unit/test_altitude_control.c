@@ -688,6 +688,33 @@ static void test_bad_params_rejected(void **state)
 #endif
 }
 
+/* The lag schedule (fc/altitude_control.h, "Lag schedule"): L = 0 leaves gamma
+ * and gamma_p as they are; L > 0 divides gamma by d = 1 + g sqrt(gamma/Theta0) L
+ * and gamma_p by d^(3/2); L outside [0, 1] s is rejected. */
+static void test_lag_schedule(void **state)
+{
+    (void)state;
+    fc_arith ar = {0u};
+    fc_altitude_control c;
+    fc_altitude_control_params p;
+    fc_altitude_control_default_params(&p, dt_of(DT_500HZ), mass_of(4.0));
+    p.adaptive = true;
+    assert_int_equal(fc_altitude_control_init(&c, &p), FC_INIT_OK);
+    assert_true(c.p.gamma == p.gamma);
+    const double gamma_p0 = (double)fc_to_float(fc_gain_to_real(&ar, c.k.gamma_p, FC_GAIN_FRAC), FC_GAIN_FRAC);
+    fc_altitude_control_params q = p;
+    q.actuator_lag_s = fc_from_float(0.08f, FC_DT_FRAC);
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_OK);
+    const double d = 1.0 + 9.81 * sqrt(5.0 / 4.0) * 0.08;
+    assert_float_equal((double)fc_to_float(c.p.gamma, FC_GAIN_FRAC), (float)(5.0 / d), 1e-3f);
+    assert_float_equal((double)fc_to_float(fc_gain_to_real(&ar, c.k.gamma_p, FC_GAIN_FRAC), FC_GAIN_FRAC),
+                       (float)(gamma_p0 / pow(d, 1.5)), 1e-3f);
+    q.actuator_lag_s = fc_from_float(-0.01f, FC_DT_FRAC);
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
+    q.actuator_lag_s = fc_from_float(1.5f, FC_DT_FRAC);
+    assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
+}
+
 /* Fuzz finding params-4 (tests/fuzz/findings/params-4.bin): the Crazyflie's
  * ssc-norm tuning with m_min a denormal (2.66e-44 kg) was accepted in float;
  * kp_max = k_g_max / m_min = inf and the first step's rho was inf * 0 = NaN,
@@ -751,6 +778,7 @@ int main(void)
         cmocka_unit_test(test_bad_input_holds_last_thrust),
         cmocka_unit_test(test_bad_params_rejected),
         cmocka_unit_test(test_rho_constants_bounded_params_4),
+        cmocka_unit_test(test_lag_schedule),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

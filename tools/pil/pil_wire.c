@@ -109,6 +109,7 @@ bool pil_wire_params(pil_wire *w, uint32_t *airframe, uint32_t *variant, fc_cont
     real(w, &p->altitude.ground_gain_max);
     real(w, &p->altitude.rho_n);
     real(w, &p->altitude.gamma);
+    real(w, &p->altitude.actuator_lag_s);
     real(w, &p->altitude.kappa_m_per_kg);
     real(w, &p->altitude.tau_av_s);
     real(w, &p->altitude.l0_per_s);

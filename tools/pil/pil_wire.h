@@ -23,7 +23,7 @@
 
 #include "fc/controller.h"
 
-#define PIL_PARAM_WORDS 36u
+#define PIL_PARAM_WORDS 37u
 #define PIL_INPUT_WORDS 29u
 #define PIL_OUTPUT_WORDS (FC_MAX_ROTORS + 69u)
 

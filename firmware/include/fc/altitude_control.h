@@ -145,6 +145,14 @@
  * reference step (the landing's press, fc/landing.h) from being learnt as a mass
  * change; once contact is planned (the touchdown window) the controller holds the
  * adaptation: Theta* becomes the pad's.
+ * Lag schedule. With L = actuator_lag_s known at init, gamma and the damping ratio
+ * zeta are both divided by d = 1 + w_theta L (w_theta = g sqrt(gamma/Theta0) of the
+ * tuning given): the mode moves to w_theta/sqrt(d), and the proportional part, a
+ * feedback of sigma through u_nom whose crossover is about 2 zeta w_theta, to
+ * 2 zeta w_theta/d^(3/2): the phase L takes at either, the part of V' = -sigma u0_av
+ * that the lag spoils, shrinks to w_theta L/sqrt(d) and below. (4.83) and V keep
+ * their form with the smaller gamma; the price is a slower Theta (a mass step is
+ * learnt over sqrt(d) times longer). L = 0 leaves the law as above.
  * The alternatives, against the same V: a normalised gradient gamma/(1 + mu phi^2) only
  * rescales gamma (phi stays near g) and moves w_theta, without damping; an implicit
  * gradient (sigma of the next step) damps by O(dt), less the faster the loop runs; a
@@ -256,6 +264,8 @@ typedef struct fc_altitude_control_params {
     fc_real k0_ns_per_m;         /* GAIN: k0 of rho = rho_bar + k0 |sigma_tilde| */
     fc_real tau_f_s;             /* DT: lead filter (4.18), relative degree two */
     fc_real gamma;               /* GAIN: adaptation gain (4.83), kg s^2/m^2 */
+    fc_real actuator_lag_s;      /* DT: the motors' lag plus the measurement's delay, [0, 1] s;
+                                  * 0 for the instant thrust of (3.4) (header, "Lag schedule") */
 
     /* baselines */
     fc_real boundary_layer_mps;  /* VEL: phi_bl */
@@ -373,6 +383,7 @@ typedef struct fc_altitude_control {
     fc_real ref_accel_max_mps2;  /* ACCEL: z_r'' fed forward up to max(thrust_max/Theta_max - g, 0) */
     fc_real ref_accel_min_mps2;  /* ACCEL: and down to min(thrust_min/Theta_min - g, 0) */
     fc_real sigma_phi_max;       /* SIGMA_PHI: (Theta_max - Theta_min) / gamma_p */
+    fc_real lag_divisor;         /* RATIO: 1 + w_theta L, gamma and zeta divided by it */
     fc_real avg_pole;            /* UNIT: a = e^(-dt/tau_av) */
     fc_real pred_pole;           /* UNIT: b = e^(-a_m dt) */
     fc_real pred_gain;           /* RATIO: kappa_m c, 1/kg x s */
