@@ -205,24 +205,22 @@ STEP_INLINE bool rate_valid(const fc_vec3 *r)
     return fc_vec3_within(*r, MAX_RATE_RADPS);
 }
 
-/* q in UNIT16, *ok as fc_quat16_normalize gives them. Fixed: q rounded as it
- * is when it is unit at 16 bits (the usual case: the estimator's attitude and
- * the position loop's setpoint arrive normalised), with the test and the
- * rounding of fc_quat16_normalize inlined; else that function. */
+/* q in UNIT16, *ok as fc_quat16_normalize gives them. Fixed: its test for
+ * a q that is unit at 16 bits (the usual case: the estimator's attitude and
+ * the position loop's setpoint arrive normalised) inlined, on the
+ * components rounded without a saturation test (fc_quat16_round_unit: one
+ * of 2 or more wraps to -2, whose square alone is four times one, so that
+ * q fails the test) and their squares summed unsigned (quat.c); else that
+ * function. */
 STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
 {
 #if FC_NUMERIC_FIXED
-    fc_arith probe = {0u};
-    const fc_quat16 r = {fc_narrow16(&probe, q->w, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(&probe, q->x, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(&probe, q->y, FC_UNIT_FRAC, FC_UNIT16_FRAC),
-                         fc_narrow16(&probe, q->z, FC_UNIT_FRAC, FC_UNIT16_FRAC)};
-    /* two partial sums, each below 2^31; unit length needs both below 2 */
-    const fc_real wx = fc_dot2_16(r.w, r.w, r.x, r.x);
-    const fc_real yz = fc_dot2_16(r.y, r.y, r.z, r.z);
-    const fc_real two = FC_INT(2, UNIT16_SQ);
-    if (probe.saturated == 0u && wx <= two && yz <= two &&
-        fc_within(wx + yz - FC_INT(1, UNIT16_SQ), FC_QUAT16_UNIT_SQ_TOLERANCE)) {
+    const fc_quat16 r = fc_quat16_round_unit(*q);
+    const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
+                             (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
+    const uint32_t one = (uint32_t)FC_INT(1, UNIT16_SQ);
+    const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
+    if (off <= (uint32_t)FC_QUAT16_UNIT_SQ_TOLERANCE) {
         *ok = true;
         return r;
     }
