@@ -623,8 +623,8 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
 {
     /* the slices of the header, about the same work each */
     static const uint8_t slices[] = {
-        FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_PHASES,
-        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_SUMMARY,
+        FC_PAD_WORK_COVARIANCE_HEAD,
+        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY,
         FC_PAD_WORK_SAMPLE_GAIN,
     };
     if (!pm->ready) {

@@ -43,9 +43,9 @@
  *   minor frames 3 and on (outer_divider >= 4)  the work of the pad model's
  *                  next step that needs no sample, one slice a frame: the
  *                  covariance update of the newest sample in two parts (the
- *                  first with the rotations of adapted frequencies and the
- *                  phases turned to the next step, the second with the
- *                  summary of the newest fit), then the RLS gain for those phases
+ *                  first with the rotations of adapted frequencies, the second
+ *                  with the phases turned to the next step and the summary
+ *                  of the newest fit), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
  * With outer_divider 2 the position loop runs whole in frame 0 and the pad

@@ -122,8 +122,7 @@ typedef struct fc_pad_motion_summary {
  * of fc_pad_motion.deferred: a step leaves them to be done before the
  * next one, by fc_pad_motion_work_ahead in a spare minor frame or else by
  * that step itself. They run in the order of their bits, the order the
- * algorithm needs; the phases read and write none of S, so a slice may
- * turn them before the covariance's tail. */
+ * algorithm needs. */
 #define FC_PAD_WORK_COVARIANCE_HEAD 0x01u /* the rotations w_k dt of the newest sample's frequencies,
                                               and S's update of that sample, its first rows */
 #define FC_PAD_WORK_COVARIANCE_TAIL 0x02u /* the rest of S's update */
@@ -198,8 +197,8 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
 /* The deferred pieces (FC_PAD_WORK_*) of the next step done ahead of it, one
  * slice per call, the first slice with a piece left of:
  *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
- *      triangle for 3 modes) and FC_PAD_WORK_PHASES
- *   2. FC_PAD_WORK_COVARIANCE_TAIL and FC_PAD_WORK_SUMMARY
+ *      triangle for 3 modes)
+ *   2. FC_PAD_WORK_COVARIANCE_TAIL, FC_PAD_WORK_PHASES and FC_PAD_WORK_SUMMARY
  *   3. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
  *      32 x 16 bits; g; all of a sample's RLS update but theta += g e)
  * The slices are about the same size (the controller calls one per spare
