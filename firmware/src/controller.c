@@ -46,7 +46,8 @@ static void reset_loops(fc_controller *ctl)
     fc_attitude_control_reset(&ctl->attitude);
     fc_allocation_reset(&ctl->allocation);
     fc_position_control_reset(&ctl->position);
-    ctl->groups.have_attitude_setpoint = false; /* level until the position loop's next minor frame */
+    ctl->groups.have_demand = false;
+    ctl->groups.have_attitude_setpoint = false; /* level until the position loop's next attitude frame */
     ctl->last_saturation = 0u;
     ctl->last_thrust_n = FC_INT(0, FORCE);
 }
@@ -504,6 +505,32 @@ static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical
 }
 
 /* ---------------------------------------------------------------------- */
+/* the outer group's minor frames (fc/controller.h)                       */
+/* ---------------------------------------------------------------------- */
+
+/* The position loop's demand half runs in minor frame 0; its attitude half
+ * in frame 1 when the major frame has room for both halves, the pad model
+ * and two slices of its work ahead (outer_divider >= 5), else with the
+ * demand. */
+static uint8_t position_attitude_frame(uint8_t divider)
+{
+    return divider >= 5u ? 1u : 0u;
+}
+
+/* The pad model, in the frame after the position loop's. */
+static uint8_t pad_model_frame(uint8_t divider)
+{
+    return divider > 1u ? (uint8_t)(position_attitude_frame(divider) + 1u) : 0u;
+}
+
+/* A slice of the pad model's work ahead in each frame after its own, until
+ * the major frame ends. */
+static bool work_ahead_frame(uint8_t frame, uint8_t divider)
+{
+    return frame > pad_model_frame(divider);
+}
+
+/* ---------------------------------------------------------------------- */
 /* pad samples                                                            */
 /* ---------------------------------------------------------------------- */
 
@@ -569,22 +596,21 @@ static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
     ps->height_step_m = fc_add(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
-/* Minor frame 1 of the outer group (every step with outer_divider 1): the
- * pad model takes the waiting sample, carried to this step along the model's
- * vertical speed, and gives a new estimate; minor frames 2 and on (with
- * outer_divider 3 or more) each do one piece of the model's next step ahead
- * of it (fc_pad_motion_work_ahead), which that step would do first otherwise.
- * On the other steps the estimate is the last one with its trajectory
- * extrapolated to this step. */
+/* In the pad model's minor frame (pad_model_frame) the model takes the
+ * waiting sample, carried to this step along the model's vertical speed,
+ * and gives a new estimate; in the work-ahead frames (work_ahead_frame) it
+ * does one slice of its next step ahead of it (fc_pad_motion_work_ahead),
+ * which that step would do first otherwise. On the other steps the estimate
+ * is the last one with its trajectory extrapolated to this step. */
 static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *model, fc_arith *ar,
                                const fc_controller_settings *p, uint8_t frame, fc_pad_motion_estimate *estimate)
 {
     fc_step_status status = FC_STEP_OK;
     const uint8_t divider = p->outer_divider;
-    if (divider >= 3u && frame >= 2u) {
+    if (work_ahead_frame(frame, divider)) {
         status = passed_on(fc_pad_motion_work_ahead(model));
     }
-    if (frame == (divider > 1u ? 1u : 0u)) {
+    if (frame == pad_model_frame(divider)) {
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
         if (ps->pending) {
             const fc_real carried_m = fc_mul(ar, ps->model_vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
@@ -625,8 +651,11 @@ static fc_step_status pad_samples_step(fc_controller *ctl, const fc_controller_i
 static void rate_groups_init(fc_controller_rate_groups *g)
 {
     g->minor_frame = 0u;
-    g->held_attitude_setpoint = fc_quat_identity();
+    g->position = (fc_position_control_output){0};
+    g->position.attitude_sp = fc_quat_identity();
+    g->demand_status = FC_STEP_OK;
     g->held_position_status = FC_STEP_OK;
+    g->have_demand = false;
     g->have_attitude_setpoint = false;
 }
 
@@ -660,17 +689,19 @@ bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specif
     return true;
 }
 
-/* Horizontal PID -> F = m (a_des - g - I_a) -> attitude setpoint (fc/position_control.h),
- * in minor frame 0 of the outer group only, so that its cost never adds to
- * that of another part; held, with its status, for the major frame. Until
- * its first run (after arming, a reset or a level phase: at most
- * outer_divider - 1 steps, 8 ms at 500 Hz) the setpoint is level at the heading. */
-static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c, bool position_frame,
-                                      fc_quat *attitude_sp)
+/* The position loop (fc/position_control.h) in two halves: in minor frame 0
+ * the demand, horizontal PID -> F = m (a_des - g - I_a), which waits in the
+ * rate groups; in the attitude frame (position_attitude_frame) F's attitude
+ * setpoint at the heading, held with the status of both halves until the
+ * next attitude frame. Until its first attitude frame (after arming, a
+ * reset or a level phase: at most outer_divider steps) the setpoint is level
+ * at the heading; a reset or a level phase between the halves drops the
+ * demand, and the attitude frame then keeps the level setpoint. */
+static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c, uint8_t frame, fc_quat *attitude_sp)
 {
     const fc_gated_inputs *in = c->in;
-    if (position_frame) {
-        update_heading(&ctl->heading, &ctl->ar, in->yaw_setpoint_rad);
+    fc_controller_rate_groups *g = &ctl->groups;
+    if (frame == 0u) {
         /* the newest IMU sample, no average over the major frame: k_a dt
          * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0);
          * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
@@ -688,18 +719,23 @@ static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c,
             accel_ok,
             ctl->heading.yaw_cos,
             ctl->heading.yaw_sin};
-        fc_position_control_output pout;
-        ctl->groups.held_position_status = passed_on(fc_position_control_step(&ctl->position, &pin, &pout));
-        ctl->groups.held_attitude_setpoint = pout.attitude_sp;
-        ctl->groups.have_attitude_setpoint = true;
-    } else if (!ctl->groups.have_attitude_setpoint) {
+        g->demand_status = passed_on(fc_position_control_demand(&ctl->position, &pin, &g->position));
+        g->have_demand = true;
+    }
+    if (frame == position_attitude_frame(ctl->p.outer_divider) && g->have_demand) {
+        update_heading(&ctl->heading, &ctl->ar, in->yaw_setpoint_rad);
+        const fc_step_status attitude_status =
+            fc_position_control_attitude(&ctl->position, ctl->heading.yaw_cos, ctl->heading.yaw_sin, &g->position);
+        g->held_position_status = g->demand_status | passed_on(attitude_status);
+        g->have_demand = false;
+        g->have_attitude_setpoint = true;
+    }
+    if (!g->have_attitude_setpoint) {
         *attitude_sp = level_attitude(&ctl->heading, &ctl->ar, in->yaw_setpoint_rad);
         return FC_STEP_OK;
-    } else {
-        /* held */
     }
-    *attitude_sp = ctl->groups.held_attitude_setpoint;
-    return ctl->groups.held_position_status;
+    *attitude_sp = g->position.attitude_sp;
+    return g->held_position_status;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -877,13 +913,14 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
 /* The attitude setpoint (the position loop's; level in the failsafe and the
  * ramp), then the attitude law's moments, normalised. */
 static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const vertical_plan *plan,
-                                bool position_frame, fc_controller_telemetry *tm, fc_step_status *status)
+                                uint8_t frame, fc_controller_telemetry *tm, fc_step_status *status)
 {
     if (plan->level) {
         tm->attitude_setpoint = level_attitude(&ctl->heading, &ctl->ar, c->in->yaw_setpoint_rad);
-        ctl->groups.have_attitude_setpoint = false; /* the loop starts afresh after a level phase */
+        ctl->groups.have_demand = false; /* the loop starts afresh after a level phase */
+        ctl->groups.have_attitude_setpoint = false;
     } else {
-        *status |= horizontal_step(ctl, c, position_frame, &tm->attitude_setpoint);
+        *status |= horizontal_step(ctl, c, frame, &tm->attitude_setpoint);
     }
     /* on the pad (contact being confirmed, the thrust ramp) the feet and not
      * the moments hold the attitude: the integrals hold their trim */
@@ -930,13 +967,13 @@ static fc_step_status allocate(fc_controller *ctl, fc_real16 thrust, fc_vec3_16 
 
 /* The rotors' path: thrust, moments, allocation. */
 static fc_step_status fly_rotors(fc_controller *ctl, const step_context *c, const vertical_plan *plan,
-                                 bool position_frame, fc_controller_outputs *out)
+                                 uint8_t frame, fc_controller_outputs *out)
 {
     fc_controller_telemetry *tm = &out->telemetry;
     fc_step_status status = FC_STEP_OK;
     fc_real thrust_n;
     const fc_real16 thrust = thrust_demand(ctl, c, plan, tm, &thrust_n, &status);
-    const fc_vec3_16 moment = moment_demand(ctl, c, plan, position_frame, tm, &status);
+    const fc_vec3_16 moment = moment_demand(ctl, c, plan, frame, tm, &status);
     return status | allocate(ctl, thrust, moment, thrust_n, out);
 }
 
@@ -1156,7 +1193,7 @@ fc_step_status fc_controller_step(fc_controller *ctl, const fc_controller_inputs
     if (FC_VELOCITY_OUTPUT && ctl->p.output == FC_OUTPUT_VELOCITY) {
         return status | velocity_output(ctl, &c, plan.fly_reference, plan.thrust_n, out);
     }
-    status |= fly_rotors(ctl, &c, &plan, frame == 0u, out);
+    status |= fly_rotors(ctl, &c, &plan, frame, out);
     if (ctl->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

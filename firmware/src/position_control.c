@@ -151,14 +151,12 @@ AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mp
     return fc_add(ar, fb_mps2, fc_mul_gain(ar, err_mps2, fb_dt, FC_GAIN_SHIFT(ACCEL, ACCEL)));
 }
 
-fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
-                                        fc_position_control_output *out)
+fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
+                                          fc_position_control_output *out)
 {
     if (!pc->ready) {
         out->accel_des_mps2 = fc_vec3_zero();
         out->thrust_world_n = fc_vec3_zero();
-        out->attitude_sp = fc_quat_identity();
-        out->thrust_n = FC_INT(0, FORCE);
         return FC_STEP_NOT_READY;
     }
     fc_arith *ar = &pc->ar;
@@ -167,7 +165,7 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     fc_step_status status = FC_STEP_OK;
 
     /* inputs: the horizontal errors (zero when an input is not finite), the
-     * feedforward, the heading in UNIT16 */
+     * feedforward */
     const bool integrate = fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
                            fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps);
     fc_real ex_m = FC_INT(0, LENGTH), ey_m = FC_INT(0, LENGTH);
@@ -189,21 +187,6 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
     if (!meas_ok) {
         status |= FC_STEP_BAD_INPUT;
     }
-    fc_real16 hc, hs;
-    {
-        /* |(c, s)|^2 in [0.25, 1.5], of the UNIT16 values (exact products;
-         * float: a NaN or an infinity fails the comparisons) */
-        fc_arith scratch = {0u};
-        hc = fc_narrow16(&scratch, in->heading_cos, FC_UNIT_FRAC, FC_UNIT16_FRAC);
-        hs = fc_narrow16(&scratch, in->heading_sin, FC_UNIT_FRAC, FC_UNIT16_FRAC);
-        const fc_real n2 = fc_dot2_16(hc, hc, hs, hs);
-        if (scratch.saturated != 0u || !(n2 >= FC_C(0.25f, UNIT16_SQ)) || !(n2 <= FC_C(1.5f, UNIT16_SQ))) {
-            hc = FC_INT16(1, UNIT16);
-            hs = FC_INT16(0, UNIT16);
-            status |= FC_STEP_BAD_INPUT;
-        }
-    }
-
     /* 2.6.4: the error vector saturated by its length, its direction kept */
     (void)clamp_norm2(ar, &ex_m, &ey_m, p->error_max_m, FC_FRAC(LENGTH));
     /* PID: k_P e + k_D e_v + I + a_ff,h, then |a_h| <= accel_max */
@@ -243,13 +226,6 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
         status |= FC_STEP_OUTPUT_LIMITED;
     }
 
-    /* attitude setpoint and collective thrust along body z: the direction
-     * in UNIT16 and the length in one (force.z >= thrust_min > 0) */
-    fc_vec3_16 b3;
-    fc_real force_norm_n;
-    (void)fc_vec3_direction16(ar, force, &b3, &force_norm_n);
-    out->attitude_sp = attitude_setpoint(ar, b3, hc, hs);
-    out->thrust_n = fc_min(force_norm_n, p->thrust_max_n);
     out->thrust_world_n = force;
     out->accel_des_mps2 = fc_vec3_make(ax_mps2, ay_mps2, ff.z);
 
@@ -278,4 +254,56 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
         status |= FC_STEP_ARITH_SATURATED;
     }
     return status;
+}
+
+fc_step_status fc_position_control_attitude(fc_position_control *pc, fc_real heading_cos, fc_real heading_sin,
+                                            fc_position_control_output *out)
+{
+    if (!pc->ready) {
+        out->attitude_sp = fc_quat_identity();
+        out->thrust_n = FC_INT(0, FORCE);
+        return FC_STEP_NOT_READY;
+    }
+    fc_arith *ar = &pc->ar;
+    ar->saturated = 0u;
+    fc_step_status status = FC_STEP_OK;
+    fc_real16 hc, hs;
+    {
+        /* |(c, s)|^2 in [0.25, 1.5], of the UNIT16 values (exact products;
+         * float: a NaN or an infinity fails the comparisons) */
+        fc_arith scratch = {0u};
+        hc = fc_narrow16(&scratch, heading_cos, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+        hs = fc_narrow16(&scratch, heading_sin, FC_UNIT_FRAC, FC_UNIT16_FRAC);
+        const fc_real n2 = fc_dot2_16(hc, hc, hs, hs);
+        if (scratch.saturated != 0u || !(n2 >= FC_C(0.25f, UNIT16_SQ)) || !(n2 <= FC_C(1.5f, UNIT16_SQ))) {
+            hc = FC_INT16(1, UNIT16);
+            hs = FC_INT16(0, UNIT16);
+            status |= FC_STEP_BAD_INPUT;
+        }
+    }
+
+    /* attitude setpoint and collective thrust along body z: the direction
+     * in UNIT16 and the length in one (force.z >= thrust_min > 0) */
+    fc_vec3_16 b3;
+    fc_real force_norm_n;
+    (void)fc_vec3_direction16(ar, out->thrust_world_n, &b3, &force_norm_n);
+    out->attitude_sp = attitude_setpoint(ar, b3, hc, hs);
+    out->thrust_n = fc_min(force_norm_n, pc->p.thrust_max_n);
+
+    if (ar->saturated != 0u) {
+        status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
+
+fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
+                                        fc_position_control_output *out)
+{
+    const fc_step_status status = fc_position_control_demand(pc, in, out);
+    if (status == FC_STEP_NOT_READY) {
+        out->attitude_sp = fc_quat_identity();
+        out->thrust_n = FC_INT(0, FORCE);
+        return status;
+    }
+    return status | fc_position_control_attitude(pc, in->heading_cos, in->heading_sin, out);
 }

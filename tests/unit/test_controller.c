@@ -226,9 +226,9 @@ static bool quat_equal(fc_quat a, fc_quat b)
     return a.w == b.w && a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
-/* The position loop runs in minor frame 0 only and its setpoint is held for
- * the major frame; from arming to its first run the setpoint is level at the
- * heading. */
+/* The position loop forms its demand in minor frame 0 and its attitude
+ * setpoint in frame 1, held for the major frame; from arming to its first
+ * attitude frame after a demand the setpoint is level at the heading. */
 static void test_position_loop_once_a_major_frame(void **state)
 {
     (void)state;
@@ -248,19 +248,20 @@ static void test_position_loop_once_a_major_frame(void **state)
         in.position_m.x = F(0.01 * k, LENGTH);
         (void)fc_controller_step(&ctl, &in, &out);
         const fc_quat sp = out.telemetry.attitude_setpoint;
-        if (k < 5) {
-            assert_true(quat_equal(sp, fc_quat_identity())); /* armed in frame 1: level until frame 0 */
+        if (k < 6) {
+            /* armed in frame 1, no demand yet: level until the frame 1 after a frame 0 */
+            assert_true(quat_equal(sp, fc_quat_identity()));
         } else if (!quat_equal(sp, previous)) {
             changes++;
-            assert_int_equal(k % 5, 0); /* only in minor frame 0 */
+            assert_int_equal(k % 5, 1); /* only in minor frame 1 */
         }
         previous = sp;
     }
-    assert_int_equal(changes, 6); /* steps 5, 10, ..., 30 */
+    assert_int_equal(changes, 5); /* steps 6, 11, ..., 26 */
 }
 
-/* The pad model runs in minor frame 1: a range sample taken in frame 2 waits
- * for the next frame 1; between the model's runs its trajectory is extrapolated
+/* The pad model runs in minor frame 2: a range sample taken in frame 3 waits
+ * for the next frame 2; between the model's runs its trajectory is extrapolated
  * (here the pad stands still, so it stays put and the level is the sample). */
 static void test_pad_model_in_its_minor_frame(void **state)
 {
@@ -273,15 +274,15 @@ static void test_pad_model_in_its_minor_frame(void **state)
     fc_controller_outputs out;
     for (int k = 0; k < 12; k++) {
         in.range_m = F(0.4, LENGTH); /* the pad's surface 0.1 m up */
-        in.range_fresh = k == 2;      /* minor frame 2 */
+        in.range_fresh = k == 3;      /* minor frame 3 */
         (void)fc_controller_step(&ctl, &in, &out);
         const bool learnt = out.telemetry.pad.learning;
-        assert_true(learnt == (k >= 6)); /* taken in frame 1 of the next major frame */
+        assert_true(learnt == (k >= 7)); /* taken in frame 2 of the next major frame */
         if (learnt) {
             assert_true(fabs(D(out.telemetry.pad.now.z_m, LENGTH) - 0.1) < 1e-5);
             assert_true(fabs(D(out.telemetry.pad.mean_m, LENGTH) - 0.1) < 1e-5);
         }
-        if (k == 2) {
+        if (k == 3) {
             assert_true(fabs(D(out.telemetry.gear_height_m, LENGTH) - (0.4 - 0.02)) < 1e-5); /* at once */
         }
     }

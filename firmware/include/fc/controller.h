@@ -24,27 +24,33 @@
  *   allocation thrust and moments -> normalised rotor speeds (2.2)-(2.6)
  * Rate groups. The inner group (attitude estimate and control, allocation, the
  * altitude law and its reference, the landing manager) runs on every step. The
- * outer group runs once every outer_divider steps (a major frame), each part
- * in a minor frame of its own so that the two never add up in one step:
- *   minor frame 0  the horizontal position loop, at dt outer_divider; its
- *                  attitude setpoint is held for the major frame (until its
- *                  first run after arming, a reset or a level phase, the
- *                  setpoint is level at the heading: the loop never runs
- *                  out of its frame)
- *   minor frame 1  the pad model, at dt outer_divider; a range sample waits for
+ * outer group runs once every outer_divider steps (a major frame), its parts
+ * spread over minor frames of their own so that no two add up in one step:
+ *   minor frame 0  the position loop's demand: the measured acceleration, the
+ *                  horizontal PID, F = m (a_des - g - I_a) and its limits, both
+ *                  integrators (fc_position_control_demand), at dt outer_divider;
+ *                  F waits for the next frame
+ *   minor frame 1  the position loop's attitude: F's direction and the heading
+ *                  give the attitude setpoint (fc_position_control_attitude),
+ *                  held from here to the next frame 1 (until the first after
+ *                  arming, a reset or a level phase, the setpoint is level at
+ *                  the heading; a reset or a level phase between frames 0 and
+ *                  1 drops the demand: the loop never runs out of its frames)
+ *   minor frame 2  the pad model, at dt outer_divider; a range sample waits for
  *                  it (the newest one) and is carried to that step along the
  *                  model's own vertical speed; between its runs the pad's
  *                  trajectory is extrapolated, z + z' t + z'' t^2 / 2
- *   minor frames 2 and on (outer_divider >= 3)  the work of the pad model's
- *                  next step that needs no sample, one piece a frame: the
+ *   minor frames 3 and on (outer_divider >= 4)  the work of the pad model's
+ *                  next step that needs no sample, one slice a frame: the
  *                  covariance update of the newest sample in two parts (the
  *                  first with the rotations of adapted frequencies, the second
  *                  with the phases turned to the next step and the summary
  *                  of the newest fit), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
- * (with outer_divider 1 both run on every step, as one group). The default
- * puts the outer group at 100 Hz or the step rate if that is slower, the
+ * With outer_divider 2 the position loop runs whole in frame 0 and the pad
+ * model in frame 1; with outer_divider 1 both run on every step, as one
+ * group. The default puts the outer group at 100 Hz or the step rate if that is slower, the
  * Crazyflie firmware's position rate; the position input rarely comes faster.
  * Safety (SPEC "Safety contract"):
  *   arming     a command that arms (TRACK_PAD, HOLD, LAND) is refused while
@@ -295,12 +301,16 @@ typedef struct fc_controller_guard {
 } fc_controller_guard;
 
 /* The rate groups (fc_controller_set_outer_divider): this step's place in
- * the major frame, and what the outer group's position loop holds for it. */
+ * the major frame, and what the outer group's position loop hands from its
+ * demand's frame to its attitude's and holds for the major frame. */
 typedef struct fc_controller_rate_groups {
     uint8_t minor_frame;                /* 0..outer_divider - 1 */
-    fc_quat held_attitude_setpoint;     /* the position loop's, held for the major frame */
-    fc_step_status held_position_status; /* its status bits, reported while it is held */
-    bool have_attitude_setpoint;        /* held_attitude_setpoint is the running loop's */
+    fc_position_control_output position; /* the loop's newest halves: F_req (thrust_world_n) from
+                                         * the demand's frame, attitude_sp held from the attitude's */
+    fc_step_status demand_status;       /* the demand half's status bits, until its attitude frame */
+    fc_step_status held_position_status; /* both halves' status bits, reported while held */
+    bool have_demand;                   /* position.thrust_world_n waits for its attitude frame */
+    bool have_attitude_setpoint;        /* position.attitude_sp is the running loop's */
 } fc_controller_rate_groups;
 
 /* The range finder's samples: the gear's height above the pad, and the

@@ -28,6 +28,10 @@
  *   q_sp = normalise(q_tilt (x) q_yaw), w >= 0   (body -> world)
  * Its body z axis is b3 exactly (q_yaw keeps z); its body x axis is the heading
  * when level and tilts with the thrust. Collective thrust along body z = |F|.
+ * A step is two halves that a caller may run in different steps of its own
+ * (fc/controller.h runs them in two minor frames): the demand (the errors,
+ * the PID, F_req and its limits, both integrators) and the attitude (b3,
+ * the heading, q_sp and |F_req|), which reads only the demand's F_req.
  * Cost per step: the direction of F in UNIT16 and its length (one integer
  * root, fc_vec3_direction16), q_tilt (x) q_yaw in 16-bit products, one
  * reciprocal root for |q| = |q_tilt| |q_yaw|. The horizontal law is 2-D
@@ -106,5 +110,19 @@ void fc_position_control_reset(fc_position_control *pc);
  * taken as psi = 0. Not ready: identity attitude, zero thrust. */
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
                                         fc_position_control_output *out);
+
+/* The demand half of a step: out->accel_des_mps2 and out->thrust_world_n
+ * (F_req after the limits), the integrators updated; the status bits of the
+ * position, velocity, feedforward and measurement (as fc_position_control_step).
+ * out->attitude_sp and out->thrust_n are left as they were. */
+fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
+                                          fc_position_control_output *out);
+
+/* The attitude half: out->attitude_sp and out->thrust_n of out->thrust_world_n
+ * (a demand's F_req, F_z > 0) at the heading (cos psi, sin psi) (a bad
+ * heading: psi = 0, FC_STEP_BAD_INPUT). The law's state is not read or
+ * changed, so a demand's F_req may wait for it. */
+fc_step_status fc_position_control_attitude(fc_position_control *pc, fc_real heading_cos, fc_real heading_sin,
+                                            fc_position_control_output *out);
 
 #endif /* FC_POSITION_CONTROL_H */
