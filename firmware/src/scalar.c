@@ -25,167 +25,6 @@
 #define FC_ROM_READ_U16(address) (*(address))
 #endif
 
-#if defined(__AVR__)
-/*
- * fc_fx_narrow_wide for a shift known only at run time (0 < shift < 32), the
- * out-of-line products' case. fc_fx_narrow_wide with a run-time shift builds
- * 2^(shift - 1) and its bound by 32-bit shift loops (up to 31 rounds each, a
- * few hundred cycles on the ATmega); here the value is shifted once:
- *   w = floor(v / 2^(shift-1))         (whole bytes by moves, 0..7 bits by ASR)
- *   floor((v + 2^(shift-1)) / 2^shift) = floor((w + 1) / 2)
- * (v = q 2^(s-1) + r, 0 <= r < 2^(s-1): both sides are floor((q + 1) / 2)), the
- * same value as fc_fx_narrow_wide, saturated the same way: the result is
- * inside +-INT32_MAX iff -2^32 < w < 2^32 - 1, i.e. high is 0 with low below
- * 2^32 - 1, or high is all ones with low above 0.
- */
-FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shift)
-{
-    uint32_t low = value.low;
-    uint32_t high = value.high;
-    /* unsigned: a signed / 8 and % 8 are libgcc divisions at -Os */
-    const uint8_t s = (uint8_t)(shift - 1);
-    const uint8_t bytes = (uint8_t)(s >> 3);
-    if (bytes == 1) {
-        low = (low >> 8) | (high << 24);
-        high = (uint32_t)((int32_t)high >> 8);
-    } else if (bytes == 2) {
-        low = (low >> 16) | (high << 16);
-        high = (uint32_t)((int32_t)high >> 16);
-    } else if (bytes == 3) {
-        low = (low >> 24) | (high << 8);
-        high = (uint32_t)((int32_t)high >> 24);
-    } else {
-        /* s < 8: the bits alone */
-    }
-    FC_AVR_ASR64(low, high, s & 7u);
-    if (high == 0u && low != UINT32_MAX) {
-        return (fc_real)((low >> 1) + (low & 1u)); /* (w + 1) / 2 */
-    }
-    if (high == UINT32_MAX && low != 0u) {
-        if (low == UINT32_MAX) {
-            return 0; /* w = -1 */
-        }
-        /* w + 1 = low + 1 - 2^32 in [-2^32 + 2, -1]: halved, the top bit is the sign */
-        return (fc_real)(((low + 1u) >> 1) | 0x80000000u);
-    }
-    ar->saturated = 1u;
-    return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
-}
-#define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
-/* the shifts of 32 and more (fc_fx_narrow_wide_far's) on the ATmega: narrowed
- * on the halves, the floor by a counted ASR loop */
-#define OUTLINE_FAR_SHIFT(shift, extra) ((shift) >= 32 && (shift) <= FC_FX_FAR_SHIFT_MAX + (extra))
-FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, int shift)
-{
-    if (shift - 2 < 32) {
-        return narrow_wide_runtime(ar, quarters, shift - 2);
-    }
-    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
-}
-#else
-#define OUTLINE_RUNTIME_SHIFT(shift) 0
-#define OUTLINE_FAR_SHIFT(shift, extra) 0
-#define narrow_quarters_runtime(ar, quarters, shift) fc_fx_narrow_quarters(ar, quarters, shift)
-#define narrow_wide_runtime(ar, value, shift) fc_fx_narrow_wide(ar, value, shift)
-#endif
-
-/* The portable definition of the out-of-line products, for the shifts the
- * ATmega's forms below do not take and for every shift elsewhere: one copy
- * for the four (fc_fx_narrow_sum of a single product, or of two or three,
- * is fc_fx_narrow's and fc_dot2/3's value: the missing terms are 0). */
-static __attribute__((noinline)) fc_real narrow_products(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1,
-                                                         fc_real b1, fc_real a2, fc_real b2, fc_real a3, fc_real b3,
-                                                         int shift)
-{
-    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
-}
-
-/* The out-of-line products (fc/scalar.h: the ATmega's fc_mul, fc_dotN). On
- * the ATmega, for the shifts 1..31, the 64-bit sum is formed as the inlined
- * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
- * atmega.scalar_equivalence), and so are the shifts of 32 and more up to
- * FC_FX_FAR_SHIFT_MAX (+ 2 for the sums); other shifts, and every shift
- * elsewhere, by the int64_t definition (narrow_products). */
-fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
-{
-    if (OUTLINE_RUNTIME_SHIFT(shift) || OUTLINE_FAR_SHIFT(shift, 0)) {
-        const fc_fx_wide product = fc_fx_mul_wide(a, b);
-        /* the library's most frequent shifts (UNIT x UNIT -> UNIT, the far
-         * 32, and 22, 24) narrowed with the shift a constant, as inline: no
-         * shift loops (the same functions, so the same values) */
-        switch (shift) {
-        case FC_UNIT_FRAC:
-            return fc_fx_narrow_wide(ar, product, FC_UNIT_FRAC);
-        case 32:
-            return fc_fx_narrow_wide_far(ar, product, 32);
-        case 22:
-            return fc_fx_narrow_wide(ar, product, 22);
-        case 24:
-            return fc_fx_narrow_wide(ar, product, 24);
-        default:
-            return shift < 32 ? narrow_wide_runtime(ar, product, shift) : fc_fx_narrow_wide_far(ar, product, shift);
-        }
-    }
-    return narrow_products(ar, a, b, 0, 0, 0, 0, 0, 0, shift);
-}
-
-fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
-{
-    if (OUTLINE_RUNTIME_SHIFT(shift)) {
-        const fc_fx_wide sum = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        /* as fc_fx_mul_outline: the quaternion products' 30 */
-        return shift == FC_UNIT_FRAC ? fc_fx_narrow_wide(ar, sum, FC_UNIT_FRAC) : narrow_wide_runtime(ar, sum, shift);
-    }
-    if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        const fc_fx_wide quarters = fc_fx_quarters2(a0, b0, a1, b1);
-        /* and 36; 32 is the allocation's ratio comparison (its saturated
-         * steps) */
-        switch (shift) {
-        case 36:
-            return fc_fx_narrow_quarters(ar, quarters, 36);
-        case 32:
-            return fc_fx_narrow_quarters(ar, quarters, 32);
-        default:
-            return narrow_quarters_runtime(ar, quarters, shift);
-        }
-    }
-    return narrow_products(ar, a0, b0, a1, b1, 0, 0, 0, 0, shift);
-}
-
-fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
-                           int shift)
-{
-    if (OUTLINE_RUNTIME_SHIFT(shift)) {
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
-    }
-    if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        return narrow_quarters_runtime(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
-    }
-    return narrow_products(ar, a0, b0, a1, b1, a2, b2, 0, 0, shift);
-}
-
-fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
-                           fc_real a3, fc_real b3, int shift)
-{
-    if (OUTLINE_RUNTIME_SHIFT(shift)) {
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
-        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
-    }
-    if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        return narrow_quarters_runtime(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
-    }
-    return narrow_products(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
-}
-
-#if defined(FC_PORT_ACC_MAC)
-/* the port's fc_acc_mac (fc/scalar_avr.h) */
-fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
-{
-    return fc_fx_acc_mac(acc, a, b);
-}
-#endif
 
 /* ----------------------------------------------------------------------- */
 /* fixed backend                                                           */
@@ -1186,7 +1025,164 @@ fc_real fc_gain_to_real(fc_arith *ar, fc_gain g, int frac)
     return fc_fx_narrow(ar, (int64_t)g.mantissa, g.frac - frac);
 }
 
-#if defined(FC_PORT_MUL_GAIN) && defined(__AVR__)
+#if defined(__AVR__)
+/* ======================================================================= */
+/* The ATmega's port (fc/scalar_avr.h): its out-of-line bodies            */
+/* ======================================================================= */
+
+/*
+ * fc_fx_narrow_wide for a shift known only at run time (0 < shift < 32), the
+ * out-of-line products' case. fc_fx_narrow_wide with a run-time shift builds
+ * 2^(shift - 1) and its bound by 32-bit shift loops (up to 31 rounds each, a
+ * few hundred cycles on the ATmega); here the value is shifted once:
+ *   w = floor(v / 2^(shift-1))         (whole bytes by moves, 0..7 bits by ASR)
+ *   floor((v + 2^(shift-1)) / 2^shift) = floor((w + 1) / 2)
+ * (v = q 2^(s-1) + r, 0 <= r < 2^(s-1): both sides are floor((q + 1) / 2)), the
+ * same value as fc_fx_narrow_wide, saturated the same way: the result is
+ * inside +-INT32_MAX iff -2^32 < w < 2^32 - 1, i.e. high is 0 with low below
+ * 2^32 - 1, or high is all ones with low above 0.
+ */
+FC_FX_INLINE fc_real narrow_wide_runtime(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    uint32_t low = value.low;
+    uint32_t high = value.high;
+    /* unsigned: a signed / 8 and % 8 are libgcc divisions at -Os */
+    const uint8_t s = (uint8_t)(shift - 1);
+    const uint8_t bytes = (uint8_t)(s >> 3);
+    if (bytes == 1) {
+        low = (low >> 8) | (high << 24);
+        high = (uint32_t)((int32_t)high >> 8);
+    } else if (bytes == 2) {
+        low = (low >> 16) | (high << 16);
+        high = (uint32_t)((int32_t)high >> 16);
+    } else if (bytes == 3) {
+        low = (low >> 24) | (high << 8);
+        high = (uint32_t)((int32_t)high >> 24);
+    } else {
+        /* s < 8: the bits alone */
+    }
+    FC_AVR_ASR64(low, high, s & 7u);
+    if (high == 0u && low != UINT32_MAX) {
+        return (fc_real)((low >> 1) + (low & 1u)); /* (w + 1) / 2 */
+    }
+    if (high == UINT32_MAX && low != 0u) {
+        if (low == UINT32_MAX) {
+            return 0; /* w = -1 */
+        }
+        /* w + 1 = low + 1 - 2^32 in [-2^32 + 2, -1]: halved, the top bit is the sign */
+        return (fc_real)(((low + 1u) >> 1) | 0x80000000u);
+    }
+    ar->saturated = 1u;
+    return (int32_t)high < 0 ? FC_REAL_MIN : FC_REAL_MAX;
+}
+#define OUTLINE_RUNTIME_SHIFT(shift) ((shift) > 0 && (shift) < 32)
+/* the shifts of 32 and more (fc_fx_narrow_wide_far's): narrowed on the
+ * halves, the floor by a counted ASR loop */
+#define OUTLINE_FAR_SHIFT(shift, extra) ((shift) >= 32 && (shift) <= FC_FX_FAR_SHIFT_MAX + (extra))
+FC_FX_INLINE fc_real narrow_quarters_runtime(fc_arith *ar, fc_fx_wide quarters, int shift)
+{
+    if (shift - 2 < 32) {
+        return narrow_wide_runtime(ar, quarters, shift - 2);
+    }
+    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
+}
+
+/* The portable definition of the out-of-line products, for the shifts the
+ * forms below do not take: one copy
+ * for the four (fc_fx_narrow_sum of a single product, or of two or three,
+ * is fc_fx_narrow's and fc_dot2/3's value: the missing terms are 0). */
+static __attribute__((noinline)) fc_real narrow_products(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1,
+                                                         fc_real b1, fc_real a2, fc_real b2, fc_real a3, fc_real b3,
+                                                         int shift)
+{
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
+}
+
+/* The out-of-line products (the port's fc_mul, fc_dotN). For the shifts 1..31, the 64-bit sum is formed as the inlined
+ * primitives form it and narrowed by narrow_wide_runtime (bit-identical:
+ * atmega.scalar_equivalence), and so are the shifts of 32 and more up to
+ * FC_FX_FAR_SHIFT_MAX (+ 2 for the sums); other shifts, and every shift
+ * by the int64_t definition (narrow_products). */
+fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    if (OUTLINE_RUNTIME_SHIFT(shift) || OUTLINE_FAR_SHIFT(shift, 0)) {
+        const fc_fx_wide product = fc_fx_mul_wide(a, b);
+        /* the library's most frequent shifts (UNIT x UNIT -> UNIT, the far
+         * 32, and 22, 24) narrowed with the shift a constant, as inline: no
+         * shift loops (the same functions, so the same values) */
+        switch (shift) {
+        case FC_UNIT_FRAC:
+            return fc_fx_narrow_wide(ar, product, FC_UNIT_FRAC);
+        case 32:
+            return fc_fx_narrow_wide_far(ar, product, 32);
+        case 22:
+            return fc_fx_narrow_wide(ar, product, 22);
+        case 24:
+            return fc_fx_narrow_wide(ar, product, 24);
+        default:
+            return shift < 32 ? narrow_wide_runtime(ar, product, shift) : fc_fx_narrow_wide_far(ar, product, shift);
+        }
+    }
+    return narrow_products(ar, a, b, 0, 0, 0, 0, 0, 0, shift);
+}
+
+fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide sum = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        /* as fc_fx_mul_outline: the quaternion products' 30 */
+        return shift == FC_UNIT_FRAC ? fc_fx_narrow_wide(ar, sum, FC_UNIT_FRAC) : narrow_wide_runtime(ar, sum, shift);
+    }
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        const fc_fx_wide quarters = fc_fx_quarters2(a0, b0, a1, b1);
+        /* and 36; 32 is the allocation's ratio comparison (its saturated
+         * steps) */
+        switch (shift) {
+        case 36:
+            return fc_fx_narrow_quarters(ar, quarters, 36);
+        case 32:
+            return fc_fx_narrow_quarters(ar, quarters, 32);
+        default:
+            return narrow_quarters_runtime(ar, quarters, shift);
+        }
+    }
+    return narrow_products(ar, a0, b0, a1, b1, 0, 0, 0, 0, shift);
+}
+
+fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           int shift)
+{
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
+    }
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        return narrow_quarters_runtime(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
+    }
+    return narrow_products(ar, a0, b0, a1, b1, a2, b2, 0, 0, shift);
+}
+
+fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           fc_real a3, fc_real b3, int shift)
+{
+    if (OUTLINE_RUNTIME_SHIFT(shift)) {
+        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
+        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
+        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
+    }
+    if (OUTLINE_FAR_SHIFT(shift, 2)) {
+        return narrow_quarters_runtime(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
+    }
+    return narrow_products(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+}
+
+/* fc_acc_mac: acc + floor(a b / 2^FC_ACC_GUARD_BITS) modulo 2^64, on the halves */
+fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
+{
+    const fc_fx_wide term = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
+    return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), term));
+}
+
 /* The ATmega's product (fc/scalar_avr.h): the assembly, a function of its
  * own section (--gc-sections), and the shifts outside 1..46 by the portable
  * definition (its tail call) */

@@ -115,25 +115,43 @@ typedef struct fc_arith {
 
 #if FC_NUMERIC_FIXED
 /* ======================================================================= */
-/* fixed backend                                                           */
+/* fixed backend: the portable definition                                  */
 /* ======================================================================= */
+/*
+ * Every primitive below is written the plain way: the exact result in an
+ * int64_t (or in 32 bits where it cannot overflow), rounded to nearest and
+ * saturated symmetrically at +-INT32_MAX by fc_fx_narrow. This is the
+ * definition: the host and Cortex-M builds run it as it stands, the unit
+ * tests compare against it, and a port (fc/scalar_avr.h, the ATmega's) may
+ * replace the few primitives it lists, bit for bit (atmega.scalar_equivalence
+ * checks it on the target).
+ */
 typedef int32_t fc_real;
+typedef int16_t fc_real16; /* the 16-bit formats of the table above */
+typedef int64_t fc_acc;    /* a sum of up to eight products (fc_acc_mac) */
 
-/* The primitives below must be inlined where they are used: only then is the
- * shift a constant, and on the ATmega a 32-bit shift by a variable is a loop
- * (at -Os avr-gcc would otherwise call them). */
+/* The primitives must be inlined where they are used: only then is the
+ * shift a constant (on the ATmega a 32-bit shift by a variable is a loop). */
 #define FC_FX_INLINE static inline __attribute__((always_inline))
 
 #define FC_REAL_MAX INT32_MAX
 #define FC_REAL_MIN (-INT32_MAX) /* symmetric: negation never overflows */
+#define FC_REAL16_MAX INT16_MAX  /* symmetric as fc_real: -INT16_MAX is the least */
 
 /* A constant in format KIND, folded at compile time (no run-time float).
  * X must be a float constant expression; it is rounded to nearest. */
 #define FC_C(X, KIND)                                                                     \
     ((fc_real)((X) * (float)((uint32_t)1u << FC_##KIND##_FRAC) + ((X) < 0.0f ? -0.5f : 0.5f)))
-/* An integer constant in format KIND (exact). */
+/* An integer constant in format KIND (exact), and in 16-bit format KIND. */
 #define FC_INT(N, KIND) ((fc_real)((int32_t)(N) * ((int32_t)1 << FC_##KIND##_FRAC)))
+#define FC_INT16(N, KIND) ((fc_real16)((N) * ((int32_t)1 << FC_##KIND##_FRAC)))
 
+/* fc_acc_mac drops these bits of each product, so eight of them cannot wrap. */
+#define FC_ACC_GUARD_BITS 3
+
+/* ---- rounding and saturation of a 64-bit intermediate ------------------ */
+
+/* value saturated to +-INT32_MAX (a saturation sets ar->saturated). */
 FC_FX_INLINE fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
 {
     if (value > (int64_t)FC_REAL_MAX) {
@@ -147,8 +165,7 @@ FC_FX_INLINE fc_real fc_fx_saturate(fc_arith *ar, int64_t value)
     return (fc_real)value;
 }
 
-/* a + b of two 64-bit intermediates, clamped at +-INT64_MAX (then saturated
- * by whatever narrows it). */
+/* a + b, clamped at +-INT64_MAX (then saturated by whatever narrows it). */
 FC_FX_INLINE int64_t fc_fx_add64(int64_t a, int64_t b)
 {
     int64_t sum;
@@ -159,7 +176,8 @@ FC_FX_INLINE int64_t fc_fx_add64(int64_t a, int64_t b)
     return sum;
 }
 
-/* value / 2^shift rounded to nearest (shift > 0), or value * 2^-shift. */
+/* value / 2^shift rounded to nearest (shift > 0), or value 2^-shift clamped
+ * at +-INT64_MAX (shift < 0). */
 FC_FX_INLINE int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
 {
     if (shift > 0) {
@@ -176,13 +194,9 @@ FC_FX_INLINE int64_t fc_fx_rescale(fc_arith *ar, int64_t value, int shift)
     return value;
 }
 
-/*
- * The 64-bit intermediate as its two 32-bit halves (value = 2^32 high + low,
- * high read as signed). The portable C builds it from an int64_t; on the
- * ATmega (fc/scalar_avr.h) products are formed in halves by assembly, because
- * avr-gcc 5.4 does every int64_t multiply, shift, add and compare in libgcc.
- * Both give the same bits: the functions below are the portable definition.
- */
+/* A 64-bit value as its two 32-bit halves (value = 2^32 high + low, high
+ * read as signed): scalar.c's square roots work on them, and so does the
+ * ATmega's port, where every int64_t operation is a libgcc call. */
 typedef struct fc_fx_wide {
     uint32_t low;
     uint32_t high;
@@ -208,54 +222,7 @@ FC_FX_INLINE int64_t fc_fx_join(fc_fx_wide value)
     return join.whole;
 }
 
-/*
- * The port. The definitions below are the reference, written in portable C.
- * A target may replace the few marked "port:" with its own, which must give
- * the same bits: fc/scalar_avr.h, the ATmega's, does (avr-gcc 5.4 forms
- * int64_t products and shifts in libgcc loops), checked against these on the
- * target by atmega.scalar_equivalence.
- */
-#if defined(__AVR__)
-#include "fc/scalar_avr.h"
-#endif
-
-/* a * b exactly, as halves. (port: FC_PORT_MUL_WIDE) */
-#ifndef FC_PORT_MUL_WIDE
-FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
-{
-    return fc_fx_split((int64_t)a * b);
-}
-#endif
-
-/* a * b exactly, unsigned, as halves (the square roots of scalar.c). (port:
- * FC_PORT_MUL_WIDE) */
-#ifndef FC_PORT_MUL_WIDE
-FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
-{
-    const uint64_t whole = (uint64_t)a * b;
-    fc_fx_wide product;
-    product.low = (uint32_t)whole;
-    product.high = (uint32_t)(whole >> 32);
-    return product;
-}
-#endif
-
-/* fc_fx_add64 on halves: a + b, clamped at +-INT64_MAX. */
-FC_FX_INLINE fc_fx_wide fc_fx_add_wide(fc_fx_wide a, fc_fx_wide b)
-{
-    fc_fx_wide sum;
-    sum.low = a.low + b.low;
-    sum.high = a.high + b.high + (sum.low < a.low ? 1u : 0u);
-    /* signed overflow: both operands of one sign, the sum of the other */
-    if ((int32_t)(~(a.high ^ b.high) & (a.high ^ sum.high)) < 0) {
-        const bool positive = (int32_t)a.high >= 0;
-        sum.low = positive ? UINT32_MAX : 1u;
-        sum.high = positive ? (uint32_t)INT32_MAX : (uint32_t)INT32_MIN;
-    }
-    return sum;
-}
-
-/* a + b modulo 2^64 (the accumulator of fc_acc_mac). */
+/* a + b modulo 2^64. */
 FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
 {
     fc_fx_wide sum;
@@ -264,37 +231,19 @@ FC_FX_INLINE fc_fx_wide fc_fx_add_wide_wrap(fc_fx_wide a, fc_fx_wide b)
     return sum;
 }
 
-/* Bits [shift, shift + 31] of high:low, 0 < shift < 32. (port: FC_PORT_EXTRACT) */
-#ifndef FC_PORT_EXTRACT
-FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
-{
-    return (high << (32 - shift)) | (low >> shift);
-}
-#endif
+/* Shifts, defined with the halves' other helpers at the end of this backend
+ * (or by the port, where a C shift by a constant is a loop): bits
+ * [shift, shift + 31] of high:low (0 < shift < 32); a >> n, arithmetic, and
+ * a 2^n modulo 2^32 (0 <= n < 32). */
+FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift);
+FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n);
+FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n);
 
-/* a >> n, arithmetic (floor(a / 2^n)), and a 2^n modulo 2^32, for 0 <= n < 32.
- * (port: FC_PORT_SHIFT32) */
-#ifndef FC_PORT_SHIFT32
-FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
-{
-    /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
-     * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
-    return a >> n;
-}
-
-FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
-{
-    return (int32_t)((uint32_t)a << n);
-}
-#endif
-
-/*
- * value / 2^shift rounded to nearest and saturated, the way every product
- * leaves its 64-bit intermediate, for 0 < shift < 32 (all the FC_SHIFTs of
- * the library): on the two 32-bit halves, the carry of the rounding by hand,
- * the range checked on the high half alone. Same result as
- * fc_fx_saturate(fc_fx_rescale(value, shift)).
- */
+/* value / 2^shift rounded to nearest and saturated, value given as halves,
+ * for 0 < shift < 32: the carry of the rounding by hand, the range checked
+ * on the high half alone (a 32-bit core does it in a few instructions, where
+ * the int64_t form compares 64-bit values). The same result as
+ * fc_fx_saturate(fc_fx_rescale(value, shift)). */
 FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift)
 {
     const uint32_t low = value.low;
@@ -318,111 +267,65 @@ FC_FX_INLINE fc_real fc_fx_narrow_wide(fc_arith *ar, fc_fx_wide value, int shift
     return result;
 }
 
-/* high:low >> bits, arithmetic (floor(value / 2^bits)), 0 < bits < 8.
- * (port: FC_PORT_ASR_WIDE) */
-#ifndef FC_PORT_ASR_WIDE
-FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
-{
-    return fc_fx_split(fc_fx_join(value) >> bits); /* arithmetic shift (gcc) */
-}
-#endif
-
-/*
- * fc_fx_narrow_wide for 32 <= shift <= FC_FX_FAR_SHIFT_MAX: the products whose
- * formats drop 32 bits or more (RATE x RATE -> GAIN, UNIT x UNIT -> ANGLE,
- * VEL x DT -> LENGTH), on the halves too instead of in C int64_t (libgcc
- * calls on the ATmega). The value is floored by 2^k, k = shift - 31, then
- * rounded by 2^31:
- *   floor((floor(v / 2^k) + 2^30) / 2^31) = floor((v + 2^(shift-1)) / 2^shift)
- * (v = 2^k q + r with 0 <= r < 2^k: r / 2^k < 1 added to the integer
- * q + 2^30 leaves the floor as it is), so the value and the saturation are
- * those of fc_fx_narrow's 64-bit form.
- */
-#define FC_FX_FAR_SHIFT_MAX 38
-FC_FX_INLINE fc_real fc_fx_narrow_wide_far(fc_arith *ar, fc_fx_wide value, int shift)
-{
-    return fc_fx_narrow_wide(ar, fc_fx_asr_wide(value, shift - 31), 31);
-}
-
-/* fc_fx_narrow_sum's form for the shifts 32..FC_FX_FAR_SHIFT_MAX + 2, on the
- * halves: QUARTERS is the sum of the products each floored by 4 (fc_fx_asr_wide
- * by 2; four of them sum without a clamp), narrowed by shift - 2. */
-FC_FX_INLINE fc_real fc_fx_narrow_quarters(fc_arith *ar, fc_fx_wide quarters, int shift)
-{
-    if (shift - 2 < 32) {
-        return fc_fx_narrow_wide(ar, quarters, shift - 2);
-    }
-    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
-}
-
-/* a * b floored by 4, as halves (a term of fc_fx_narrow_quarters). */
-FC_FX_INLINE fc_fx_wide fc_fx_mul_quarter(int32_t a, int32_t b)
-{
-    return fc_fx_asr_wide(fc_fx_mul_wide(a, b), 2);
-}
-
-/* The sums of two, three and four such terms (fc_dot2/3/4 and their
- * out-of-line forms in scalar.c), in fc_fx_narrow_sum's order. */
-FC_FX_INLINE fc_fx_wide fc_fx_quarters2(int32_t a0, int32_t b0, int32_t a1, int32_t b1)
-{
-    return fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
-}
-
-FC_FX_INLINE fc_fx_wide fc_fx_quarters3(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2)
-{
-    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_mul_quarter(a2, b2));
-}
-
-FC_FX_INLINE fc_fx_wide fc_fx_quarters4(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2,
-                                        int32_t a3, int32_t b3)
-{
-    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_quarters2(a2, b2, a3, b3));
-}
-
-/* value / 2^shift rounded to nearest and saturated, any shift. */
+/* value / 2^shift rounded to nearest and saturated, any shift: how every
+ * product leaves its intermediate (fc_fx_narrow_wide for the shifts of the
+ * library's formats). */
 FC_FX_INLINE fc_real fc_fx_narrow(fc_arith *ar, int64_t value, int shift)
 {
-    if (shift <= 0 || shift >= 32) {
-        return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_split(value), shift);
     }
-    return fc_fx_narrow_wide(ar, fc_fx_split(value), shift);
+    return fc_fx_saturate(ar, fc_fx_rescale(ar, value, shift));
 }
 
-/* An int32 result, with the one value outside the symmetric range (-2^31) saturated. */
-FC_FX_INLINE fc_real fc_fx_symmetric(fc_arith *ar, int32_t value, bool overflowed, bool positive)
+/* A sum of up to four products (each below 2^62 in magnitude) narrowed by
+ * shift with one rounding. Below a shift of 32 the sum is clamped, not
+ * wrapped: one that reaches 2^63 saturates anyway. From 32 on each product
+ * is floored by 4 first so that nothing clamps. */
+FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int64_t p2, int64_t p3, int shift)
 {
-    if (overflowed) {
-        ar->saturated = 1u;
-        return positive ? FC_REAL_MAX : FC_REAL_MIN;
+    if (shift >= 32) {
+        const int64_t quarters = (p0 >> 2) + (p1 >> 2) + (p2 >> 2) + (p3 >> 2);
+        return fc_fx_saturate(ar, fc_fx_rescale(ar, quarters, shift - 2));
     }
-    if (value == INT32_MIN) {
-        ar->saturated = 1u;
-        return FC_REAL_MIN;
-    }
-    return value;
+    return fc_fx_narrow(ar, fc_fx_add64(fc_fx_add64(p0, p1), fc_fx_add64(p2, p3)), shift);
 }
+
+/* The port: it defines FC_PORT_<NAME> for each primitive it replaces (the
+ * list at its top), and the portable definition of that one is left out. */
+#if defined(__AVR__)
+#include "fc/scalar_avr.h"
+#endif
+
+/* ---- the primitives ---------------------------------------------------- */
 
 /* a + b and a - b, saturated. (port: FC_PORT_ADD) */
 #ifndef FC_PORT_ADD
 FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
 {
     int32_t sum;
-    const bool overflowed = __builtin_add_overflow(a, b, &sum);
-    return fc_fx_symmetric(ar, sum, overflowed, a > 0);
+    if (__builtin_add_overflow(a, b, &sum) || sum == INT32_MIN) {
+        ar->saturated = 1u; /* a sum beyond the range has the sign of a */
+        return a > 0 ? FC_REAL_MAX : FC_REAL_MIN;
+    }
+    return sum;
 }
 
 FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
 {
     int32_t difference;
-    const bool overflowed = __builtin_sub_overflow(a, b, &difference);
-    return fc_fx_symmetric(ar, difference, overflowed, a >= 0);
+    if (__builtin_sub_overflow(a, b, &difference) || difference == INT32_MIN) {
+        ar->saturated = 1u; /* a difference beyond the range: a >= 0 above it */
+        return a >= 0 ? FC_REAL_MAX : FC_REAL_MIN;
+    }
+    return difference;
 }
 #endif
 
 FC_FX_INLINE fc_real fc_neg(fc_arith *ar, fc_real a)
 {
     if (a == INT32_MIN) {
-        ar->saturated = 1u;
+        ar->saturated = 1u; /* -2^31 is not a value: its negation saturates */
         return FC_REAL_MAX;
     }
     return -a;
@@ -433,140 +336,57 @@ FC_FX_INLINE fc_real fc_abs(fc_arith *ar, fc_real a)
     return a < 0 ? fc_neg(ar, a) : a;
 }
 
-/* Where fc_mul and fc_dot2/3/4 are formed: inline, or (1) by one
- * out-of-line copy each (scalar.c, the shift at run time): the same bits, a
- * fraction of the code, some cycles more a product. (port:
- * FC_FX_OUTLINE_PRODUCTS) */
-#ifndef FC_FX_OUTLINE_PRODUCTS
-#define FC_FX_OUTLINE_PRODUCTS 0
-#endif
-fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift);
-fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift);
-fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
-                           int shift);
-fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
-                           fc_real a3, fc_real b3, int shift);
-
-/* The bodies of fc_mul and fc_dot2, inline on the ATmega too: for a site
- * that runs so often that the call, its register saves and the run-time
- * shift matter more than the flash of the inlined product (pad motion's
- * covariance update: two sites, 28 times a range sample).
- * The same values as fc_mul / fc_dot2 (atmega.scalar_equivalence: the
- * outlined products against these). */
-FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
+/* a b / 2^shift, rounded, saturated; a0 b0 + a1 b1 (+ ...) / 2^shift with
+ * one rounding. fc_mul_inline and fc_dot2_inline are the same values, for
+ * the sites so frequent that a port which forms the products out of line
+ * should form them inline there. (port: FC_PORT_PRODUCTS) */
+#ifndef FC_PORT_PRODUCTS
+FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
 {
-    if (shift > 0 && shift < 32) {
-        return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
-    }
-    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX) {
-        return fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift);
-    }
     return fc_fx_narrow(ar, (int64_t)a * b, shift);
 }
 
-/* a * b >> shift, rounded, saturated. */
-FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
+FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
 {
-#if FC_FX_OUTLINE_PRODUCTS
-    return fc_fx_mul_outline(ar, a, b, shift);
-#endif
-    return fc_mul_inline(ar, a, b, shift);
-}
-
-/* A sum of products (up to four, each below 2^62 in magnitude) narrowed by
- * shift. Below a shift of 32 the 64-bit sum is clamped, not wrapped: a sum that
- * reaches 2^63 narrows to beyond int32 anyway and saturates. Wider shifts (not
- * used by the library's formats, but exact all the same) sum the products in
- * quarters so that nothing clamps. The branch folds once the shift is constant. */
-FC_FX_INLINE fc_real fc_fx_narrow_sum(fc_arith *ar, int64_t p0, int64_t p1, int64_t p2, int64_t p3, int shift)
-{
-    if (shift >= 32) {
-        const int64_t quarters = (p0 >> 2) + (p1 >> 2) + (p2 >> 2) + (p3 >> 2);
-        return fc_fx_saturate(ar, fc_fx_rescale(ar, quarters, shift - 2));
-    }
-    return fc_fx_narrow(ar, fc_fx_add64(fc_fx_add64(p0, p1), fc_fx_add64(p2, p3)), shift);
-}
-
-/* a0*b0 + a1*b1 (+ ...) >> shift with one rounding: the dot products of the
- * vector and quaternion code accumulate in 64 bits. */
-FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
-{
-    if (shift > 0 && shift < 32) {
-        return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
-    }
-    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        return fc_fx_narrow_quarters(ar, fc_fx_quarters2(a0, b0, a1, b1), shift);
-    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
 }
 
-FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
-                              int shift)
+FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                             int shift)
 {
-#if FC_FX_OUTLINE_PRODUCTS
-    return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
-#endif
-    return fc_dot2_inline(ar, a0, b0, a1, b1, shift);
-}
-
-FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
-                              fc_real a2, fc_real b2, int shift)
-{
-#if FC_FX_OUTLINE_PRODUCTS
-    return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
-#endif
-    if (shift > 0 && shift < 32) {
-        /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + p2 */
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
-    }
-    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        return fc_fx_narrow_quarters(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
-    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, 0, shift);
 }
 
-FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1,
-                              fc_real a2, fc_real b2, fc_real a3, fc_real b3, int shift)
+FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                             fc_real a3, fc_real b3, int shift)
 {
-#if FC_FX_OUTLINE_PRODUCTS
-    return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
-#endif
-    if (shift > 0 && shift < 32) {
-        /* fc_fx_narrow_sum's order of the clamped additions: (p0 + p1) + (p2 + p3) */
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
-        return fc_fx_narrow_wide(ar, fc_fx_add_wide(p01, p23), shift);
-    }
-    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
-        return fc_fx_narrow_quarters(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
-    }
     return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, (int64_t)a2 * b2, (int64_t)a3 * b3, shift);
 }
 
-/* An accumulator for sums of up to eight products (matrix rows): 64 bits,
- * each product entered with FC_ACC_GUARD_BITS dropped so eight of them
- * cannot wrap; one rounding at the end. */
-typedef int64_t fc_acc;
-#define FC_ACC_GUARD_BITS 3
+FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    return fc_mul(ar, a, b, shift);
+}
 
+FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    return fc_dot2(ar, a0, b0, a1, b1, shift);
+}
+#endif
+
+/* An accumulator for sums of up to eight products (matrix rows): each
+ * product enters floored by 2^FC_ACC_GUARD_BITS, the sum is kept modulo
+ * 2^64, and rounded once at the end. (port: FC_PORT_ACC_MAC) */
 FC_FX_INLINE fc_acc fc_acc_zero(void)
 {
     return 0;
 }
 
-/* acc + floor(a b / 2^FC_ACC_GUARD_BITS), modulo 2^64: fc_acc_mac's
- * definition, which a port may form out of line. (port: FC_PORT_ACC_MAC) */
-FC_FX_INLINE fc_acc fc_fx_acc_mac(fc_acc acc, fc_real a, fc_real b)
-{
-    const fc_fx_wide product = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
-    return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), product));
-}
-
 #ifndef FC_PORT_ACC_MAC
 FC_FX_INLINE fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
 {
-    return fc_fx_acc_mac(acc, a, b);
+    const int64_t term = ((int64_t)a * b) >> FC_ACC_GUARD_BITS; /* arithmetic shift (gcc) */
+    return (fc_acc)((uint64_t)acc + (uint64_t)term);
 }
 #endif
 
@@ -575,16 +395,18 @@ FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
     return fc_fx_narrow(ar, acc, shift - FC_ACC_GUARD_BITS);
 }
 
-/* num << shift / den, rounded to nearest; den == 0 saturates toward the sign of num. */
+/* num 2^shift / den, rounded to nearest; den == 0 saturates toward the sign
+ * of num (scalar.c). */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 
-/* Change of format: a value in format FROM re-expressed in format TO. */
+/* Change of format: a value in format FROM re-expressed in format TO,
+ * rounded and saturated as fc_fx_narrow, in 32 bits. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
     const int shift = frac_from - frac_to;
     if (shift > 0 && shift < 32) {
-        /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^shift) + bit shift-1
-         * of a: rounded to nearest in 32 bits, and never beyond the range */
+        /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^(shift-1)) + 1,
+         * halved: rounded to nearest in 32 bits, and never beyond the range */
         const int32_t half = fc_fx_asr32(a, shift - 1); /* floor(a / 2^(shift-1)) */
         return (half >> 1) + (half & 1);
     }
@@ -597,7 +419,7 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
         }
         return fc_fx_shl32(a, -shift);
     }
-    return fc_fx_saturate(ar, fc_fx_rescale(ar, (int64_t)a, shift));
+    return fc_fx_narrow(ar, (int64_t)a, shift);
 }
 
 FC_FX_INLINE bool fc_is_finite(fc_real a)
@@ -606,33 +428,21 @@ FC_FX_INLINE bool fc_is_finite(fc_real a)
     return true;
 }
 
-/* ---- 16-bit values (fc_real16; formats in the table above) --------------- */
-typedef int16_t fc_real16;
-#define FC_REAL16_MAX INT16_MAX /* symmetric as fc_real: -INT16_MAX is the least */
-/* An integer constant in 16-bit format KIND (exact). */
-#define FC_INT16(N, KIND) ((fc_real16)((N) * ((int32_t)1 << FC_##KIND##_FRAC)))
+/* ---- 16-bit values (fc_real16; formats in the table above) ------------- */
 
 /* x (format frac_from) in the 16-bit format frac_to <= frac_from: rounded to
- * nearest (fc_convert) and saturated at +-FC_REAL16_MAX. */
+ * nearest (fc_convert) and saturated at +-FC_REAL16_MAX. (port: FC_PORT_NARROW16) */
+#ifndef FC_PORT_NARROW16
 FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
 {
-    if (frac_from - frac_to == 16) {
-        /* the high half, plus bit 15 for the rounding (no 32-bit shift) */
-        const int16_t high = (int16_t)(uint16_t)((uint32_t)x >> 16);
-        const bool up = ((uint32_t)x & 0x8000u) != 0u;
-        if ((up && high == INT16_MAX) || (!up && high == INT16_MIN)) {
-            ar->saturated = 1u;
-            return high < 0 ? -FC_REAL16_MAX : FC_REAL16_MAX;
-        }
-        return (fc_real16)(high + (up ? 1 : 0));
-    }
-    const fc_real r = frac_from == frac_to ? x : fc_convert(ar, x, frac_from, frac_to);
+    const fc_real r = fc_convert(ar, x, frac_from, frac_to);
     if (r > FC_REAL16_MAX || r < -FC_REAL16_MAX) {
         ar->saturated = 1u;
         return r > 0 ? FC_REAL16_MAX : -FC_REAL16_MAX;
     }
     return (fc_real16)r;
 }
+#endif
 
 /* x (16-bit format frac_from) in the 32-bit format frac_to >= frac_from,
  * exactly (|x| < 2^15: a shift of up to 16 bits stays inside 32). */
@@ -642,8 +452,9 @@ FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
     return frac_from == frac_to ? (fc_real)x : fc_convert(&never, (fc_real)x, frac_from, frac_to);
 }
 
-/* a b and a0 b0 + a1 b1, exact (below 2^31 in magnitude for operands within
- * +-FC_REAL16_MAX), in the format whose FRAC is the sum of the operands'.
+/* a b, exact (below 2^31 in magnitude for operands within +-FC_REAL16_MAX),
+ * in the format whose FRAC is the sum of the operands'; and the same for an
+ * unsigned 16-bit a (the low half of a 32-bit value): |a b| < 2^31.
  * (port: FC_PORT_MUL16) */
 #ifndef FC_PORT_MUL16
 FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
@@ -651,14 +462,13 @@ FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
     return (fc_real)a * b;
 }
 
-/* a b for an unsigned 16-bit a (the low half of a 32-bit value), exact:
- * |a b| < 2^31. (port: FC_PORT_MUL16) */
 FC_FX_INLINE fc_real fc_mul16_unsigned(uint16_t a, fc_real16 b)
 {
     return (fc_real)a * b;
 }
 #endif
 
+/* a0 b0 + a1 b1, exact, as fc_mul16. */
 FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
 {
     return fc_mul16(a0, b0) + fc_mul16(a1, b1);
@@ -682,14 +492,13 @@ FC_FX_INLINE fc_real16 fc_neg16(fc_real16 a)
 }
 
 /* a b / 2^shift for a 32-bit a and a 16-bit b (a state times a 16-bit
- * factor), rounded to nearest and saturated as fc_mul(ar, a, b, shift) is,
- * bit for bit, for 1 <= shift <= 31. With a = 2^16 a_high + a_low (a_low the
- * unsigned low half) the product is 2^16 a_high b + a_low b: two 16 x 16
- * products, each exact in 32 bits (|a_high b| <= 2^30, |a_low b| < 2^31),
- * where fc_mul forms a 64-bit one. From shift 16 on the result is below 2^30
- * and never saturates; below 16 it is a_high b 2^(16 - shift) plus the low
- * product rounded, formed in 32 bits where |a_high b| leaves that room, else
- * by fc_mul. */
+ * factor): fc_mul(ar, a, b, shift), bit for bit, for 1 <= shift <= 31, from
+ * two 16 x 16 products instead of a 64-bit one. With a = 2^16 a_high + a_low
+ * (a_low the unsigned low half) the product is 2^16 a_high b + a_low b, each
+ * term exact in 32 bits (|a_high b| <= 2^30, |a_low b| < 2^31). From shift
+ * 16 on the result is below 2^30 and never saturates; below 16 it is
+ * a_high b 2^(16 - shift) plus the low product rounded, formed in 32 bits
+ * where |a_high b| leaves that room, else by fc_mul. */
 FC_FX_INLINE fc_real fc_mul_by16(fc_arith *ar, fc_real a, fc_real16 b, int shift)
 {
     const fc_real16 a_high = (fc_real16)(uint16_t)((uint32_t)a >> 16); /* the high half, signed */
@@ -712,6 +521,45 @@ FC_FX_INLINE fc_real fc_mul_by16(fc_arith *ar, fc_real a, fc_real16 b, int shift
     }
     return fc_fx_shl32(high, 16 - shift) + fc_fx_asr32(low + ((fc_real)1 << (shift - 1)), shift);
 }
+
+/* ---- helpers on halves and shifts (fc_fx_narrow, scalar.c's roots) ---- */
+
+/* a b exactly, signed and unsigned, as halves; the shifts declared before
+ * fc_fx_narrow_wide. (port: FC_PORT_HALVES) */
+#ifndef FC_PORT_HALVES
+FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
+{
+    return fc_fx_split((int64_t)a * b);
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
+{
+    const uint64_t whole = (uint64_t)a * b;
+    fc_fx_wide product;
+    product.low = (uint32_t)whole;
+    product.high = (uint32_t)(whole >> 32);
+    return product;
+}
+
+/* (fc_fx_extract, fc_fx_asr32, fc_fx_shl32: declared above, before
+ * fc_fx_narrow_wide) */
+FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
+{
+    return (high << (32 - shift)) | (low >> shift);
+}
+
+FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
+{
+    /* cppcheck-suppress shiftTooManyBitsSigned ; the arithmetic right shift of a
+     * negative value, gcc's and clang's defined behaviour (docs/misra-deviations.md D12) */
+    return a >> n;
+}
+
+FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
+{
+    return (int32_t)((uint32_t)a << n);
+}
+#endif
 
 #else
 /* ======================================================================= */

@@ -1,18 +1,41 @@
 /*
- * fc/scalar_avr.h - the ATmega's port of the fixed backend: included by
- * fc/scalar.h (fixed, __AVR__ only; nothing else includes it), it replaces
- * the few primitives marked "port:" there with forms avr-gcc compiles well.
+ * fc/scalar_avr.h - the ATmega's port of the fixed backend. Included by
+ * fc/scalar.h (fixed, __AVR__ only; nothing else includes it) before its
+ * portable primitives; each FC_PORT_<NAME> defined here leaves that
+ * portable definition out, and the one here takes its place, with the same
+ * bits (platform/atmega/scalar_test checks every one against the portable
+ * definition in simavr: atmega.scalar_equivalence).
  *
- * avr-gcc 5.4 computes (int64_t)a * b by __mulsidi3 and shifts, adds and
- * compares int64_t through libgcc loops; a 32-bit shift by a constant that is
- * not a multiple of 8 is a loop at -Os. So the 64-bit intermediate of a
- * product is never a C int64_t here: it is the pair of 32-bit halves of
- * fc_fx_wide, and the steps that need more than 32-bit C are written out in
- * AVR assembly:
+ * Why a port at all: avr-gcc 5.4 computes (int64_t)a * b by __mulsidi3 and
+ * shifts, adds and compares int64_t through libgcc loops; a 32-bit shift by
+ * a constant that is not a multiple of 8 is a loop at -Os. So here the
+ * 64-bit intermediate of a product is never a C int64_t: it is the pair of
+ * 32-bit halves of fc_fx_wide, and the steps that need more than 32-bit C
+ * are written out in AVR assembly.
  *
+ *   replaced            (macro)            how, and why
+ *   fc_add, fc_sub      FC_PORT_ADD        ADD/ADC and the V flag (avr-gcc
+ *                                          compares the sum twice)
+ *   fc_mul, fc_dot2,    FC_PORT_PRODUCTS   one out-of-line copy each (scalar.c,
+ *   fc_dot3, fc_dot4,                      the shift at run time): inlined at
+ *   fc_mul_inline,                         every site they overflow the flash;
+ *   fc_dot2_inline                         the _inline forms on the halves,
+ *                                          inline, for the hottest sites
+ *   fc_acc_mac          FC_PORT_ACC_MAC    out of line (scalar.c)
+ *   fc_narrow16         FC_PORT_NARROW16   a shift of 16: the high half
+ *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU (avr-gcc calls libgcc)
+ *   fc_mul16_unsigned
+ *   fc_mul_gain         FC_PORT_MUL_GAIN   assembly, out of line (scalar.c)
+ *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
+ *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
+ *   fc_fx_extract,                         scalar.c's roots: MUL by bytes,
+ *   fc_fx_asr32,                           constant shifts by bytes and bits
+ *   fc_fx_shl32
+ *
+ * The assembly below:
  *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
  *                    schoolbook method (MUL, 2 cycles each), summed by
- *                    output byte (86 cycles, no call)
+ *                    output byte (no call)
  *   FC_AVR_ASR64     arithmetic shift right of the 8 bytes by 0..7 bits
  *                    (ASR/ROR, 8 cycles a bit), the part of a shift that is
  *                    not a whole number of bytes
@@ -21,8 +44,6 @@
  * (two's complement, modulo 2^64):
  *   a b = A B - 2^32 (a < 0 ? B : 0) - 2^32 (b < 0 ? A : 0)
  * with A, B the operands read as unsigned, so only the high half is corrected.
- * platform/atmega/scalar_test checks the port against the portable C of
- * fc/scalar.h in simavr (atmega.scalar_equivalence).
  */
 #ifndef FC_SCALAR_AVR_H
 #define FC_SCALAR_AVR_H
@@ -300,14 +321,13 @@ static inline __attribute__((always_inline)) uint32_t fc_avr_word(uint32_t low, 
     }
 }
 
-
-/* ---- the port: the primitives of fc/scalar.h it replaces ------------------
- * Included by fc/scalar.h after its fc_fx_wide, each definition the same bits
- * as the portable one it replaces (atmega.scalar_equivalence). */
+/* ======================================================================= */
+/* the halves (FC_PORT_HALVES)                                             */
+/* ======================================================================= */
+#define FC_PORT_HALVES
 
 /* fc_fx_mul_wide: the unsigned product of the bit patterns, then the high
  * half corrected for the signs (above); fc_fx_umul_wide: the product itself */
-#define FC_PORT_MUL_WIDE
 FC_FX_INLINE fc_fx_wide fc_fx_mul_wide(int32_t a, int32_t b)
 {
     fc_fx_wide product;
@@ -331,7 +351,6 @@ FC_FX_INLINE fc_fx_wide fc_fx_umul_wide(uint32_t a, uint32_t b)
 /* fc_fx_extract: a C shift by a constant that is not a multiple of 8 is a
  * loop at -Os, so whole bytes by moves, then the 0..7 bits left of 40 bits,
  * the shorter way; a run-time shift by bytes, then an ASR/ROR loop */
-#define FC_PORT_EXTRACT
 FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
 {
     if (__builtin_constant_p(shift)) {
@@ -365,7 +384,6 @@ FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
 
 /* fc_fx_asr32, fc_fx_shl32: a constant shift by bytes and a few bits
  * (fc_fx_extract), not by a C shift, a loop at -Os */
-#define FC_PORT_SHIFT32
 FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
 {
     if (__builtin_constant_p(n) && n > 0) {
@@ -385,12 +403,80 @@ FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
 
 /* fc_fx_asr_wide: by ASR/ROR, unrolled for a compile-time constant and a
  * counted loop for a run-time one */
-#define FC_PORT_ASR_WIDE
 FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
 {
     FC_AVR_ASR64(value.low, value.high, bits);
     return value;
 }
+
+/* fc_fx_add64 on halves: a + b, clamped at +-INT64_MAX. */
+FC_FX_INLINE fc_fx_wide fc_fx_add_wide(fc_fx_wide a, fc_fx_wide b)
+{
+    fc_fx_wide sum;
+    sum.low = a.low + b.low;
+    sum.high = a.high + b.high + (sum.low < a.low ? 1u : 0u);
+    /* signed overflow: both operands of one sign, the sum of the other */
+    if ((int32_t)(~(a.high ^ b.high) & (a.high ^ sum.high)) < 0) {
+        const bool positive = (int32_t)a.high >= 0;
+        sum.low = positive ? UINT32_MAX : 1u;
+        sum.high = positive ? (uint32_t)INT32_MAX : (uint32_t)INT32_MIN;
+    }
+    return sum;
+}
+
+/*
+ * fc_fx_narrow_wide for 32 <= shift <= FC_FX_FAR_SHIFT_MAX: the products whose
+ * formats drop 32 bits or more (RATE x RATE -> GAIN, UNIT x UNIT -> ANGLE,
+ * VEL x DT -> LENGTH). The value is floored by 2^k, k = shift - 31, then
+ * rounded by 2^31:
+ *   floor((floor(v / 2^k) + 2^30) / 2^31) = floor((v + 2^(shift-1)) / 2^shift)
+ * (v = 2^k q + r with 0 <= r < 2^k: r / 2^k < 1 added to the integer
+ * q + 2^30 leaves the floor as it is), so the value and the saturation are
+ * those of fc_fx_narrow.
+ */
+#define FC_FX_FAR_SHIFT_MAX 38
+FC_FX_INLINE fc_real fc_fx_narrow_wide_far(fc_arith *ar, fc_fx_wide value, int shift)
+{
+    return fc_fx_narrow_wide(ar, fc_fx_asr_wide(value, shift - 31), 31);
+}
+
+/* fc_fx_narrow_sum's form for the shifts 32..FC_FX_FAR_SHIFT_MAX + 2, on the
+ * halves: QUARTERS is the sum of the products each floored by 4 (four of
+ * them sum without a clamp), narrowed by shift - 2. */
+FC_FX_INLINE fc_real fc_fx_narrow_quarters(fc_arith *ar, fc_fx_wide quarters, int shift)
+{
+    if (shift - 2 < 32) {
+        return fc_fx_narrow_wide(ar, quarters, shift - 2);
+    }
+    return fc_fx_narrow_wide_far(ar, quarters, shift - 2);
+}
+
+/* a * b floored by 4, as halves (a term of fc_fx_narrow_quarters), and the
+ * sums of two, three and four of them in fc_fx_narrow_sum's order. */
+FC_FX_INLINE fc_fx_wide fc_fx_mul_quarter(int32_t a, int32_t b)
+{
+    return fc_fx_asr_wide(fc_fx_mul_wide(a, b), 2);
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_quarters2(int32_t a0, int32_t b0, int32_t a1, int32_t b1)
+{
+    return fc_fx_add_wide_wrap(fc_fx_mul_quarter(a0, b0), fc_fx_mul_quarter(a1, b1));
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_quarters3(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2)
+{
+    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_mul_quarter(a2, b2));
+}
+
+FC_FX_INLINE fc_fx_wide fc_fx_quarters4(int32_t a0, int32_t b0, int32_t a1, int32_t b1, int32_t a2, int32_t b2,
+                                        int32_t a3, int32_t b3)
+{
+    return fc_fx_add_wide_wrap(fc_fx_quarters2(a0, b0, a1, b1), fc_fx_quarters2(a2, b2, a3, b3));
+}
+
+/* ======================================================================= */
+/* fc_mul16 (FC_PORT_MUL16), fc_add and fc_sub (FC_PORT_ADD)              */
+/* ======================================================================= */
 
 /* fc_mul16: the signed 16 x 16 -> 32 product inline, the inner loop's most
  * frequent operation (avr-gcc calls libgcc's __mulhisi3, which forms the
@@ -500,21 +586,100 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, difference, saturated);
 }
 
-/* fc_acc_mac out of line (scalar.c, fc/scalar.h's fc_fx_acc_mac): the
- * multiply, shift and 64-bit add of a term inlined at every site of the
- * matrix loops cost far more flash than the call costs cycles. (fc_acc is
- * fc/scalar.h's int64_t, declared after this file.) */
-#define FC_PORT_ACC_MAC
-int64_t fc_acc_mac(int64_t acc, int32_t a, int32_t b);
+/* ======================================================================= */
+/* fc_mul, fc_dotN (FC_PORT_PRODUCTS) and fc_acc_mac (FC_PORT_ACC_MAC)     */
+/* ======================================================================= */
+#define FC_PORT_PRODUCTS
 
-/* fc_mul and fc_dotN out of line (fc/scalar.h, FC_FX_OUTLINE_PRODUCTS):
- * inlined at every site they overflow the flash, and the inner loop's
- * frequent products are the 16-bit ones (fc_mul16, ...), inline everywhere.
- * The equivalence test defines FC_SCALAR_INLINE_PRODUCTS before fc/scalar.h
- * to form them inline and compare. */
-#if !defined(FC_SCALAR_INLINE_PRODUCTS)
-#define FC_FX_OUTLINE_PRODUCTS 1
-#endif
+/* fc_mul_inline and fc_dot2_inline: on the halves, inline (the sites that
+ * run so often that the call, its register saves and the run-time shift
+ * matter more than the flash of the inlined product) */
+FC_FX_INLINE fc_real fc_mul_inline(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_mul_wide(a, b), shift);
+    }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX) {
+        return fc_fx_narrow_wide_far(ar, fc_fx_mul_wide(a, b), shift);
+    }
+    return fc_fx_narrow(ar, (int64_t)a * b, shift);
+}
+
+FC_FX_INLINE fc_real fc_dot2_inline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    if (shift > 0 && shift < 32) {
+        return fc_fx_narrow_wide(ar, fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1)), shift);
+    }
+    if (shift >= 32 && shift <= FC_FX_FAR_SHIFT_MAX + 2) {
+        return fc_fx_narrow_quarters(ar, fc_fx_quarters2(a0, b0, a1, b1), shift);
+    }
+    return fc_fx_narrow_sum(ar, (int64_t)a0 * b0, (int64_t)a1 * b1, 0, 0, shift);
+}
+
+/* fc_mul and fc_dotN: one out-of-line copy each (scalar.c, the shift at run
+ * time): inlined at every site they overflow the flash, and the inner
+ * loop's frequent products are the 16-bit ones, inline everywhere */
+fc_real fc_fx_mul_outline(fc_arith *ar, fc_real a, fc_real b, int shift);
+fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift);
+fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           int shift);
+fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                           fc_real a3, fc_real b3, int shift);
+
+FC_FX_INLINE fc_real fc_mul(fc_arith *ar, fc_real a, fc_real b, int shift)
+{
+    return fc_fx_mul_outline(ar, a, b, shift);
+}
+
+FC_FX_INLINE fc_real fc_dot2(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, int shift)
+{
+    return fc_fx_dot2_outline(ar, a0, b0, a1, b1, shift);
+}
+
+FC_FX_INLINE fc_real fc_dot3(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                             int shift)
+{
+    return fc_fx_dot3_outline(ar, a0, b0, a1, b1, a2, b2, shift);
+}
+
+FC_FX_INLINE fc_real fc_dot4(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
+                             fc_real a3, fc_real b3, int shift)
+{
+    return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
+}
+
+/* fc_acc_mac out of line (scalar.c): the multiply, shift and 64-bit add of
+ * a term inlined at every site of the matrix loops cost far more flash than
+ * the call costs cycles */
+#define FC_PORT_ACC_MAC
+fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b);
+
+/* ======================================================================= */
+/* fc_narrow16 (FC_PORT_NARROW16)                                          */
+/* ======================================================================= */
+
+/* fc_narrow16: a shift of 16 is the high half plus bit 15 for the rounding
+ * (no 32-bit shift) */
+#define FC_PORT_NARROW16
+FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to); /* fc/scalar.h */
+FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
+{
+    if (frac_from - frac_to == 16) {
+        const int16_t high = (int16_t)(uint16_t)((uint32_t)x >> 16);
+        const bool up = ((uint32_t)x & 0x8000u) != 0u;
+        if ((up && high == INT16_MAX) || (!up && high == INT16_MIN)) {
+            ar->saturated = 1u;
+            return high < 0 ? -FC_REAL16_MAX : FC_REAL16_MAX;
+        }
+        return (fc_real16)(high + (up ? 1 : 0));
+    }
+    const fc_real r = frac_from == frac_to ? x : fc_convert(ar, x, frac_from, frac_to);
+    if (r > FC_REAL16_MAX || r < -FC_REAL16_MAX) {
+        ar->saturated = 1u;
+        return r > 0 ? FC_REAL16_MAX : -FC_REAL16_MAX;
+    }
+    return (fc_real16)r;
+}
 
 /* ======================================================================= */
 /* fc_mul_gain: a signal times a gain fixed at init (fc/scalar.h, fc_gain)  */

@@ -7,10 +7,9 @@
  * the same target, over edge operands and pseudo-random ones, for every right
  * shift 1..33, 36, 38 and 40 as a compile-time constant (what the library uses) and through
  * a run-time shift (a shift passed to a function that is not inlined).
- * Compared: the value and the fc_arith saturation flag of fc_mul, fc_dot2,
- * fc_dot3, fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert
- * (inlined in this unit, FC_SCALAR_INLINE_PRODUCTS, as at the hot sites
- * that call fc_mul_inline and fc_dot2_inline);
+ * Compared: the value and the fc_arith saturation flag of fc_mul_inline,
+ * fc_dot2_inline (the port's inline forms, as at the hot sites), fc_dot3,
+ * fc_dot4, fc_acc_mac/fc_acc_result (8 products) and fc_convert;
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
@@ -31,8 +30,6 @@
  * first failure in scalar_test_first; scalar_test_done = 1 at the end, then
  * sleep with interrupts off (ends the simavr run). Read by scalar_test_host.c.
  */
-/* the products formed inline here, to compare with the out-of-line ones */
-#define FC_SCALAR_INLINE_PRODUCTS
 #include <avr/interrupt.h>
 #include <avr/sleep.h>
 #include <stdint.h>
@@ -413,8 +410,8 @@ static void compare_one(uint8_t shift, const int32_t *a, const int32_t *b, int32
     static __attribute__((noinline)) void case_##S(const int32_t *a, const int32_t *b)                 \
     {                                                                                                  \
         fc_arith m = {0u}, d2 = {0u}, d3 = {0u}, d4 = {0u}, ac = {0u}, cd = {0u}, cu = {0u};           \
-        const int32_t mul = fc_mul(&m, a[0], b[0], S);                                                 \
-        const int32_t dot2 = fc_dot2(&d2, a[0], b[0], a[1], b[1], S);                                  \
+        const int32_t mul = fc_mul_inline(&m, a[0], b[0], S);                                          \
+        const int32_t dot2 = fc_dot2_inline(&d2, a[0], b[0], a[1], b[1], S);                           \
         const int32_t dot3 = fc_dot3(&d3, a[0], b[0], a[1], b[1], a[2], b[2], S);                      \
         const int32_t dot4 = fc_dot4(&d4, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], S);          \
         int32_t acc = 0;                                                                               \
@@ -460,7 +457,7 @@ static const case_fn cases[CASE_COUNT] = {
 static __attribute__((noinline)) void case_runtime(const int32_t *a, const int32_t *b, int shift)
 {
     fc_arith m = {0u}, d4 = {0u}, r = {0u};
-    const int32_t mul = fc_mul(&m, a[0], b[0], shift);
+    const int32_t mul = fc_mul_inline(&m, a[0], b[0], shift);
     const int32_t dot4 = fc_dot4(&d4, a[0], b[0], a[1], b[1], a[2], b[2], a[3], b[3], shift);
     int32_t want = ref_narrow(&r, (int64_t)a[0] * b[0], shift);
     check(OP_MUL_RUNTIME, (uint8_t)shift, mul, m.saturated, want, r.saturated);
