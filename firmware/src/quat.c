@@ -154,12 +154,10 @@ fc_quat fc_quat_shortest(fc_arith *ar, fc_quat q)
     return q;
 }
 
-/* The entries of R(q) in UNIT (|r_ij| <= 1), its third row only when asked
- * (zero otherwise). The diagonal 1 - 2(..): the same matrix as
- * v + 2w (u x v) + 2 u x (u x v), also for a q that is unit only to its
- * rounding. The products inline, their shift a constant (the position
- * frame's measured acceleration, the heaviest step, forms them). */
-static void rotation_matrix(fc_arith *ar, fc_quat q, bool third_row, fc_real r[3][3])
+/* The entries of R(q) in UNIT (|r_ij| <= 1). The diagonal 1 - 2(..): the
+ * same matrix as v + 2w (u x v) + 2 u x (u x v), also for a q that is unit
+ * only to its rounding. The products inline, their shift a constant. */
+static void rotation_matrix(fc_arith *ar, fc_quat q, fc_real r[3][3])
 {
     const fc_real xx = fc_mul_inline(ar, q.x, q.x, UNIT_X_UNIT);
     const fc_real yy = fc_mul_inline(ar, q.y, q.y, UNIT_X_UNIT), zz = fc_mul_inline(ar, q.z, q.z, UNIT_X_UNIT);
@@ -173,9 +171,9 @@ static void rotation_matrix(fc_arith *ar, fc_quat q, bool third_row, fc_real r[3
     r[1][0] = twice(ar, fc_add(ar, xy, wz));
     r[1][1] = twice(ar, fc_sub(ar, half, fc_add(ar, xx, zz)));
     r[1][2] = twice(ar, fc_sub(ar, yz, wx));
-    r[2][0] = third_row ? twice(ar, fc_sub(ar, xz, wy)) : FC_INT(0, UNIT);
-    r[2][1] = third_row ? twice(ar, fc_add(ar, yz, wx)) : FC_INT(0, UNIT);
-    r[2][2] = third_row ? twice(ar, fc_sub(ar, half, fc_add(ar, xx, yy))) : FC_INT(0, UNIT);
+    r[2][0] = twice(ar, fc_sub(ar, xz, wy));
+    r[2][1] = twice(ar, fc_add(ar, yz, wx));
+    r[2][2] = twice(ar, fc_sub(ar, half, fc_add(ar, xx, yy)));
 }
 
 /* Row i of R(q) times v: one 64-bit dot product, so a vector anywhere in its
@@ -189,16 +187,42 @@ static fc_real rotated_component(fc_arith *ar, const fc_real row[3], fc_vec3 v)
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v)
 {
     fc_real r[3][3];
-    rotation_matrix(ar, q, true, r);
+    rotation_matrix(ar, q, r);
     return fc_vec3_make(rotated_component(ar, r[0], v), rotated_component(ar, r[1], v),
                         rotated_component(ar, r[2], v));
 }
 
+/* 2 sum + offset of UNIT16 products (UNIT16_SQ, exact), rounded to a UNIT16
+ * entry of R(q): |entry| <= 1 + 2^-12 for a q within 2^-13 of unit length,
+ * inside UNIT16's [-2, 2), and the sum of two products bounded by 1 stays
+ * far inside 32 bits. */
+static fc_real16 matrix_entry16(fc_arith *ar, fc_real sum, fc_real offset)
+{
+    return fc_narrow16(ar, 2 * sum + offset, FC_UNIT16_SQ_FRAC, FC_UNIT16_FRAC);
+}
+
+/* Row of R(q) times v: three 32 x 16 products, the vector's format kept. */
+static fc_real rotated_component16(fc_arith *ar, fc_real16 r0, fc_real16 r1, fc_real16 r2, fc_vec3 v)
+{
+    const int keep = FC_UNIT16_FRAC; /* v (any format) x UNIT16 -> v's format */
+    return fc_add(ar, fc_add(ar, fc_mul_by16(ar, v.x, r0, keep), fc_mul_by16(ar, v.y, r1, keep)),
+                  fc_mul_by16(ar, v.z, r2, keep));
+}
+
 fc_vec3 fc_quat_rotate_horizontal(fc_arith *ar, fc_quat q, fc_vec3 v)
 {
-    fc_real r[3][3];
-    rotation_matrix(ar, q, false, r);
-    return fc_vec3_make(rotated_component(ar, r[0], v), rotated_component(ar, r[1], v), FC_INT(0, UNIT));
+    /* R(q)'s first two rows as rotation_matrix forms them, from q rounded
+     * to UNIT16: nine 16 x 16 products */
+    const fc_quat16 h = fc_quat16_round_unit(q);
+    const fc_real xx = fc_mul16(h.x, h.x), yy = fc_mul16(h.y, h.y), zz = fc_mul16(h.z, h.z);
+    const fc_real xy = fc_mul16(h.x, h.y), xz = fc_mul16(h.x, h.z), yz = fc_mul16(h.y, h.z);
+    const fc_real wx = fc_mul16(h.w, h.x), wy = fc_mul16(h.w, h.y), wz = fc_mul16(h.w, h.z);
+    const fc_real one = FC_INT(1, UNIT16_SQ), zero = FC_INT(0, UNIT16_SQ);
+    return fc_vec3_make(rotated_component16(ar, matrix_entry16(ar, -(yy + zz), one), matrix_entry16(ar, xy - wz, zero),
+                                            matrix_entry16(ar, xz + wy, zero), v),
+                        rotated_component16(ar, matrix_entry16(ar, xy + wz, zero), matrix_entry16(ar, -(xx + zz), one),
+                                            matrix_entry16(ar, yz - wx, zero), v),
+                        FC_INT(0, UNIT));
 }
 
 fc_vec3 fc_quat_rotate_inv(fc_arith *ar, fc_quat q, fc_vec3 v)

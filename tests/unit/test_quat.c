@@ -593,6 +593,35 @@ static void test_rotate_random_and_inverse(void **state)
     assert_int_equal(ar.saturated, 0);
 }
 
+/* fc_quat_rotate_horizontal: x and y of the rotation from R(q)'s rows with q
+ * and the entries rounded to UNIT16, each entry within 2^-13 + 2^-15 of
+ * R(q)'s (q's rounding moves 2(ab +- cd) by 2 x 2^-15 x (|a| + |b| + |c| +
+ * |d|) <= 2^-13 at most, the entry's own by 2^-15); z is 0. Accelerations
+ * up to 16 g. */
+static void test_rotate_horizontal(void **state)
+{
+    (void)state;
+    fc_arith ar = {0};
+    ts_rng rng = ts_rng_seed(31u);
+    ts_check c = ts_check_begin("rotate_horizontal ACCEL");
+    const double entry_error = FC_NUMERIC_FIXED ? ldexp(1.0, -13) + ldexp(1.0, -15) : 0.0;
+    for (int n = 0; n < 4000; n++) {
+        dquat rq;
+        const fc_quat q = quat_from_d(rand_unit_dquat(&rng), &rq);
+        dvec rv;
+        const float r = 160.0f;
+        const fc_vec3 v = vec_in((double)ts_uniform(&rng, -r, r), (double)ts_uniform(&rng, -r, r),
+                                 (double)ts_uniform(&rng, -r, r), FC_ACCEL_FRAC, &rv);
+        const double l1 = fabs(rv.x) + fabs(rv.y) + fabs(rv.z);
+        dvec want = dq_rotate_unit(rq, rv);
+        want.z = 0.0;
+        const double tol = ts_tol(FC_ACCEL_FRAC, 4.0, 8.0, dv_norm(rv)) + entry_error * l1 + rotate_slack(rq, rv);
+        close_vec(&c, fc_quat_rotate_horizontal(&ar, q, v), FC_ACCEL_FRAC, want, tol, "rotate_horizontal", n);
+    }
+    ts_check_end(&c);
+    assert_int_equal(ar.saturated, 0);
+}
+
 /* Vectors of more than half their format's range (LENGTH: 1500 m of 2048 m)
  * rotate to vectors that fit; no intermediate may saturate. */
 static void test_rotate_large_vector(void **state)
@@ -1032,6 +1061,7 @@ int main(void)
         cmocka_unit_test(test_rotate_known_quarter_turns),
         cmocka_unit_test(test_rotate_random_and_inverse),
         cmocka_unit_test(test_rotate_large_vector),
+        cmocka_unit_test(test_rotate_horizontal),
         cmocka_unit_test(test_axis_angle),
         cmocka_unit_test(test_from_rotation_vector),
         cmocka_unit_test(test_rotation_vector_continuity),

@@ -123,8 +123,12 @@ fc_quat16 fc_quat16_shortest(fc_quat16 q);
 /* q (x) [0, v] (x) q*: v from body to world; v of any format. */
 fc_vec3 fc_quat_rotate(fc_arith *ar, fc_quat q, fc_vec3 v);
 
-/* x and y of fc_quat_rotate (the same bits), z 0: a world vector's
- * horizontal part without R(q)'s third row. */
+/* x and y of fc_quat_rotate, z 0: a world vector's horizontal part, from
+ * R(q)'s first two rows with q and the entries rounded to UNIT16 (16 x 16
+ * products). Fixed: each entry within 2^-13 + 2^-15 of R(q)'s, so each
+ * component within that times |v_x| + |v_y| + |v_z|, plus its rounding (the
+ * measured acceleration: below a 16 g accelerometer's LSB). For a q within
+ * 2^-13 of unit length. */
 fc_vec3 fc_quat_rotate_horizontal(fc_arith *ar, fc_quat q, fc_vec3 v);
 
 /* q* (x) [0, v] (x) q: v from world to body. */
