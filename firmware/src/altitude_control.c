@@ -918,8 +918,8 @@ static fc_real16 thrust_fraction(const fc_altitude_control *c, fc_real thrust_n)
 {
     fc_arith ar = {0u};
     const fc_real share = fc_mul_gain(&ar, thrust_n, c->k.inv_thrust_authority, FC_GAIN_SHIFT(FORCE, RATIO));
-    return fc_narrow16(&ar, fc_clamp(share, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC,
-                       FC_NORM16_FRAC);
+    /* clamped into NORM16's range: no saturation test */
+    return fc_round16(fc_clamp(share, FC_C(-1.99f, RATIO), FC_C(1.99f, RATIO)), FC_RATIO_FRAC, FC_NORM16_FRAC);
 }
 
 static void safe_output(const fc_altitude_control *c, fc_altitude_control_output *out)

@@ -247,11 +247,14 @@ STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_qu
     return r;
 }
 
-/* v k for a UNIT16 v and a 32-bit k in UNIT16_SQ, as UNIT16 (|v k| < 2). */
+/* v k for a UNIT16 v and a 32-bit k in UNIT16_SQ, as UNIT16, for |v k| < 2
+ * (no saturation test, fc_round16): its only use is the series branch,
+ * where v is e.w or e.z with e.w^2 + e.z^2 = 1 - d <= 1 + SERIES_MAX_D and
+ * k = 1 + d/2 <= 1 + SERIES_MAX_D/2. */
 STEP_INLINE fc_real16 scaled16(fc_arith *ar, fc_real16 v, fc_real k)
 {
-    return fc_narrow16(ar, fc_mul_by16(ar, k, v, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16)), FC_UNIT16_FRAC,
-                       FC_UNIT16_FRAC);
+    return fc_round16(fc_mul_by16(ar, k, v, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16)), FC_UNIT16_FRAC,
+                      FC_UNIT16_FRAC);
 }
 
 /* Attitude error per the header: (e_tilt.x, e_tilt.y, e_head.z), ANGLE, into
@@ -297,7 +300,8 @@ STEP_INLINE fc_real gyroscopic(fc_arith *ar, fc_real16 inertia_diff, fc_real16 w
     if (inertia_diff == FC_INT16(0, NINERTIA16)) {
         return FC_INT(0, NSUM);
     }
-    const fc_real16 ww = fc_narrow16(ar, fc_mul16(w_j, w_k), 2 * FC_RATE16_FRAC, FC_WW16_FRAC);
+    /* |w_j w_k| <= FC_REAL16_MAX^2 2^-15 < FC_REAL16_MAX in WW16: no saturation test */
+    const fc_real16 ww = fc_round16(fc_mul16(w_j, w_k), 2 * FC_RATE16_FRAC, FC_WW16_FRAC);
     return fc_convert(ar, fc_mul16(inertia_diff, ww), FC_NINERTIA16_FRAC + FC_WW16_FRAC, FC_NSUM_FRAC);
 }
 
@@ -363,11 +367,13 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 }
 
 /* A rate as the products read it: RATE16, clamped to its range first (by
- * design, header: not an arithmetic saturation). */
+ * design, header: not an arithmetic saturation). The clamp's 31.999 rounds
+ * to FC_REAL16_MAX in RATE16, so the narrowing needs no saturation test. */
 STEP_INLINE fc_real16 rate16(fc_arith *ar, fc_real rate)
 {
+    (void)ar;
     const fc_real limit = FC_C(31.999f, RATE);
-    return fc_narrow16(ar, fc_clamp(rate, -limit, limit), FC_RATE_FRAC, FC_RATE16_FRAC);
+    return fc_round16(fc_clamp(rate, -limit, limit), FC_RATE_FRAC, FC_RATE16_FRAC);
 }
 
 /* w - w_ff as RATE16; w16 = rate16(w) where there is no feed-forward (the
@@ -428,11 +434,18 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
             head = fc_add(ar, half_head, half_head);
         }
         /* what the 16-bit products read: the error and the integral by their
-         * high halves, the rates rounded to RATE16 */
-        const fc_vec3_16 e16 = {fc_narrow16(ar, err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
-                                fc_narrow16(ar, err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
-                                fc_narrow16(ar, head, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
-        const fc_vec3_16 i16 = fc_vec3_narrow16(ar, c->integral_rad_s, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+         * high halves, the rates rounded to RATE16. No saturation test
+         * (fc_round16): ANGLE16 spans ANGLE's [-8, 8), and the error is at
+         * most 2 (header; twice a product of unit vectors, and the heading
+         * part weighted by yaw_weight <= 1) and the integral at most
+         * integral_limit <= MAX_INTEGRAL_LIMIT = 4 (integrate_axis clamps) */
+        const fc_vec3_16 e16 = {fc_round16(err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_round16(err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_round16(head, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
+        const fc_vec3 *integral = &c->integral_rad_s;
+        const fc_vec3_16 i16 = {fc_round16(integral->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_round16(integral->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
+                                fc_round16(integral->z, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
         const fc_vec3_16 w16 = {rate16(ar, rate->x), rate16(ar, rate->y), rate16(ar, rate->z)};
         const fc_real zero = FC_INT(0, RATE);
         const fc_vec3_16 r16 = {rate_error16(ar, rate->x, w16.x, rate_ff_ok ? rate_ff->x : zero),
@@ -467,7 +480,12 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
         }
     }
     c->last_moment = moment;
-    out->moment = fc_vec3_narrow16(ar, moment, FC_NSUM_FRAC, FC_NORM16_FRAC);
+    /* |moment| <= moment_limit <= MAX_MOMENT_LIMIT < 2, NORM16's range
+     * (limit_moment's clamps, or a held moment decaying from one): no
+     * saturation test */
+    out->moment = (fc_vec3_16){fc_round16(moment.x, FC_NSUM_FRAC, FC_NORM16_FRAC),
+                               fc_round16(moment.y, FC_NSUM_FRAC, FC_NORM16_FRAC),
+                               fc_round16(moment.z, FC_NSUM_FRAC, FC_NORM16_FRAC)};
     out->attitude_error_rad = c->last_error_rad;
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;

@@ -1059,7 +1059,8 @@ static void test_rsqrt_q29_accuracy(void **state)
 /* The 16-bit values (fixed): fc_narrow16 rounds to nearest (half up, as
  * fc_convert) and saturates at +-INT16_MAX with the flag, at the shifts the
  * library uses (16 by the high half, 15 and 14 by fc_convert); fc_widen16 is
- * exact; fc_dot4_16 is the exact sum rounded once. Float: the same values. */
+ * exact; fc_dot4_16 is the exact sum rounded once; fc_round16 is
+ * fc_narrow16 wherever that does not saturate. Float: the same values. */
 #if FC_NUMERIC_FIXED
 static void narrow16_check(int32_t x, int shift, fc_real16 got, uint8_t got_sat)
 {
@@ -1092,6 +1093,18 @@ static void test_real16(void **state)
         narrow16_check(x, 16, n16, a16.saturated);
         narrow16_check(x, 15, n15, a15.saturated);
         narrow16_check(x, 14, n14, a14.saturated);
+        /* fc_round16: fc_narrow16's value wherever that does not saturate
+         * (its precondition), at the shifts the library uses */
+        const int shifts[5] = {16, 15, 14, 8, 0};
+        for (int k = 0; k < 5; k++) {
+            fc_arith sat = {0};
+            const fc_real16 n = fc_narrow16(&sat, x, 14 + shifts[k], 14);
+            if (sat.saturated == 0u && fc_round16(x, 14 + shifts[k], 14) != n) {
+                print_error("round16 of %ld by %d: %d, expected %d\n", (long)x, shifts[k],
+                            (int)fc_round16(x, 14 + shifts[k], 14), (int)n);
+                fail();
+            }
+        }
         const fc_real16 h = (fc_real16)(x % 32768);
         assert_int_equal(fc_widen16(h, 14, 30), (int32_t)h * 65536);
         assert_int_equal(fc_widen16(h, 12, 28), (int32_t)h * 65536);
@@ -1105,6 +1118,7 @@ static void test_real16(void **state)
 #else
     fc_arith ar = {0};
     assert_true(fc_narrow16(&ar, 0.75f, FC_UNIT_FRAC, FC_UNIT16_FRAC) == 0.75f);
+    assert_true(fc_round16(0.75f, FC_UNIT_FRAC, FC_UNIT16_FRAC) == 0.75f);
     assert_true(fc_widen16(0.75f, FC_UNIT16_FRAC, FC_UNIT_FRAC) == 0.75f);
     assert_true(fc_dot4_16(&ar, 0.5f, 0.5f, 0.25f, 1.0f, 0.0f, 0.0f, 0.0f, 0.0f, 28, 14) == 0.5f);
 #endif

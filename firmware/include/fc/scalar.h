@@ -444,6 +444,26 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
 }
 #endif
 
+/* fc_narrow16 without the saturation test, for an x the caller has bounded
+ * (a clamp or a documented range, written next to the use). PRECONDITION:
+ * |x| / 2^(frac_from - frac_to) < FC_REAL16_MAX + 1/2 (x rounds into
+ * +-FC_REAL16_MAX), where both give the same value; beyond it the result
+ * is undefined (wraps). Float: x. */
+FC_FX_INLINE fc_real16 fc_round16(fc_real x, int frac_from, int frac_to)
+{
+    if (frac_from - frac_to == 16) {
+        /* the high half of x + 2^15 (no 32-bit shift) */
+        return (fc_real16)(uint16_t)(((uint32_t)x + 0x8000u) >> 16);
+    }
+    if (frac_from == frac_to) {
+        return (fc_real16)x;
+    }
+    /* floor((x + 2^(shift-1)) / 2^shift), as fc_convert rounds; the sum
+     * stays below 2^31 under the precondition */
+    const int shift = frac_from - frac_to;
+    return (fc_real16)fc_fx_asr32((fc_real)((uint32_t)x + ((uint32_t)1 << (shift - 1))), shift);
+}
+
 /* x (16-bit format frac_from) in the 32-bit format frac_to >= frac_from,
  * exactly (|x| < 2^15: a shift of up to 16 bits stays inside 32). */
 FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
@@ -708,6 +728,13 @@ typedef float fc_real16;
 static inline fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int frac_to)
 {
     (void)ar;
+    (void)frac_from;
+    (void)frac_to;
+    return x;
+}
+
+static inline fc_real16 fc_round16(fc_real x, int frac_from, int frac_to)
+{
     (void)frac_from;
     (void)frac_to;
     return x;
