@@ -666,11 +666,12 @@ static uint32_t magnitude_u32(fc_real x)
  * positive one rounding up to 2^15 held at 2^15 - 1) */
 static int16_t direction_mantissa(uint32_t shifted)
 {
-    const uint32_t rounded = shifted + ((uint32_t)1u << 15);
-    if ((int32_t)shifted >= 0 && (int32_t)rounded < 0) {
-        return INT16_MAX;
+    const uint32_t half = (uint32_t)1u << 15;
+    const uint32_t positive_max = (uint32_t)INT32_MAX;
+    if (shifted <= positive_max && shifted > positive_max - half) {
+        return INT16_MAX; /* would round to 2^31, past the positive half */
     }
-    return (int16_t)(uint16_t)fc_fx_extract(rounded, 0u, 16);
+    return (int16_t)(uint16_t)fc_fx_extract(shifted + half, 0u, 16);
 }
 
 /* |M| = sqrt(S) in Q4 from y = 2^(30+h) / sqrt(S) (Q15 of 1/sqrt(m)):
