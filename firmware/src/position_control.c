@@ -299,11 +299,7 @@ fc_step_status fc_position_control_attitude(fc_position_control *pc, fc_real hea
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
                                         fc_position_control_output *out)
 {
+    /* each half gives its safe output when not ready */
     const fc_step_status status = fc_position_control_demand(pc, in, out);
-    if (status == FC_STEP_NOT_READY) {
-        out->attitude_sp = fc_quat_identity();
-        out->thrust_n = FC_INT(0, FORCE);
-        return status;
-    }
     return status | fc_position_control_attitude(pc, in->heading_cos, in->heading_sin, out);
 }

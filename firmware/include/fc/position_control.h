@@ -32,8 +32,8 @@
  * (fc/controller.h runs them in two minor frames): the demand (the errors,
  * the PID, F_req and its limits, both integrators) and the attitude (b3,
  * the heading, q_sp and |F_req|), which reads only the demand's F_req.
- * Cost per step: the direction of F in UNIT16 and its length (one integer
- * root, fc_vec3_direction16), q_tilt (x) q_yaw in 16-bit products, one
+ * Cost per step: the direction of F in UNIT16 and its length (one
+ * reciprocal root, fc_vec3_direction16), q_tilt (x) q_yaw in 16-bit products, one
  * reciprocal root for |q| = |q_tilt| |q_yaw|. The horizontal law is 2-D
  * (x, y); a saturation forms its norm only when the 1-norm |x| + |y| (+ |z|)
  * exceeds the limit (fc_norm1_within), which it seldom does.
