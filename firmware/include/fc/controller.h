@@ -40,18 +40,20 @@
  *                  it (the newest one) and is carried to that step along the
  *                  model's own vertical speed; between its runs the pad's
  *                  trajectory is extrapolated, z + z' t + z'' t^2 / 2
- *   minor frames 3 and on (outer_divider >= 4)  the work of the pad model's
- *                  next step that needs no sample, one slice a frame: the
+ *   minor frames 3 and on  the work of the pad model's next step that
+ *                  needs no sample, one slice a frame: the
  *                  covariance update of the newest sample in two parts (the
  *                  first with the rotations of adapted frequencies, the second
  *                  with the phases turned to the next step and the summary
  *                  of the newest fit), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
- * With outer_divider 2 the position loop runs whole in frame 0 and the pad
- * model in frame 1; with outer_divider 1 both run on every step, as one
- * group. The default puts the outer group at 100 Hz or the step rate if that is slower, the
- * Crazyflie firmware's position rate; the position input rarely comes faster.
+ * These frames are for outer_divider >= 5. With 2 to 4 the position loop
+ * runs whole in frame 0, the pad model in frame 1 and its work ahead from
+ * frame 2; with outer_divider 1 both run on every step, as one group. The
+ * default puts the outer group at 100 Hz or the step rate if that is slower,
+ * the Crazyflie firmware's position rate; the position input rarely comes
+ * faster.
  * Safety (SPEC "Safety contract"):
  *   arming     a command that arms (TRACK_PAD, HOLD, LAND) is refused while
  *              the filter has not aligned, the IMU sample or the platform's
