@@ -1,6 +1,8 @@
-/* hal_imu.c - MPU-6050 over TWI with timeouts (hal_imu.h). */
+/* hal_imu.c - MPU-6050 over TWI (hal_imu.h): set up polled, with timeouts;
+ * the burst read driven by the TWI interrupt. */
 #include "hal_imu.h"
 
+#include <avr/interrupt.h>
 #include <avr/io.h>
 #include <util/twi.h>
 
@@ -28,7 +30,7 @@ static bool s_present;
 static uint8_t s_fails;
 static uint8_t s_retry_countdown;
 
-/* ---- TWI master, polled, every wait bounded ---------------------------- */
+/* ---- TWI master, polled, every wait bounded (set-up and probes) -------- */
 
 static bool twi_wait(void)
 {
@@ -144,6 +146,144 @@ bool hal_imu_init(void)
     return s_present;
 }
 
+/* ---- the burst read, driven by the TWI interrupt ------------------------ */
+
+/* The transfer: START, SLA+W, the register, repeated START, SLA+R, then the
+ * HAL_IMU_BURST_BYTES data bytes, ACK on each but the last, and STOP. Each
+ * TWI event (TWINT) runs one step of this state machine in TWI_vect; no step
+ * waits on the bus. */
+typedef enum burst_phase {
+    PHASE_START,   /* START sent */
+    PHASE_SLA_W,   /* SLA+W sent */
+    PHASE_REGISTER, /* the register sent */
+    PHASE_RESTART, /* repeated START sent */
+    PHASE_SLA_R,   /* SLA+R sent */
+    PHASE_DATA,    /* a data byte on its way */
+} burst_phase;
+
+typedef enum burst_state {
+    BURST_IDLE,   /* nothing started since the last take */
+    BURST_BUSY,   /* on the bus */
+    BURST_DONE,   /* every byte in s_burst_bytes */
+    BURST_FAILED, /* a NACK or an unexpected status: STOP sent */
+} burst_state;
+
+static volatile uint8_t s_burst_state = BURST_IDLE; /* burst_state */
+static uint8_t s_burst_phase;                       /* burst_phase, the ISR's own */
+static uint8_t s_burst_count;                       /* data bytes in, the ISR's own */
+static uint8_t s_burst_bytes[HAL_IMU_BURST_BYTES];  /* the ISR's until BURST_DONE */
+
+/* TWCR for the next event with the interrupt on */
+#define TWCR_NEXT (_BV(TWINT) | _BV(TWEN) | _BV(TWIE))
+
+static void burst_end(uint8_t state)
+{
+    TWCR = _BV(TWINT) | _BV(TWEN) | _BV(TWSTO); /* STOP, the interrupt off */
+    s_burst_state = state;
+}
+
+/* The read asks for ACK on every byte but the last. */
+static void burst_next_data(void)
+{
+    TWCR = (uint8_t)(TWCR_NEXT | (s_burst_count + 1u < HAL_IMU_BURST_BYTES ? _BV(TWEA) : 0u));
+}
+
+ISR(TWI_vect)
+{
+    const uint8_t st = TW_STATUS;
+    switch (s_burst_phase) {
+    case PHASE_START:
+        if (st != TW_START) {
+            break;
+        }
+        TWDR = (uint8_t)(HAL_IMU_ADDRESS << 1);
+        s_burst_phase = PHASE_SLA_W;
+        TWCR = TWCR_NEXT;
+        return;
+    case PHASE_SLA_W:
+        /* simavr 1.6 reports 0x28 here for 0x18: the same ACK (twi_start) */
+        if (st != TW_MT_SLA_ACK && st != TW_MT_DATA_ACK) {
+            break;
+        }
+        TWDR = MPU_ACCEL_XOUT_H;
+        s_burst_phase = PHASE_REGISTER;
+        TWCR = TWCR_NEXT;
+        return;
+    case PHASE_REGISTER:
+        if (st != TW_MT_DATA_ACK) {
+            break;
+        }
+        s_burst_phase = PHASE_RESTART;
+        TWCR = TWCR_NEXT | _BV(TWSTA);
+        return;
+    case PHASE_RESTART:
+        if (st != TW_REP_START) {
+            break;
+        }
+        TWDR = (uint8_t)((HAL_IMU_ADDRESS << 1) | 1u);
+        s_burst_phase = PHASE_SLA_R;
+        TWCR = TWCR_NEXT;
+        return;
+    case PHASE_SLA_R:
+        if (st != TW_MR_SLA_ACK) {
+            break;
+        }
+        s_burst_phase = PHASE_DATA;
+        burst_next_data();
+        return;
+    case PHASE_DATA: {
+        const bool last = s_burst_count + 1u >= HAL_IMU_BURST_BYTES;
+        if (st != (last ? TW_MR_DATA_NACK : TW_MR_DATA_ACK)) {
+            break;
+        }
+        s_burst_bytes[s_burst_count++] = TWDR;
+        if (last) {
+            burst_end(BURST_DONE);
+        } else {
+            burst_next_data();
+        }
+        return;
+    }
+    default:
+        break;
+    }
+    burst_end(BURST_FAILED);
+}
+
+void hal_imu_start_read(void)
+{
+    if (!s_present || s_burst_state == BURST_BUSY) {
+        return; /* absent: hal_imu_read probes it; busy: hal_imu_read ends it */
+    }
+    s_burst_phase = PHASE_START;
+    s_burst_count = 0u;
+    s_burst_state = BURST_BUSY;
+    TWCR = TWCR_NEXT | _BV(TWSTA);
+}
+
+/* The burst's outcome, and the bus left idle for the next one. A transfer
+ * still on the bus has overrun its lead (SCL held, the device stretching
+ * the clock): the hardware is released, as twi_wait does. */
+static burst_state burst_take(hal_imu_raw *raw)
+{
+    const uint8_t sreg = SREG;
+    __asm__ __volatile__("cli" ::: "memory");
+    const burst_state state = (burst_state)s_burst_state;
+    if (state == BURST_BUSY) {
+        TWCR = 0u;
+        TWCR = _BV(TWEN);
+    }
+    s_burst_state = BURST_IDLE;
+    SREG = sreg;
+    if (state == BURST_DONE) {
+        for (uint8_t i = 0u; i < 3u; i++) {
+            raw->accel[i] = (int16_t)(((uint16_t)s_burst_bytes[2u * i] << 8) | s_burst_bytes[2u * i + 1u]);
+            raw->gyro[i] = (int16_t)(((uint16_t)s_burst_bytes[8u + 2u * i] << 8) | s_burst_bytes[9u + 2u * i]);
+        }
+    }
+    return state;
+}
+
 bool hal_imu_read(hal_imu_raw *raw)
 {
     if (!s_present) {
@@ -151,26 +291,21 @@ bool hal_imu_read(hal_imu_raw *raw)
             return false;
         }
         s_retry_countdown = HAL_IMU_RETRY_READS;
+        /* polled, with the TWI interrupt off: no burst starts while absent */
         s_present = mpu_configure();
-        if (!s_present) {
-            return false;
-        }
         s_fails = 0u;
+        return false; /* the first burst starts at the next lead */
     }
-    uint8_t b[14];
-    if (!mpu_read(MPU_ACCEL_XOUT_H, b, sizeof b)) {
-        if (++s_fails >= FAILS_BEFORE_ABSENT) {
-            s_present = false;
-            s_retry_countdown = HAL_IMU_RETRY_READS;
-        }
-        return false;
+    const burst_state state = burst_take(raw);
+    if (state == BURST_DONE) {
+        s_fails = 0u;
+        return true;
     }
-    s_fails = 0u;
-    for (uint8_t i = 0u; i < 3u; i++) {
-        raw->accel[i] = (int16_t)(((uint16_t)b[2u * i] << 8) | b[2u * i + 1u]);
-        raw->gyro[i] = (int16_t)(((uint16_t)b[8u + 2u * i] << 8) | b[9u + 2u * i]);
+    if (state != BURST_IDLE && ++s_fails >= FAILS_BEFORE_ABSENT) {
+        s_present = false;
+        s_retry_countdown = HAL_IMU_RETRY_READS;
     }
-    return true;
+    return false;
 }
 
 /* Chip axes = body axes (FLU) with the mounting of hal_imu.h. In fixed a

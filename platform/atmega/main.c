@@ -2,15 +2,16 @@
  * main.c - the ATmega2560 flight-control image: a timer-driven fixed-step loop
  * around fc_controller_step.
  *
- *   Timer1 (CTC)   the loop tick at FC_ATMEGA_LOOP_HZ: its interrupt stamps the
- *                  time and counts the tick; the loop sleeps (idle, interrupts
- *                  on) until the next one
+ *   Timer1 (CTC)   the loop tick at FC_ATMEGA_LOOP_HZ (compare A): its interrupt
+ *                  stamps the time and counts the tick; the loop sleeps (idle,
+ *                  interrupts on) until the next one. Compare B, the IMU
+ *                  read's lead ahead of the tick, starts the burst read
+ *   TWI            MPU-6050, the burst driven by its interrupt (hal_imu.h)
  *   Timer3         free-running at clk/1: the cycle counter (hal_clock.h)
  *   Timer4/Timer5  ESC PWM (hal_esc.h)
- *   TWI            MPU-6050 (hal_imu.h)
  *   USART0         telemetry out, arm/disarm commands in (hal_uart.h, telemetry.h)
  *
- * One iteration: read the IMU, build fc_controller_inputs, fc_controller_step,
+ * One iteration: take the IMU sample read since compare B, build fc_controller_inputs, fc_controller_step,
  * write the ESCs, and every TM_FRAME_LOOPS iterations queue a telemetry frame.
  * The watchdog (250 ms, from the first iteration on) resets the chip if the
  * loop stops; after any reset the ESCs see 1000 us again from hal_esc_init.
@@ -99,6 +100,11 @@
 #if F_CPU % (FC_ATMEGA_LOOP_HZ * TIMER1_PRESCALER) != 0
 #error "FC_ATMEGA_LOOP_HZ must divide F_CPU / prescaler exactly: dt must be exact"
 #endif
+/* the IMU burst's start, in Timer1 counts before the tick */
+#define IMU_LEAD_COUNTS (HAL_IMU_READ_LEAD_US * (F_CPU / 1000000UL) / TIMER1_PRESCALER)
+#if IMU_LEAD_COUNTS * 2UL >= PERIOD_CYCLES / TIMER1_PRESCALER
+#error "FC_ATMEGA_LOOP_HZ too high: the IMU read's lead would take half the period"
+#endif
 
 /* a telemetry frame every ceil(rate / 20) loops: at most 20 frames/s */
 #define TM_FRAME_LOOPS ((FC_ATMEGA_LOOP_HZ + 19) / 20)
@@ -126,6 +132,12 @@ ISR(TIMER1_COMPA_vect)
     s_ticks++;
 }
 
+/* the IMU's lead before the tick: its burst finishes by the tick */
+ISR(TIMER1_COMPB_vect)
+{
+    hal_imu_start_read();
+}
+
 /* Before anything else (.init3, ahead of .data/.bss setup): a watchdog reset
  * leaves the watchdog running, so it is switched off here or it would reset
  * again during the 30-70 ms of fc_controller_init. */
@@ -142,8 +154,9 @@ static void loop_timer_start(void)
     TCCR1B = 0u;
     TCNT1 = 0u;
     OCR1A = (uint16_t)(PERIOD_CYCLES / TIMER1_PRESCALER - 1UL);
-    TIFR1 = _BV(OCF1A);
-    TIMSK1 = _BV(OCIE1A);
+    OCR1B = (uint16_t)(PERIOD_CYCLES / TIMER1_PRESCALER - 1UL - IMU_LEAD_COUNTS);
+    TIFR1 = _BV(OCF1A) | _BV(OCF1B);
+    TIMSK1 = _BV(OCIE1A) | _BV(OCIE1B);
     TCCR1B = _BV(WGM12) | TIMER1_CS; /* CTC, TOP = OCR1A */
 }
 
