@@ -301,12 +301,12 @@ static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat16 q)
     return up;
 }
 
-/* Alignment: accumulate a / N; after N valid samples, roll and pitch of the
- * mean. The products a_i (1/N) enter the accumulators unrounded: each is at
- * most max |a| / N, so the sum of N of them stays below max |a| and cannot
- * wrap, and the mean is rounded once (N roundings of a / N would add up to
- * N/2 ACCEL LSB). The up direction in the body of q = q_z(yaw) q_y(pitch)
- * q_x(roll) is (-sin pitch, sin roll cos pitch, cos roll cos pitch). */
+/* Alignment: accumulate a / N; after N valid samples, the attitude whose up
+ * is the mean specific force (fc_quat_from_up: its roll and pitch, yaw 0 or
+ * the heading given). The products a_i (1/N) enter the accumulators
+ * unrounded: each is at most max |a| / N, so the sum of N of them stays
+ * below max |a| and cannot wrap, and the mean is rounded once (N roundings
+ * of a / N would add up to N/2 ACCEL LSB). */
 static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
 {
     fc_arith *ar = &est->ar;
@@ -322,10 +322,8 @@ static void align(fc_attitude_estimator *est, fc_vec3 accel_mps2)
     const fc_vec3 m = fc_vec3_make(fc_acc_result(ar, est->alignment_sum[0], mean_shift),
                                    fc_acc_result(ar, est->alignment_sum[1], mean_shift),
                                    fc_acc_result(ar, est->alignment_sum[2], mean_shift));
-    const fc_real roll = fc_atan2(ar, m.y, m.z);
-    const fc_real pitch = fc_atan2(ar, fc_neg(ar, m.x), fc_hypot3(ar, m.y, m.z, FC_INT(0, ACCEL)));
     const fc_real yaw = est->heading_steps_left > 0u ? est->heading_rad : FC_INT(0, ANGLE);
-    est->attitude = fc_quat_from_rpy(ar, roll, pitch, yaw);
+    est->attitude = fc_quat_from_up(ar, m, yaw);
     est->aligned = true;
 }
 

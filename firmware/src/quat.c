@@ -327,6 +327,59 @@ fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_r
                         fc_dot2(ar, cr, cp_sy, fc_neg(ar, sr), sp_cy, UNIT_X_UNIT));
 }
 
+/* cos(a/2) and sin(a/2) (UNIT) of the angle a in [-pi, pi] whose cosine and
+ * sine are cos_a and sin_a, each from whichever half-angle root is far from
+ * 0 (a root near 0 would turn one LSB of cos a into sqrt(LSB)): for cos a >=
+ * 0, c = sqrt((1 + cos a) / 2) >= 1/sqrt(2) and s = (sin a / 2) / c; else
+ * s = +-sqrt((1 - cos a) / 2) with the sign of sin a and c = (sin a / 2) / s
+ * (a = pi: s > 0, c = 0). 1/2 +- (cos a) / 2 stays within UNIT's range. */
+static void half_angle(fc_arith *ar, fc_real cos_a, fc_real sin_a, fc_real *cos_half, fc_real *sin_half)
+{
+    const fc_real half_cos = fc_mul(ar, cos_a, FC_C(0.5f, UNIT), UNIT_X_UNIT);
+    const fc_real half_sin = fc_mul(ar, sin_a, FC_C(0.5f, UNIT), UNIT_X_UNIT);
+    if (cos_a >= FC_INT(0, UNIT)) {
+        *cos_half = fc_sqrt(ar, fc_add(ar, FC_C(0.5f, UNIT), half_cos), FC_UNIT_FRAC);
+        *sin_half = fc_div(ar, half_sin, *cos_half, FC_UNIT_FRAC);
+        return;
+    }
+    const fc_real root = fc_sqrt(ar, fc_sub(ar, FC_C(0.5f, UNIT), half_cos), FC_UNIT_FRAC);
+    *sin_half = sin_a < FC_INT(0, UNIT) ? fc_neg(ar, root) : root;
+    *cos_half = fc_div(ar, half_sin, *sin_half, FC_UNIT_FRAC);
+}
+
+/* up_body = |up| (-sin pitch, sin roll cos pitch, cos roll cos pitch) for
+ * q = q_z(yaw) q_y(pitch) q_x(roll), pitch in [-pi/2, pi/2]: with h =
+ * |(up.y, up.z)| = |up| cos pitch, the cosines and sines of roll and pitch
+ * are up.z/h, up.y/h, h/|up| and -up.x/|up|; their half angles give
+ * q_y(pitch) q_x(roll) = (cp cr, cp sr, sp cr, -sp sr) (c, s: of the half
+ * angles), and the yaw's q_z multiplies from the left. */
+fc_quat fc_quat_from_up(fc_arith *ar, fc_vec3 up_body, fc_real yaw_rad)
+{
+    const fc_real length = fc_hypot3(ar, up_body.x, up_body.y, up_body.z);
+    if (!(length > FC_INT(0, UNIT))) {
+        return fc_quat_identity();
+    }
+    const fc_real h = fc_hypot3(ar, up_body.y, up_body.z, FC_INT(0, UNIT));
+    fc_real cos_roll = FC_INT(1, UNIT), sin_roll = FC_INT(0, UNIT);
+    if (h > FC_INT(0, UNIT)) {
+        cos_roll = fc_div(ar, up_body.z, h, FC_UNIT_FRAC);
+        sin_roll = fc_div(ar, up_body.y, h, FC_UNIT_FRAC);
+    }
+    const fc_real cos_pitch = fc_div(ar, h, length, FC_UNIT_FRAC);
+    const fc_real sin_pitch = fc_div(ar, fc_neg(ar, up_body.x), length, FC_UNIT_FRAC);
+    fc_real cr, sr, cp, sp;
+    half_angle(ar, cos_roll, sin_roll, &cr, &sr);
+    half_angle(ar, cos_pitch, sin_pitch, &cp, &sp);
+    const fc_quat tilt = fc_quat_make(fc_mul(ar, cp, cr, UNIT_X_UNIT), fc_mul(ar, cp, sr, UNIT_X_UNIT),
+                                      fc_mul(ar, sp, cr, UNIT_X_UNIT), fc_neg(ar, fc_mul(ar, sp, sr, UNIT_X_UNIT)));
+    if (yaw_rad == FC_INT(0, ANGLE)) {
+        return tilt;
+    }
+    fc_real sy, cy;
+    fc_sincos(ar, fc_mul(ar, yaw_rad, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE)), &sy, &cy);
+    return fc_quat_mul(ar, fc_quat_make(cy, FC_INT(0, UNIT), FC_INT(0, UNIT), sy), tilt);
+}
+
 fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q)
 {
     const fc_real roll_num = twice(ar, fc_dot2(ar, q.w, q.x, q.y, q.z, UNIT_X_UNIT));

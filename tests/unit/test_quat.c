@@ -873,6 +873,61 @@ static void test_rpy(void **state)
     assert_int_equal(ar.saturated, 0);
 }
 
+/* fc_quat_from_up against the double quaternion of the Euler angles of the
+ * up vector actually passed: roll atan2(y, z), pitch atan2(-x, |(y, z)|),
+ * over the tilts from level to upside down, three lengths and three yaws.
+ * Tolerance: a few UNIT LSB / float ulps, plus the ACCEL rounding of the
+ * lengths (hypot3) relative to h = |(y, z)|: roll's cosine and sine are
+ * z / h and y / h, so near pitch +-pi/2 (h small) roll is as ill-conditioned
+ * as atan2(y, z) itself. */
+static void test_from_up(void **state)
+{
+    (void)state;
+    fc_arith ar = {0};
+    ts_check c = ts_check_begin("from_up");
+    const double lengths[] = {9.81, 0.5, 60.0};
+    const float yaws[] = {0.0f, 0.7f, -2.9f};
+    const int steps = 16;
+    int n = 0;
+    for (int l = 0; l < 3; l++) {
+        for (int k = 0; k < 3; k++) {
+            double yaw_ref;
+            const fc_real yaw = ts_in(yaws[k], FC_ANGLE_FRAC, &yaw_ref);
+            for (int i = 0; i <= steps; i++) {
+                for (int j = 0; j <= steps; j++, n++) {
+                    const double roll = -3.1 + 6.2 * i / steps, pitch = -1.55 + 3.1 * j / steps;
+                    double x, y, z;
+                    const fc_vec3 up = fc_vec3_make(
+                        ts_in((float)(-lengths[l] * sin(pitch)), FC_ACCEL_FRAC, &x),
+                        ts_in((float)(lengths[l] * sin(roll) * cos(pitch)), FC_ACCEL_FRAC, &y),
+                        ts_in((float)(lengths[l] * cos(roll) * cos(pitch)), FC_ACCEL_FRAC, &z));
+                    const dquat ref = dq_rpy(atan2(y, z), atan2(-x, hypot(y, z)), yaw_ref);
+                    const double tol = qtol(16.0, 16.0) + 4.0 * ts_resolution(FC_ACCEL_FRAC) / hypot(y, z);
+                    close_quat(&c, fc_quat_from_up(&ar, up, yaw), ref, tol, "from_up", n);
+                }
+            }
+        }
+    }
+    ts_check_end(&c);
+    ts_check special = ts_check_begin("from_up, special cases");
+    /* upside down, level: roll pi */
+    double unused;
+    const fc_vec3 down = fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), ts_in(-9.81f, FC_ACCEL_FRAC, &unused));
+    close_quat(&special, fc_quat_from_up(&ar, down, FC_INT(0, ANGLE)), dq_rpy(TS_PI, 0.0, 0.0), qtol(4.0, 4.0), "down", 0);
+    /* up along body x: no roll defined, roll 0 and pitch -pi/2 */
+    const fc_vec3 along_x = fc_vec3_make(ts_in(9.81f, FC_ACCEL_FRAC, &unused), FC_INT(0, ACCEL), FC_INT(0, ACCEL));
+    close_quat(&special, fc_quat_from_up(&ar, along_x, FC_INT(0, ANGLE)), dq_rpy(0.0, -TS_PI / 2.0, 0.0), qtol(4.0, 4.0),
+               "along x", 0);
+    ts_check_end(&special);
+    /* level, and no vector at all: the identity, exactly */
+    const fc_vec3 level = fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), ts_in(9.81f, FC_ACCEL_FRAC, &unused));
+    assert_quat_eq(fc_quat_from_up(&ar, level, FC_INT(0, ANGLE)), fc_quat_identity());
+    assert_quat_eq(fc_quat_from_up(&ar, fc_vec3_make(FC_INT(0, ACCEL), FC_INT(0, ACCEL), FC_INT(0, ACCEL)),
+                                   FC_INT(0, ANGLE)),
+                   fc_quat_identity());
+    assert_int_equal(ar.saturated, 0);
+}
+
 /* ---- integration -------------------------------------------------------------- */
 
 #define STEPS 500
@@ -1066,6 +1121,7 @@ int main(void)
         cmocka_unit_test(test_from_rotation_vector),
         cmocka_unit_test(test_rotation_vector_continuity),
         cmocka_unit_test(test_rpy),
+        cmocka_unit_test(test_from_up),
         cmocka_unit_test(test_integrate_closed_form),
         cmocka_unit_test(test_integrate_body_vs_world),
         cmocka_unit_test(test_integrate_zero_rate),

@@ -146,6 +146,14 @@ fc_quat fc_quat_from_rotation_vector(fc_arith *ar, fc_vec3 theta_rad);
 /* Roll-pitch-yaw (ZYX: yaw about z, then pitch about y, then roll about x), ANGLE. */
 fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_real yaw_rad);
 
+/* The attitude whose body frame sees the world's up along up_body (any
+ * length > 0, its components in one format), at heading yaw_rad (ANGLE):
+ * fc_quat_from_rpy(atan2(up.y, up.z), atan2(-up.x, |(up.y, up.z)|), yaw),
+ * from the half-angle roots of the tilt's cosines (no atan2, and sin/cos
+ * only for a yaw other than 0). up along body x (no roll defined) takes
+ * roll 0; up_body = 0 gives the identity. */
+fc_quat fc_quat_from_up(fc_arith *ar, fc_vec3 up_body, fc_real yaw_rad);
+
 /* (roll, pitch, yaw) of q as an ANGLE vector; pitch in [-pi/2, pi/2]. */
 fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q);
 
