@@ -545,7 +545,9 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
  * which holds the 1. On overflow the wrapped sum has the sign opposite to
  * the true one: +INT32_MAX when it reads negative (its sign byte spread over
  * the four, the top bit flipped), -INT32_MAX when it reads positive (the
- * same gives -2^31, then one more). OP is "add"/"sub" and CARRY "adc"/"sbc".
+ * same gives -2^31, then one more: the INC shared with the -2^31 case,
+ * skipped when the top bit reads +INT32_MAX). OP is "add"/"sub" and CARRY
+ * "adc"/"sbc".
  * FLAG (r16-r31, for LDI) is 1 when it saturated, else 0. */
 #define FC_AVR_ADD_SATURATED(OP, CARRY)                                                        \
     OP " %A0, %A2\n\t" CARRY " %B0, %B2\n\t" CARRY " %C0, %C2\n\t" CARRY " %D0, %D2\n\t"        \
@@ -556,7 +558,7 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
     "clr %1\n\t"                                                                               \
     "rjmp 3f\n"                                                                                \
     "1:\n\tlsl %D0\n\tsbc %A0, %A0\n\tmov %B0, %A0\n\tmovw %C0, %A0\n\t"                       \
-    "ldi %1, 0x80\n\teor %D0, %1\n\tldi %1, 1\n\tsbrs %D0, 7\n\trjmp 3f\n"                      \
+    "ldi %1, 0x80\n\teor %D0, %1\n\tldi %1, 1\n\tsbrc %D0, 7\n"                                \
     "2:\n\tinc %A0\n"                                                                          \
     "3:"
 
