@@ -1201,6 +1201,29 @@ __asm__(".pushsection .text.fc_fx_mul_gain_avr,\"ax\",@progbits\n"
         ".size fc_fx_mul_gain_avr, .-fc_fx_mul_gain_avr\n"
         ".popsection");
 
+/* fc_add and fc_sub out of line (fc/scalar_avr.h, FC_AVR_ADD_CALL): a in
+ * r22-r25 (the result), b in r18-r21, Z = &ar->saturated. As
+ * FC_AVR_ADD_SATURATED, with r22 the LDI/CPI register and r0 the 1 stored. */
+#define FC_AVR_ADD_CALLED(NAME, OP, CARRY)                                                      \
+    ".pushsection .text." NAME ",\"ax\",@progbits\n"                                           \
+    ".global " NAME "\n"                                                                       \
+    ".type " NAME ", @function\n" NAME ":\n\t"                                                 \
+    OP " r22, r18\n\t" CARRY " r23, r19\n\t" CARRY " r24, r20\n\t" CARRY " r25, r21\n\t"         \
+    "brvs 1f\n\t"                                                                              \
+    "cpi r22, 1\n\tcpc r23, __zero_reg__\n\tcpc r24, __zero_reg__\n\tcpc r25, __zero_reg__\n\t" \
+    "brvs 2f\n\t"                                                                              \
+    "ret\n"                                                                                    \
+    "1:\n\tlsl r25\n\tsbc r22, r22\n\tmov r23, r22\n\tmovw r24, r22\n\t"                        \
+    "subi r25, 0x80\n\tsbrc r25, 7\n"                                                          \
+    "2:\n\tinc r22\n\t"                                                                        \
+    "clr r0\n\tinc r0\n\tst Z, r0\n\t"                                                          \
+    "ret\n"                                                                                    \
+    ".size " NAME ", .-" NAME "\n"                                                              \
+    ".popsection"
+
+__asm__(FC_AVR_ADD_CALLED("fc_fx_add_avr", "add", "adc"));
+__asm__(FC_AVR_ADD_CALLED("fc_fx_sub_avr", "sub", "sbc"));
+
 /* fc_fx_mul_gain_reference for the shifts the assembly leaves, in 32-bit
  * halves (the int64_t form would be libgcc calls here): from 47
  * on 0; from 0 down x m 2^n, n = -shift, exact where |x m| <= INT32_MAX >> n,

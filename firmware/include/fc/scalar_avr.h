@@ -14,8 +14,13 @@
  * are written out in AVR assembly.
  *
  *   replaced            (macro)            how, and why
- *   fc_add, fc_sub      FC_PORT_ADD        ADD/ADC and the V flag (avr-gcc
- *                                          compares the sum twice)
+ *   fc_add, fc_sub,     FC_PORT_ADD        ADD/ADC and the V flag (avr-gcc
+ *   fc_add_inline,                         compares the sum twice); fc_add
+ *   fc_sub_inline                          and fc_sub one copy each, called
+ *                                          (scalar.c): inlined at every site
+ *                                          they overflow the flash; the
+ *                                          _inline forms for the sites that
+ *                                          run at every step
  *   fc_mul, fc_dot2,    FC_PORT_PRODUCTS   one out-of-line copy each (scalar.c,
  *   fc_dot3, fc_dot4,                      the shift at run time): inlined at
  *   fc_mul_inline,                         every site they overflow the flash;
@@ -572,7 +577,7 @@ FC_FX_INLINE fc_real fc_avr_recorded(fc_arith *ar, fc_real value, uint8_t satura
 }
 
 #define FC_PORT_ADD
-FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+FC_FX_INLINE fc_real fc_add_inline(fc_arith *ar, fc_real a, fc_real b)
 {
     fc_real sum = a;
     uint8_t saturated;
@@ -580,12 +585,40 @@ FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, sum, saturated);
 }
 
-FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+FC_FX_INLINE fc_real fc_sub_inline(fc_arith *ar, fc_real a, fc_real b)
 {
     fc_real difference = a;
     uint8_t saturated;
     __asm__(FC_AVR_ADD_SATURATED("sub", "sbc") : "+r"(difference), "=&d"(saturated) : "r"(b));
     return fc_avr_recorded(ar, difference, saturated);
+}
+
+/* fc_add, fc_sub: the same assembly out of line (scalar.c, FC_AVR_ADD_CALLED),
+ * called with the operands in the registers it names: a (the result) in
+ * r22-r25, b in r18-r21, &ar->saturated in Z; it changes only r22-r25, r0
+ * and the record (hence the memory clobber). The call, a few register moves
+ * and the clobber in place of the inlined sum and its record: most sums run
+ * at init, on the rare paths or not at every step, where flash counts and
+ * cycles do not; the others are written fc_add_inline / fc_sub_inline. */
+#define FC_AVR_ADD_CALL(NAME, A, B, AR)                                                         \
+    do {                                                                                       \
+        register fc_real fc_avr_a_ __asm__("r22") = (A);                                        \
+        register fc_real fc_avr_b_ __asm__("r18") = (B);                                        \
+        register uint8_t *fc_avr_record_ __asm__("r30") = &(AR)->saturated;                     \
+        __asm__("call " NAME : "+r"(fc_avr_a_) : "r"(fc_avr_b_), "r"(fc_avr_record_) : "memory"); \
+        (A) = fc_avr_a_;                                                                       \
+    } while (0)
+
+FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+{
+    FC_AVR_ADD_CALL("fc_fx_add_avr", a, b, ar);
+    return a;
+}
+
+FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    FC_AVR_ADD_CALL("fc_fx_sub_avr", a, b, ar);
+    return a;
 }
 
 /* ======================================================================= */
