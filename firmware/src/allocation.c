@@ -709,7 +709,7 @@ static scale_interval yaw_room(fc_allocation *a, const rotor_parts *q, uint8_t r
             const fc_real v_min = r->v_min;
             /* v + max(Y, 0) and v + min(Y, 0): the larger and the smaller of v
              * and v + Y */
-            const fc_real with_yaw = fc_add(ar, v, yaw);
+            const fc_real with_yaw = fc_add_inline(ar, v, yaw);
             const bool up = fc_max(v, with_yaw) > FC_INT(1, PX);
             const bool down = fc_min(v, with_yaw) < v_min;
             if (up || down) {
@@ -719,7 +719,7 @@ static scale_interval yaw_room(fc_allocation *a, const rotor_parts *q, uint8_t r
                     interval_constrain(&room, yaw16, fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
                 }
                 if (down) {
-                    const fc_real slack = fc_sub(ar, v, v_min);
+                    const fc_real slack = fc_sub_inline(ar, v, v_min);
                     interval_constrain(&room, fc_neg16(yaw16),
                                        fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
                 }
@@ -879,8 +879,8 @@ static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_
     uint8_t bit = 1u;
     const fc_allocation_rotor *r = a->rotor;
     for (uint8_t i = a->rotor_count; i != 0u; i--) {
-        const fc_real v = fc_add(ar, fc_mul16(thrust, r->pinv[0]), fc_dot2_16(r->pinv[1], roll, r->pinv[2], pitch));
-        const fc_real demanded = rotor_fits(r, v) ? fc_add(ar, v, fc_mul16(r->pinv[3], yaw)) : FC_REAL_MAX;
+        const fc_real v = fc_add_inline(ar, fc_mul16(thrust, r->pinv[0]), fc_dot2_16(r->pinv[1], roll, r->pinv[2], pitch));
+        const fc_real demanded = rotor_fits(r, v) ? fc_add_inline(ar, v, fc_mul16(r->pinv[3], yaw)) : FC_REAL_MAX;
         if (rotor_fits(r, demanded)) {
             *v_out = fc_convert(ar, demanded, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
         } else {
@@ -905,7 +905,7 @@ static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *part
         const fc_real roll_pitch = fc_dot2_16(r->pinv[1], x[1], r->pinv[2], x[2]);
         q->roll_pitch = roll_pitch;
         q->yaw = fc_mul16(r->pinv[3], x[3]);
-        q->v = fc_add(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
+        q->v = fc_add_inline(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
     }
     for (int i = n; i < FC_MAX_ROTORS; i++) {
         /* never read; stores (not a memset) for the analysers */
@@ -942,8 +942,8 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
         q->roll_pitch16 = fc_narrow16(ar, q->roll_pitch, FC_PX_FRAC, FC_ROTOR16_FRAC);
         q->rate16 = shift_rate(ar, r, q->roll_pitch16); /* 0 for a rotor that does not shift */
         const fc_real rate = fc_widen16(q->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
-        q->low = fc_sub(ar, r->shift_low, rate);
-        q->high = fc_sub(ar, r->shift_high, rate);
+        q->low = fc_sub_inline(ar, r->shift_low, rate);
+        q->high = fc_sub_inline(ar, r->shift_high, rate);
         if ((r->flags & ROTOR_SHIFTS) != 0u) {
             t_low = fc_max(t_low, q->low);
             t_high = fc_min(t_high, q->high);
@@ -993,17 +993,17 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
      * values, two products */
     const fc_real16 t16 = fc_narrow16(ar, t, FC_RATIO_FRAC, FC_NORM16_FRAC);
     const fc_real16 rest =
-        fc_narrow16(ar, fc_sub(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
+        fc_narrow16(ar, fc_sub_inline(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
     r = a->rotor;
     q = parts;
     for (int i = 0; i < n; i++, r++, q++) {
         const fc_real16 share = r->pinv[0];
         const fc_real collective =
-            fc_add(ar, fc_mul16(t16, share), fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
+            fc_add_inline(ar, fc_mul16(t16, share), fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
         const fc_real roll_pitch =
             scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, q->roll_pitch16), SCALED_FRAC, FC_PX_FRAC)
                    : q->roll_pitch;
-        q->v = fc_add(ar, collective, roll_pitch);
+        q->v = fc_add_inline(ar, collective, roll_pitch);
     }
     return saturation;
 }
@@ -1043,7 +1043,7 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
             const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
             yaw = fc_convert(ar, fc_mul16(yaw_scale, yaw16), SCALED_FRAC, FC_PX_FRAC);
         }
-        const fc_real v = fc_clamp(fc_add(ar, q->v, yaw), r->v_min, FC_INT(1, PX));
+        const fc_real v = fc_clamp(fc_add_inline(ar, q->v, yaw), r->v_min, FC_INT(1, PX));
         *v_out = fc_convert(ar, v, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
         r++;
         q++;

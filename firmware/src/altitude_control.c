@@ -640,11 +640,11 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
     tracking_signals t;
-    t.e_m = fc_sub(ar, in->z_m, in->reference.z_m); /* (4.1) */
+    t.e_m = fc_sub_inline(ar, in->z_m, in->reference.z_m); /* (4.1) */
     const fc_real l0_e = fc_mul_gain(ar, t.e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
     if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
-        t.e_dot_mps = fc_sub(ar, in->vz_mps, in->reference.vz_mps);
-        t.sigma_mps = fc_add(ar, t.e_dot_mps, l0_e); /* (4.2) */
+        t.e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference.vz_mps);
+        t.sigma_mps = fc_add_inline(ar, t.e_dot_mps, l0_e); /* (4.2) */
     } else {
         if (!c->lead_primed) {
             c->lead_state_m = t.e_m; /* start in steady state: sigma_hat = l0 e */
@@ -662,7 +662,7 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
     const fc_real l0_e_dot = fc_mul_gain(ar, t.e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
     const fc_real az_ff = fc_clamp(in->reference.az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
-    t.phi_mps2 = fc_sub(ar, fc_add(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
+    t.phi_mps2 = fc_sub_inline(ar, fc_add_inline(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
     t.az_ff_mps2 = az_ff;
     return t;
 }
@@ -797,7 +797,7 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
                                   const tracking_signals *t, fc_real u_nom_n, fc_altitude_control_output *out)
 {
     fc_arith *ar = &c->ar;
-    const fc_real sigma_tilde = fc_sub(ar, t->sigma_mps, c->sigma_bar_mps); /* (4.4) */
+    const fc_real sigma_tilde = fc_sub_inline(ar, t->sigma_mps, c->sigma_bar_mps); /* (4.4) */
     fc_real observer_bound;
     const fc_real rho = modulation_n(c, in, t, u_nom_n, sigma_tilde, &observer_bound);
     /* (4.8), rho sgn(sigma_tilde) as a choice of sign: the same value as the
@@ -810,15 +810,15 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     } else {
         /* on the surface sigma_tilde = 0: no relay action */
     }
-    const fc_real u = fc_sub(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
+    const fc_real u = fc_sub_inline(ar, u_nom_n, c->u0_av_n);                                           /* (4.6) */
     /* exact ZOH of (4.5) and (4.7) with u0 held over the step (see the header) */
-    const fc_real relay_minus_average = fc_sub(ar, u0, c->u0_av_n);
+    const fc_real relay_minus_average = fc_sub_inline(ar, u0, c->u0_av_n);
     /* b sigma_bar as sigma_bar - (1 - b) sigma_bar (a pole near 1: fc/scalar.h, fc_gain) */
     const fc_real decay = fc_mul_gain(ar, c->sigma_bar_mps, c->k.pred_decay, FC_GAIN_SHIFT(VEL, VEL));
-    c->sigma_bar_mps = fc_add(ar, fc_sub(ar, c->sigma_bar_mps, decay),
+    c->sigma_bar_mps = fc_add_inline(ar, fc_sub_inline(ar, c->sigma_bar_mps, decay),
                               fc_mul_gain(ar, relay_minus_average, c->k.pred_input, FC_GAIN_SHIFT(FORCE, VEL)));
     /* a u0_av + (1 - a) u0 written with one product */
-    c->u0_av_n = fc_add(ar, c->u0_av_n, fc_mul_gain(ar, relay_minus_average, c->k.avg, FC_GAIN_SHIFT(FORCE, FORCE)));
+    c->u0_av_n = fc_add_inline(ar, c->u0_av_n, fc_mul_gain(ar, relay_minus_average, c->k.avg, FC_GAIN_SHIFT(FORCE, FORCE)));
     c->u0_n = u0;
     out->sigma_tilde_mps = sigma_tilde;
     out->rho_n = rho;
@@ -898,19 +898,19 @@ static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *
         const fc_real learnt = fc_clamp(sigma_phi, FC_C(-FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI),
                                         FC_C(FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI));
         const fc_real step_kg = fc_mul_gain(ar, learnt, c->k.gamma_dt, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
-        c->theta_kg = fc_clamp(fc_sub(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
+        c->theta_kg = fc_clamp(fc_sub_inline(ar, c->theta_kg, step_kg), c->theta_min_kg, c->theta_max_kg);
     }
     /* the proportional part from sigma phi low-passed over tau_p (ZOH, one product:
      * s <- s + (1 - f)(sigma phi - s)): one glitched sample moves it by (1 - f) of its jump;
      * while held it fades out over tau_p */
     const fc_real lp_input = c->hold ? FC_INT(0, SIGMA_PHI) : sigma_phi;
-    c->sigma_phi_lp = fc_add(ar, c->sigma_phi_lp, fc_mul_gain(ar, fc_sub(ar, lp_input, c->sigma_phi_lp),
+    c->sigma_phi_lp = fc_add_inline(ar, c->sigma_phi_lp, fc_mul_gain(ar, fc_sub_inline(ar, lp_input, c->sigma_phi_lp),
                                                             c->k.damping_lp, FC_GAIN_SHIFT(SIGMA_PHI, SIGMA_PHI)));
     /* bounded so that the product stays inside MASS: beyond (Theta_max - Theta_min) / gamma_p
      * the projection below clips it anyway */
     const fc_real sigma_phi_bounded = fc_clamp(c->sigma_phi_lp, fc_neg(ar, c->sigma_phi_max), c->sigma_phi_max);
     const fc_real damping_kg = fc_mul_gain(ar, sigma_phi_bounded, c->k.gamma_p, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
-    return fc_clamp(fc_sub(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
+    return fc_clamp(fc_sub_inline(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
 }
 
 /* A body thrust in N as the normalised thrust the allocation takes. */
@@ -1016,8 +1016,8 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
          * actuator can deliver next step, u_nom - u0_av in [u_min, u_max], and
          * inside what (4.7) makes of a relay of amplitude rho, |u0_av| <= rho
          * (the two overlap: u_nom is in [u_min, u_max]) */
-        const fc_real band_low = fc_max(fc_sub(ar, u_nom, u_max), fc_neg(ar, out->rho_n));
-        const fc_real band_high = fc_min(fc_sub(ar, u_nom, u_min), out->rho_n);
+        const fc_real band_low = fc_max(fc_sub_inline(ar, u_nom, u_max), fc_neg(ar, out->rho_n));
+        const fc_real band_high = fc_min(fc_sub_inline(ar, u_nom, u_min), out->rho_n);
         c->u0_av_n = fc_clamp(c->u0_av_n, band_low, band_high);
         break;
     }

@@ -80,13 +80,13 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
      * read to 2^-15 (UNIT16), which the decay itself keeps in 32 bits */
     const fc_real16 decay16 = fc_narrow16(ar, ref->decay, FC_UNIT_FRAC, FC_UNIT16_FRAC);
     const fc_real offset_now = fc_mul_by16(ar, ref->offset_m, decay16, FC_SHIFT(LENGTH, UNIT16, LENGTH));
-    reference->z_m = fc_add(ar, fc_add(ar, pad_used.z_m, ref->bias_m), offset_now);
+    reference->z_m = fc_add_inline(ar, fc_add_inline(ar, pad_used.z_m, ref->bias_m), offset_now);
     reference->vz_mps =
-        fc_sub(ar, pad_used.vz_mps, fc_mul_by16(ar, ref->offset_rate_mps, decay16, FC_SHIFT(VEL, UNIT16, VEL)));
-    reference->az_mps2 = fc_add(
+        fc_sub_inline(ar, pad_used.vz_mps, fc_mul_by16(ar, ref->offset_rate_mps, decay16, FC_SHIFT(VEL, UNIT16, VEL)));
+    reference->az_mps2 = fc_add_inline(
         ar, pad_used.az_mps2, fc_mul_by16(ar, ref->offset_accel_mps2, decay16, FC_SHIFT(ACCEL, UNIT16, ACCEL)));
     const fc_real decay_loss = fc_mul_gain(ar, ref->decay, ref->decay_loss_per_step, FC_GAIN_SHIFT(UNIT, UNIT));
-    ref->decay = fc_sub(ar, ref->decay, decay_loss);
+    ref->decay = fc_sub_inline(ar, ref->decay, decay_loss);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

@@ -268,13 +268,13 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
-    const fc_real d = fc_sub(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
+    const fc_real d = fc_sub_inline(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
     if (fc_within(d, SERIES_MAX_D)) {
         /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
         fc_arith never = {0u};
         const fc_real16 half = fc_narrow16(&never, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC); /* folds */
         const fc_real half_d = fc_mul_by16(ar, d, half, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
-        const fc_real inv_n = fc_add(ar, FC_INT(1, UNIT16_SQ), half_d);
+        const fc_real inv_n = fc_add_inline(ar, FC_INT(1, UNIT16_SQ), half_d);
         c = scaled16(ar, e.w, inv_n);
         s = scaled16(ar, e.z, inv_n);
     } else if (n_sq >= MIN_HEADING_NORM_SQ) {
@@ -287,9 +287,9 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
     const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
     const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
-    err->x = fc_add(ar, half_tx, half_tx);
-    err->y = fc_add(ar, half_ty, half_ty);
-    err->z = fc_add(ar, half_hz, half_hz);
+    err->x = fc_add_inline(ar, half_tx, half_tx);
+    err->y = fc_add_inline(ar, half_ty, half_ty);
+    err->z = fc_add_inline(ar, half_hz, half_hz);
     return s;
 }
 
@@ -314,7 +314,7 @@ STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
     const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
     const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
-    return fc_sub(ar, gyro, fc_add(ar, pi, d));
+    return fc_sub_inline(ar, gyro, fc_add_inline(ar, pi, d));
 }
 
 /* Conditional integration of one axis (header: anti-windup): I + e dt with
@@ -337,7 +337,7 @@ STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, 
         return integral;
     }
     const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
-    return fc_clamp(fc_add(ar, integral, step), fc_neg(ar, limit), limit);
+    return fc_clamp(fc_add_inline(ar, integral, step), fc_neg(ar, limit), limit);
 }
 
 /* Roll and pitch scaled down together into their box (the tilt axis is kept);

@@ -238,9 +238,9 @@ static bool between(fc_real x, fc_real lo, fc_real hi)
 static bool within_of(const fc_vec3 *a, const fc_vec3 *b, fc_real slack)
 {
     fc_arith scratch = {0u};
-    return between(a->x, fc_sub(&scratch, b->x, slack), fc_add(&scratch, b->x, slack)) &&
-           between(a->y, fc_sub(&scratch, b->y, slack), fc_add(&scratch, b->y, slack)) &&
-           between(a->z, fc_sub(&scratch, b->z, slack), fc_add(&scratch, b->z, slack));
+    return between(a->x, fc_sub_inline(&scratch, b->x, slack), fc_add_inline(&scratch, b->x, slack)) &&
+           between(a->y, fc_sub_inline(&scratch, b->y, slack), fc_add_inline(&scratch, b->y, slack)) &&
+           between(a->z, fc_sub_inline(&scratch, b->z, slack), fc_add_inline(&scratch, b->z, slack));
 }
 
 /* Inside the range, and (after the first, unless gyro_jump is 0) no further
@@ -250,7 +250,7 @@ static bool within_of(const fc_vec3 *a, const fc_vec3 *b, fc_real slack)
 static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
 {
     fc_arith *ar = &est->ar;
-    const fc_real slack = fc_min(fc_add(ar, est->gyro_slack_radps, est->gyro_slack_step_radps), FC_INT(100, RATE));
+    const fc_real slack = fc_min(fc_add_inline(ar, est->gyro_slack_radps, est->gyro_slack_step_radps), FC_INT(100, RATE));
     const bool checked = est->have_gyro && est->p.gyro_jump_radps > FC_INT(0, RATE);
     const bool ok = fc_vec3_within(*gyro, est->p.gyro_range_radps) &&
                     (!checked || within_of(gyro, &est->last_gyro_radps, slack));
@@ -277,14 +277,14 @@ static bool accel_valid(const fc_attitude_estimator *est, const fc_vec3 *accel)
 static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
 {
     fc_arith *ar = &est->ar;
-    const fc_real deviation = fc_abs(ar, fc_sub(ar, norm_mps2, est->p.gravity_mps2));
+    const fc_real deviation = fc_abs(ar, fc_sub_inline(ar, norm_mps2, est->p.gravity_mps2));
     if (!(deviation < est->p.accel_trust_band_mps2) || norm_mps2 < MIN_DIRECTION_NORM_MPS2) {
         return FC_INT(0, RATIO);
     }
     /* deviation < band, so the product stays below 1; inline: a product of
      * every step */
     const fc_real falloff = fc_mul_inline(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
-    return fc_clamp(fc_sub(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
+    return fc_clamp(fc_sub_inline(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
 }
 
 /* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third
@@ -355,9 +355,9 @@ void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_
 {
     fc_arith *ar = &est->ar;
     const fc_real16 kp = est->kp16_radps;
-    rate_radps->x = fc_add(ar, rate_radps->x, fc_mul16(we.x, kp));
-    rate_radps->y = fc_add(ar, rate_radps->y, fc_mul16(we.y, kp));
-    rate_radps->z = fc_add(ar, rate_radps->z, fc_mul16(we.z, kp));
+    rate_radps->x = fc_add_inline(ar, rate_radps->x, fc_mul16(we.x, kp));
+    rate_radps->y = fc_add_inline(ar, rate_radps->y, fc_mul16(we.y, kp));
+    rate_radps->z = fc_add_inline(ar, rate_radps->z, fc_mul16(we.z, kp));
     est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step(ar, est, we)),
                                              est->gyro_bias_limit_fine);
     est->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);

@@ -496,7 +496,7 @@ static void reckon_height(fc_controller *ctl, step_context *c, const fc_vertical
     } else if (c->holding) {
         fc_arith *ar = &ctl->ar;
         ctl->guard.reckoned_z_m =
-            fc_add(ar, ctl->guard.reckoned_z_m, fc_mul_gain(ar, v->vz_mps, ctl->p.dt, FC_GAIN_SHIFT(VEL, LENGTH)));
+            fc_add_inline(ar, ctl->guard.reckoned_z_m, fc_mul_gain(ar, v->vz_mps, ctl->p.dt, FC_GAIN_SHIFT(VEL, LENGTH)));
         c->height_m = ctl->guard.reckoned_z_m;
         c->vz_mps = v->vz_mps;
     } else {
@@ -558,14 +558,14 @@ static fc_step_status observe_pad(fc_controller_pad_samples *ps, fc_arith *ar, c
 {
     const bool range_ok = fc_within(in->range_m, FC_INT(100, LENGTH)) && in->range_m >= FC_INT(0, LENGTH);
     *range_fresh = in->range_fresh && range_ok;
-    ps->gear_height_age_s = fc_min(fc_add(ar, ps->gear_height_age_s, step_s), FC_INT(600, TIME));
+    ps->gear_height_age_s = fc_min(fc_add_inline(ar, ps->gear_height_age_s, step_s), FC_INT(600, TIME));
     if (*range_fresh) {
         const fc_real vertical_range = fc_mul(ar, in->range_m, tilt_cos, FC_SHIFT(LENGTH, RATIO, LENGTH));
-        ps->gear_height_m = fc_sub(ar, vertical_range, p->gear_height_m);
+        ps->gear_height_m = fc_sub_inline(ar, vertical_range, p->gear_height_m);
         ps->gear_height_age_s = FC_INT(0, TIME);
         ps->gear_height_known = true;
         if (position_ok) {
-            ps->pending_height_m = fc_sub(ar, g->position_m.z, vertical_range);
+            ps->pending_height_m = fc_sub_inline(ar, g->position_m.z, vertical_range);
             ps->pending_age_s = FC_INT(0, DT);
             ps->pending = true;
         }
@@ -583,17 +583,17 @@ static void start_extrapolation(fc_controller_pad_samples *ps, fc_arith *ar, con
     const fc_vertical_trajectory *now = &ps->estimate.now;
     const fc_real half_rise_m = fc_mul_gain(ar, now->az_mps2, p->half_dt_sq, FC_GAIN_SHIFT(ACCEL, LENGTH));
     ps->speed_step_mps = fc_mul_gain(ar, now->az_mps2, p->dt, FC_GAIN_SHIFT(ACCEL, VEL));
-    ps->height_step_m = fc_add(ar, fc_mul_gain(ar, now->vz_mps, p->dt, FC_GAIN_SHIFT(VEL, LENGTH)), half_rise_m);
-    ps->height_step_change_m = fc_add(ar, half_rise_m, half_rise_m);
+    ps->height_step_m = fc_add_inline(ar, fc_mul_gain(ar, now->vz_mps, p->dt, FC_GAIN_SHIFT(VEL, LENGTH)), half_rise_m);
+    ps->height_step_change_m = fc_add_inline(ar, half_rise_m, half_rise_m);
 }
 
 /* The estimate's trajectory one step later. */
 static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
 {
     fc_vertical_trajectory *now = &ps->estimate.now;
-    now->z_m = fc_add(ar, now->z_m, ps->height_step_m);
-    now->vz_mps = fc_add(ar, now->vz_mps, ps->speed_step_mps);
-    ps->height_step_m = fc_add(ar, ps->height_step_m, ps->height_step_change_m);
+    now->z_m = fc_add_inline(ar, now->z_m, ps->height_step_m);
+    now->vz_mps = fc_add_inline(ar, now->vz_mps, ps->speed_step_mps);
+    ps->height_step_m = fc_add_inline(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
 /* In the pad model's minor frame (pad_model_frame) the model takes the
@@ -614,7 +614,7 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
         fc_pad_motion_sample sample = {FC_INT(0, LENGTH), false};
         if (ps->pending) {
             const fc_real carried_m = fc_mul(ar, ps->model_vz_mps, ps->pending_age_s, FC_SHIFT(VEL, DT, LENGTH));
-            sample.height_m = fc_add(ar, ps->pending_height_m, carried_m);
+            sample.height_m = fc_add_inline(ar, ps->pending_height_m, carried_m);
             sample.fresh = true;
             ps->pending = false;
         }
@@ -628,7 +628,7 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
     }
     *estimate = ps->estimate;
     if (ps->pending) {
-        ps->pending_age_s = fc_min(fc_add(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
+        ps->pending_age_s = fc_min(fc_add_inline(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
     }
     return status;
 }
@@ -807,8 +807,8 @@ static fc_real hover_body_thrust_n(fc_controller *ctl, const step_context *c, co
  * root would have recorded it. */
 static fc_real horizontal_error_m(fc_arith *ar, const fc_gated_inputs *in, bool read)
 {
-    const fc_real dx = fc_sub(ar, in->position_m.x, in->position_setpoint_m.x);
-    const fc_real dy = fc_sub(ar, in->position_m.y, in->position_setpoint_m.y);
+    const fc_real dx = fc_sub_inline(ar, in->position_m.x, in->position_setpoint_m.x);
+    const fc_real dy = fc_sub_inline(ar, in->position_m.y, in->position_setpoint_m.y);
     if (read) {
         return fc_hypot3(ar, dx, dy, FC_INT(0, LENGTH));
     }
@@ -836,8 +836,8 @@ static fc_step_status landing_plan(fc_controller *ctl, const step_context *c, fc
     const fc_landing_input lin = {landing_request_of(c->command), c->height_m,
                                   horizontal_error_m(ar, c->in, fc_landing_reads_horizontal_error(&ctl->landing)),
                                   c->tilt_cos, ctl->pad.gear_height_m, c->range_fresh, ctl->last_thrust_n, &tm->pad,
-                                  fc_sub(ar, c->in->position_m.x, c->in->position_setpoint_m.x),
-                                  fc_sub(ar, c->in->position_m.y, c->in->position_setpoint_m.y), c->raw->pad_attitude};
+                                  fc_sub_inline(ar, c->in->position_m.x, c->in->position_setpoint_m.x),
+                                  fc_sub_inline(ar, c->in->position_m.y, c->in->position_setpoint_m.y), c->raw->pad_attitude};
     fc_landing_output lout;
     const fc_step_status status = passed_on(fc_landing_step(&ctl->landing, &lin, &lout));
     tm->reference = lout.reference;

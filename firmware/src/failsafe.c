@@ -77,7 +77,7 @@ void fc_failsafe_reset(fc_failsafe *f)
 /* t + dt while the condition holds, 0 when it does not (bounded). */
 static fc_real failsafe_timer(fc_failsafe *f, fc_real timer_s, bool condition)
 {
-    return condition ? fc_min(fc_add(&f->ar, timer_s, f->step_s), FC_INT(600, TIME)) : FC_INT(0, TIME);
+    return condition ? fc_min(fc_add_inline(&f->ar, timer_s, f->step_s), FC_INT(600, TIME)) : FC_INT(0, TIME);
 }
 
 fc_failsafe_watch_output fc_failsafe_watch(fc_failsafe *f, const fc_failsafe_watch_input *in)

@@ -90,7 +90,7 @@ static fc_real slack_since_accepted(fc_input_gate *g, fc_gain rate, fc_real marg
     if (t_s == g->per_step.step_s) {
         return one_step;
     }
-    return fc_add(&g->ar, fc_mul_gain(&g->ar, t_s, rate, time_shift), margin);
+    return fc_add_inline(&g->ar, fc_mul_gain(&g->ar, t_s, rate, time_shift), margin);
 }
 
 /* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
@@ -120,7 +120,7 @@ static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad
     if (use_pad && g->pad_accepted) {
         const fc_real pad_slack = slack_since_accepted(g, g->pad_speed_max, p->position_jump_m, l->pad_slack_m,
                                                        FC_GAIN_SHIFT(TIME, LENGTH));
-        pad_ok = fc_within(fc_sub(ar, in->pad.z_m, last->pad.z_m), pad_slack);
+        pad_ok = fc_within(fc_sub_inline(ar, in->pad.z_m, last->pad.z_m), pad_slack);
     }
     return velocity_ok && position_ok && pad_ok;
 }
@@ -128,7 +128,7 @@ static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad
 /* last + (target - last) limited to +-step. */
 static fc_real toward(fc_arith *ar, fc_real last, fc_real target, fc_real step)
 {
-    return fc_add(ar, last, fc_clamp(fc_sub(ar, target, last), fc_neg(ar, step), step));
+    return fc_add_inline(ar, last, fc_clamp(fc_sub_inline(ar, target, last), fc_neg(ar, step), step));
 }
 
 /* An angle in [-7, 7] rad (or a difference of two in [-pi, pi]) to [-pi, pi]:
@@ -216,7 +216,7 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     fc_arith *ar = &g->ar;
     ar->saturated = 0u;
     const fc_real step_s = g->per_step.step_s;
-    g->since_accepted_s = fc_min(fc_add(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
+    g->since_accepted_s = fc_min(fc_add_inline(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
     const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                              fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
                              fc_within(in->yaw_rate_setpoint_radps, FC_INT(100, RATE));
@@ -230,7 +230,7 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     if (accepted || reanchor) {
         accept(g, in, use_pad, limit_commands, first);
     }
-    g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(fc_add(ar, g->rejected_s, step_s), FC_INT(600, TIME));
+    g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(fc_add_inline(ar, g->rejected_s, step_s), FC_INT(600, TIME));
     if (reanchor) {
         g->rejected_s = FC_INT(0, TIME);
     }

@@ -103,9 +103,9 @@ void fc_landing_reset(fc_landing *lm)
 static void start_hold(fc_landing *lm, const fc_landing_input *in)
 {
     fc_arith *ar = &lm->ar;
-    const fc_real above = fc_add(ar, lm->p.gear_height_m, lm->p.hold_height_m);
+    const fc_real above = fc_add_inline(ar, lm->p.gear_height_m, lm->p.hold_height_m);
     lm->hold_level_m = in->pad->learning ? in->pad->mean_m : fc_sub(ar, in->z_m, above);
-    fc_altitude_reference_restart(&lm->hold_reference, fc_sub(ar, in->z_m, fc_add(ar, lm->hold_level_m, above)));
+    fc_altitude_reference_restart(&lm->hold_reference, fc_sub_inline(ar, in->z_m, fc_add_inline(ar, lm->hold_level_m, above)));
 }
 
 void fc_landing_force(fc_landing *lm, fc_landing_state state, fc_landing_reason reason)
@@ -175,8 +175,8 @@ static bool settled_at_hold(fc_landing *lm, const fc_landing_input *in, const fc
 {
     fc_arith *ar = &lm->ar;
     const fc_real hold_point =
-        fc_add(ar, lm->hold_level_m, fc_add(ar, lm->p.gear_height_m, lm->p.hold_height_m));
-    const bool near = fc_abs(ar, fc_sub(ar, in->z_m, hold_point)) <= lm->p.hold_settle_m &&
+        fc_add_inline(ar, lm->hold_level_m, fc_add_inline(ar, lm->p.gear_height_m, lm->p.hold_height_m));
+    const bool near = fc_abs(ar, fc_sub_inline(ar, in->z_m, hold_point)) <= lm->p.hold_settle_m &&
                       fc_abs(ar, fc_sub(ar, reference->z_m, hold_point)) <= lm->p.hold_settle_m;
     lm->settled_s = near ? fc_min(fc_add(ar, lm->settled_s, lm->step_s), FC_INT(600, TIME)) : FC_INT(0, TIME);
     return near && lm->settled_s >= lm->p.hold_settle_s;
@@ -458,9 +458,9 @@ fc_step_status fc_landing_step(fc_landing *lm, const fc_landing_input *in, fc_la
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
     const fc_landing_state before = lm->state;
-    lm->state_time_s = fc_min(fc_add(ar, lm->state_time_s, lm->step_s), FC_INT(600, TIME));
+    lm->state_time_s = fc_min(fc_add_inline(ar, lm->state_time_s, lm->step_s), FC_INT(600, TIME));
     lm->since_range_s =
-        in->range_fresh ? FC_INT(0, TIME) : fc_min(fc_add(ar, lm->since_range_s, lm->step_s), FC_INT(60, TIME));
+        in->range_fresh ? FC_INT(0, TIME) : fc_min(fc_add_inline(ar, lm->since_range_s, lm->step_s), FC_INT(60, TIME));
     follow_request(lm, in);
 
     switch (lm->state) {

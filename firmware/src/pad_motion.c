@@ -239,7 +239,7 @@ static fc_real model_value(fc_arith *ar, const fc_real *theta, const fc_real16 *
 {
     fc_real z_m = theta[0];
     for (unsigned i = 1u; i < FC_PAD_MAX_PARAMS; i++) {
-        z_m = fc_add(ar, z_m, fc_mul_by16(ar, theta[i], phi16[i], FC_SHIFT(LENGTH, UNIT16, LENGTH)));
+        z_m = fc_add_inline(ar, z_m, fc_mul_by16(ar, theta[i], phi16[i], FC_SHIFT(LENGTH, UNIT16, LENGTH)));
     }
     return z_m;
 }
@@ -258,13 +258,13 @@ static fc_vertical_trajectory model_trajectory(fc_pad_motion *pm, const fc_real1
         const fc_real16 sin_k = phi16[sin_of(k)], cos_k = phi16[cos_of(k)];
         /* z = c + sum (a sin + b cos), z' = sum w (a cos - b sin),
          * z'' = -sum w^2 (a sin + b cos): four products a mode */
-        const fc_real wave_m = fc_add(ar, fc_mul_by16(ar, a, sin_k, to_length), fc_mul_by16(ar, b, cos_k, to_length));
+        const fc_real wave_m = fc_add_inline(ar, fc_mul_by16(ar, a, sin_k, to_length), fc_mul_by16(ar, b, cos_k, to_length));
         const fc_real rate_part =
-            fc_sub(ar, fc_mul_by16(ar, a, cos_k, to_length), fc_mul_by16(ar, b, sin_k, to_length));
-        t.z_m = fc_add(ar, t.z_m, wave_m);
-        t.vz_mps = fc_add(ar, t.vz_mps, fc_mul_gain(ar, rate_part, pm->omega_gain[k], FC_GAIN_SHIFT(LENGTH, VEL)));
+            fc_sub_inline(ar, fc_mul_by16(ar, a, cos_k, to_length), fc_mul_by16(ar, b, sin_k, to_length));
+        t.z_m = fc_add_inline(ar, t.z_m, wave_m);
+        t.vz_mps = fc_add_inline(ar, t.vz_mps, fc_mul_gain(ar, rate_part, pm->omega_gain[k], FC_GAIN_SHIFT(LENGTH, VEL)));
         t.az_mps2 =
-            fc_sub(ar, t.az_mps2, fc_mul_gain(ar, wave_m, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
+            fc_sub_inline(ar, t.az_mps2, fc_mul_gain(ar, wave_m, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
     }
     return t;
 }
@@ -294,15 +294,15 @@ static void advance_phases(fc_pad_motion *pm)
         fc_real *sin_k = &pm->phi[sin_of(k)], *cos_k = &pm->phi[cos_of(k)];
         rotate(ar, sin_k, cos_k, pm->step_cos[k], pm->step_sin[k]);
         const fc_real norm_sq = fc_dot2(ar, *sin_k, *sin_k, *cos_k, *cos_k, FC_SHIFT(UNIT, UNIT, UNIT));
-        const fc_real half_defect = fc_mul_by16(ar, fc_sub(ar, FC_INT(1, UNIT), norm_sq),
+        const fc_real half_defect = fc_mul_by16(ar, fc_sub_inline(ar, FC_INT(1, UNIT), norm_sq),
                                                 (fc_real16)FC_C(0.5f, UNIT16), FC_SHIFT(UNIT, UNIT16, UNIT));
         /* a defect beyond 2^-15 (none in practice) is corrected by 2^-15 a
          * step: a scratch record, the renormalisation still converges */
         fc_arith scratch = {0u};
         const fc_real16 d = fc_narrow16(&scratch, half_defect, FC_UNIT_FRAC, FC_PHASE_DEFECT16_FRAC);
         const int to_unit = FC_SHIFT(UNIT, PHASE_DEFECT16, UNIT);
-        *sin_k = fc_add(ar, *sin_k, fc_mul_by16(ar, *sin_k, d, to_unit));
-        *cos_k = fc_add(ar, *cos_k, fc_mul_by16(ar, *cos_k, d, to_unit));
+        *sin_k = fc_add_inline(ar, *sin_k, fc_mul_by16(ar, *sin_k, d, to_unit));
+        *cos_k = fc_add_inline(ar, *cos_k, fc_mul_by16(ar, *cos_k, d, to_unit));
         pm->phi16[sin_of(k)] = fc_narrow16(ar, *sin_k, FC_UNIT_FRAC, FC_UNIT16_FRAC);
         pm->phi16[cos_of(k)] = fc_narrow16(ar, *cos_k, FC_UNIT_FRAC, FC_UNIT16_FRAC);
     }
@@ -351,16 +351,16 @@ static void prepare_sample(fc_pad_motion *pm)
     for (unsigned i = 0u; i < n; i++) {
         fc_real row = pm->s[i][0];
         for (unsigned j = 1u; j < n; j++) {
-            row = fc_add(ar, row, fc_mul_by16(ar, pm->s[i][j], phi16[j], FC_SHIFT(MAT, UNIT16, MAT)));
+            row = fc_add_inline(ar, row, fc_mul_by16(ar, pm->s[i][j], phi16[j], FC_SHIFT(MAT, UNIT16, MAT)));
         }
         s_phi[i] = row;
-        phi_s_phi = fc_add(ar, phi_s_phi,
+        phi_s_phi = fc_add_inline(ar, phi_s_phi,
                            i == 0u ? fc_convert(ar, row, FC_MAT_FRAC, FC_GAIN_FRAC)
                                    : fc_mul_by16(ar, row, phi16[i], FC_SHIFT(MAT, UNIT16, GAIN)));
     }
     /* g = P phi / (lambda + phi' P phi) = S phi (1 - lambda) / (lambda + (1 - lambda) phi' S phi) */
     const fc_real denominator =
-        fc_add(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
+        fc_add_inline(ar, fc_convert(ar, pm->p.forgetting, FC_UNIT_FRAC, FC_RATIO_FRAC),
                fc_mul(ar, pm->one_minus_lambda, phi_s_phi, FC_SHIFT(UNIT, GAIN, RATIO)));
     const fc_real gain_scale = fc_div(ar, pm->one_minus_lambda, denominator, FC_DIV_SHIFT(UNIT, RATIO, UNIT));
     for (unsigned i = 0u; i < n; i++) {
@@ -379,7 +379,7 @@ static void rls_update(fc_pad_motion *pm, fc_real residual_m)
     fc_arith *ar = &pm->ar;
     for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) { /* PARAMETERS_PAST_N */
         pm->theta[i] =
-            fc_add(ar, pm->theta[i], fc_mul(ar, pm->pending_gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
+            fc_add_inline(ar, pm->theta[i], fc_mul(ar, pm->pending_gain[i], residual_m, FC_SHIFT(MAT, LENGTH, LENGTH)));
     }
     pm->deferred |= (uint8_t)(FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL);
 }
@@ -400,7 +400,7 @@ static bool covariance_inflates(const fc_pad_motion *pm)
     fc_arith scratch = {0u};
     fc_real trace = FC_INT(0, MAT);
     for (unsigned i = 0u; i < FC_PAD_MAX_PARAMS; i++) { /* PARAMETERS_PAST_N */
-        trace = fc_add(&scratch, trace, pm->s[i][i]);
+        trace = fc_add_inline(&scratch, trace, pm->s[i][i]);
     }
     return scratch.saturated == 0u && trace <= pm->p.covariance_trace_max;
 }
@@ -419,9 +419,9 @@ static void update_covariance_rows(fc_pad_motion *pm, unsigned row_begin, unsign
      * (fc/scalar.h, fc_mul_inline) */
     for (unsigned i = row_begin; i < row_end; i++) {
         for (unsigned j = i; j < n; j++) {
-            fc_real sij = fc_sub(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
+            fc_real sij = fc_sub_inline(ar, pm->s[i][j], fc_mul_inline(ar, gain[i], s_phi[j], FC_SHIFT(MAT, MAT, MAT)));
             if (pm->covariance_inflate) {
-                sij = fc_add(ar, sij, fc_mul_gain(ar, sij, pm->inflation, FC_GAIN_SHIFT(MAT, MAT)));
+                sij = fc_add_inline(ar, sij, fc_mul_gain(ar, sij, pm->inflation, FC_GAIN_SHIFT(MAT, MAT)));
             }
             pm->s[i][j] = sij;
             pm->s[j][i] = sij;
@@ -469,10 +469,10 @@ static void summarise_fit(fc_pad_motion *pm)
     f->dominant_mode = 0u;
     fc_real largest = FC_INT(-1, LENGTH);
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
-        const fc_real size = fc_add(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
-        f->heave_bound_m = fc_add(ar, f->heave_bound_m, size);
+        const fc_real size = fc_add_inline(ar, fc_abs(ar, pm->theta[sin_of(k)]), fc_abs(ar, pm->theta[cos_of(k)]));
+        f->heave_bound_m = fc_add_inline(ar, f->heave_bound_m, size);
         f->accel_bound_mps2 =
-            fc_add(ar, f->accel_bound_mps2, fc_mul_gain(ar, size, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
+            fc_add_inline(ar, f->accel_bound_mps2, fc_mul_gain(ar, size, pm->omega_sq_gain[k], FC_GAIN_SHIFT(LENGTH, ACCEL)));
         if (size > largest) {
             largest = size;
             f->dominant_mode = (uint8_t)k;
@@ -547,7 +547,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
         return FC_STEP_OK;
     }
     (void)run_deferred(pm, FC_PAD_WORK_SAMPLE_GAIN);
-    const fc_real residual = fc_sub(ar, height_m, pm->prepared_z_m);
+    const fc_real residual = fc_sub_inline(ar, height_m, pm->prepared_z_m);
     if (fc_abs(ar, residual) > pm->p.outlier_m) {
         pm->outliers_in_row++;
         if (pm->outliers_in_row >= pm->p.outlier_reset_count) {
@@ -577,7 +577,7 @@ static fc_step_status take_sample(fc_pad_motion *pm, fc_real height_m)
 static void renew_snapshots(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
-    pm->since_snapshot_s = fc_add(ar, pm->since_snapshot_s, pm->step_s);
+    pm->since_snapshot_s = fc_add_inline(ar, pm->since_snapshot_s, pm->step_s);
     if (pm->since_snapshot_s < pm->p.horizon_s) {
         return;
     }
@@ -697,8 +697,8 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
      * gain is of the next step's phases */
     pm->deferred |= (uint8_t)(FC_PAD_WORK_PHASES | FC_PAD_WORK_SAMPLE_GAIN);
     if (pm->learning) {
-        pm->since_sample_s = fc_min(fc_add(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
-        pm->observed_s = fc_min(fc_add(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));
+        pm->since_sample_s = fc_min(fc_add_inline(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
+        pm->observed_s = fc_min(fc_add_inline(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));
         renew_snapshots(pm);
     }
     if (ar->saturated != 0u) {

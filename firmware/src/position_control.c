@@ -78,7 +78,7 @@ AXIS_INLINE fc_real pid_axis(fc_arith *ar, const fc_position_control *pc, fc_rea
 {
     const fc_real a_p = fc_mul_gain(ar, e_m, pc->kp, FC_GAIN_SHIFT(LENGTH, ACCEL));
     const fc_real a_d = fc_mul_gain(ar, ev_mps, pc->kd, FC_GAIN_SHIFT(VEL, ACCEL));
-    return fc_add(ar, fc_add(ar, fc_add(ar, a_p, a_d), integral_mps2), ff_mps2);
+    return fc_add_inline(ar, fc_add_inline(ar, fc_add_inline(ar, a_p, a_d), integral_mps2), ff_mps2);
 }
 
 /* v / 2 in UNIT16 from the UNIT16 v (the format one FRAC up, rounded);
@@ -144,11 +144,11 @@ static bool unwinding(fc_real ex_m, fc_real ey_m, fc_real ax_mps2, fc_real ay_mp
  * controller's use, where a_ff,z and the measured a_z are both 0). */
 AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mps2, fc_real des_mps2, fc_gain fb_dt)
 {
-    const fc_real err_mps2 = fc_sub(ar, meas_mps2, des_mps2);
+    const fc_real err_mps2 = fc_sub_inline(ar, meas_mps2, des_mps2);
     if (err_mps2 == FC_INT(0, ACCEL)) {
         return fb_mps2;
     }
-    return fc_add(ar, fb_mps2, fc_mul_gain(ar, err_mps2, fb_dt, FC_GAIN_SHIFT(ACCEL, ACCEL)));
+    return fc_add_inline(ar, fb_mps2, fc_mul_gain(ar, err_mps2, fb_dt, FC_GAIN_SHIFT(ACCEL, ACCEL)));
 }
 
 fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
@@ -171,10 +171,10 @@ fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_posi
     fc_real ex_m = FC_INT(0, LENGTH), ey_m = FC_INT(0, LENGTH);
     fc_real evx_mps = FC_INT(0, VEL), evy_mps = FC_INT(0, VEL);
     if (integrate) {
-        ex_m = fc_sub(ar, in->position_sp_m.x, in->position_m.x);
-        ey_m = fc_sub(ar, in->position_sp_m.y, in->position_m.y);
-        evx_mps = fc_sub(ar, in->velocity_sp_mps.x, in->velocity_mps.x);
-        evy_mps = fc_sub(ar, in->velocity_sp_mps.y, in->velocity_mps.y);
+        ex_m = fc_sub_inline(ar, in->position_sp_m.x, in->position_m.x);
+        ey_m = fc_sub_inline(ar, in->position_sp_m.y, in->position_m.y);
+        evx_mps = fc_sub_inline(ar, in->velocity_sp_mps.x, in->velocity_mps.x);
+        evy_mps = fc_sub_inline(ar, in->velocity_sp_mps.y, in->velocity_mps.y);
     } else {
         status |= FC_STEP_BAD_INPUT;
     }
@@ -198,9 +198,9 @@ fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_posi
     /* (2.11) with the acceleration feedback: F = m (a_des - g - I_a), g = (0, 0, -g0) */
     const fc_vec3 *fb = &pc->accel_fb_mps2;
     const int to_force = FC_GAIN_SHIFT(ACCEL, FORCE);
-    fc_vec3 force = fc_vec3_make(fc_mul_gain(ar, fc_sub(ar, ax_mps2, fb->x), pc->mass, to_force),
-                                 fc_mul_gain(ar, fc_sub(ar, ay_mps2, fb->y), pc->mass, to_force),
-                                 fc_mul_gain(ar, fc_sub(ar, fc_add(ar, ff.z, GRAVITY_MPS2), fb->z), pc->mass, to_force));
+    fc_vec3 force = fc_vec3_make(fc_mul_gain(ar, fc_sub_inline(ar, ax_mps2, fb->x), pc->mass, to_force),
+                                 fc_mul_gain(ar, fc_sub_inline(ar, ay_mps2, fb->y), pc->mass, to_force),
+                                 fc_mul_gain(ar, fc_sub_inline(ar, fc_add_inline(ar, ff.z, GRAVITY_MPS2), fb->z), pc->mass, to_force));
     /* limits: vertical floor, tilt (horizontal part, direction kept), collective */
     bool thrust_limited = false;
     if (force.z < p->thrust_min_n) {
@@ -233,8 +233,8 @@ fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_posi
      * only if the error drives the output back (e . a_h,unsat < 0) */
     if (integrate && (!limited || unwinding(ex_m, ey_m, ax_unsat, ay_unsat))) {
         const int to_accel = FC_GAIN_SHIFT(LENGTH, ACCEL);
-        fc_real ix_mps2 = fc_add(ar, pc->integral_mps2.x, fc_mul_gain(ar, ex_m, pc->ki_dt, to_accel));
-        fc_real iy_mps2 = fc_add(ar, pc->integral_mps2.y, fc_mul_gain(ar, ey_m, pc->ki_dt, to_accel));
+        fc_real ix_mps2 = fc_add_inline(ar, pc->integral_mps2.x, fc_mul_gain(ar, ex_m, pc->ki_dt, to_accel));
+        fc_real iy_mps2 = fc_add_inline(ar, pc->integral_mps2.y, fc_mul_gain(ar, ey_m, pc->ki_dt, to_accel));
         (void)clamp_norm2(ar, &ix_mps2, &iy_mps2, p->integral_max_mps2, FC_FRAC(ACCEL));
         pc->integral_mps2.x = ix_mps2;
         pc->integral_mps2.y = iy_mps2;

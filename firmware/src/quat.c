@@ -205,7 +205,7 @@ static fc_real16 matrix_entry16(fc_arith *ar, fc_real sum, fc_real offset)
 static fc_real rotated_component16(fc_arith *ar, fc_real16 r0, fc_real16 r1, fc_real16 r2, fc_vec3 v)
 {
     const int keep = FC_UNIT16_FRAC; /* v (any format) x UNIT16 -> v's format */
-    return fc_add(ar, fc_add(ar, fc_mul_by16(ar, v.x, r0, keep), fc_mul_by16(ar, v.y, r1, keep)),
+    return fc_add_inline(ar, fc_add_inline(ar, fc_mul_by16(ar, v.x, r0, keep), fc_mul_by16(ar, v.y, r1, keep)),
                   fc_mul_by16(ar, v.z, r2, keep));
 }
 

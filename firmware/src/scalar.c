@@ -1150,29 +1150,36 @@ fc_real fc_fx_dot2_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_
     return narrow_products(ar, a0, b0, a1, b1, 0, 0, 0, 0, shift);
 }
 
+/* fc_dot3 is fc_dot4 with a zero fourth term: the same sums (a product of
+ * 0 adds nothing, clamped or wrapped), one copy of the code */
 fc_real fc_fx_dot3_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            int shift)
 {
-    if (OUTLINE_RUNTIME_SHIFT(shift)) {
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, fc_fx_mul_wide(a2, b2)), shift);
-    }
-    if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        return narrow_quarters_runtime(ar, fc_fx_quarters3(a0, b0, a1, b1, a2, b2), shift);
-    }
-    return narrow_products(ar, a0, b0, a1, b1, a2, b2, 0, 0, shift);
+    return fc_fx_dot4_outline(ar, a0, b0, a1, b1, a2, b2, 0, 0, shift);
 }
 
+/* the four products formed by one loop (one copy of the multiply), then
+ * summed in the order of the inlined forms: clamped, (p0 + p1) + (p2 + p3),
+ * for the shifts below 32; each floored by 4 and wrapped for the far ones */
 fc_real fc_fx_dot4_outline(fc_arith *ar, fc_real a0, fc_real b0, fc_real a1, fc_real b1, fc_real a2, fc_real b2,
                            fc_real a3, fc_real b3, int shift)
 {
-    if (OUTLINE_RUNTIME_SHIFT(shift)) {
-        const fc_fx_wide p01 = fc_fx_add_wide(fc_fx_mul_wide(a0, b0), fc_fx_mul_wide(a1, b1));
-        const fc_fx_wide p23 = fc_fx_add_wide(fc_fx_mul_wide(a2, b2), fc_fx_mul_wide(a3, b3));
-        return narrow_wide_runtime(ar, fc_fx_add_wide(p01, p23), shift);
-    }
-    if (OUTLINE_FAR_SHIFT(shift, 2)) {
-        return narrow_quarters_runtime(ar, fc_fx_quarters4(a0, b0, a1, b1, a2, b2, a3, b3), shift);
+    if (OUTLINE_RUNTIME_SHIFT(shift) || OUTLINE_FAR_SHIFT(shift, 2)) {
+        const fc_real a[4] = {a0, a1, a2, a3};
+        const fc_real b[4] = {b0, b1, b2, b3};
+        fc_fx_wide p[4];
+        for (uint8_t i = 0u; i < 4u; i++) {
+            p[i] = fc_fx_mul_wide(a[i], b[i]);
+        }
+        if (OUTLINE_RUNTIME_SHIFT(shift)) {
+            const fc_fx_wide sum = fc_fx_add_wide(fc_fx_add_wide(p[0], p[1]), fc_fx_add_wide(p[2], p[3]));
+            return narrow_wide_runtime(ar, sum, shift);
+        }
+        for (uint8_t i = 0u; i < 4u; i++) {
+            p[i] = fc_fx_asr_wide(p[i], 2);
+        }
+        const fc_fx_wide quarters = fc_fx_add_wide_wrap(fc_fx_add_wide_wrap(p[0], p[1]), fc_fx_add_wide_wrap(p[2], p[3]));
+        return narrow_quarters_runtime(ar, quarters, shift);
     }
     return narrow_products(ar, a0, b0, a1, b1, a2, b2, a3, b3, shift);
 }
@@ -1193,6 +1200,29 @@ __asm__(".pushsection .text.fc_fx_mul_gain_avr,\"ax\",@progbits\n"
         "fc_fx_mul_gain_avr:\n\t" FC_AVR_MUL_GAIN_BODY "\n"
         ".size fc_fx_mul_gain_avr, .-fc_fx_mul_gain_avr\n"
         ".popsection");
+
+/* fc_add and fc_sub out of line (fc/scalar_avr.h, FC_AVR_ADD_CALL): a in
+ * r22-r25 (the result), b in r18-r21, Z = &ar->saturated. As
+ * FC_AVR_ADD_SATURATED, with r22 the LDI/CPI register and r0 the 1 stored. */
+#define FC_AVR_ADD_CALLED(NAME, OP, CARRY)                                                      \
+    ".pushsection .text." NAME ",\"ax\",@progbits\n"                                           \
+    ".global " NAME "\n"                                                                       \
+    ".type " NAME ", @function\n" NAME ":\n\t"                                                 \
+    OP " r22, r18\n\t" CARRY " r23, r19\n\t" CARRY " r24, r20\n\t" CARRY " r25, r21\n\t"         \
+    "brvs 1f\n\t"                                                                              \
+    "cpi r22, 1\n\tcpc r23, __zero_reg__\n\tcpc r24, __zero_reg__\n\tcpc r25, __zero_reg__\n\t" \
+    "brvs 2f\n\t"                                                                              \
+    "ret\n"                                                                                    \
+    "1:\n\tlsl r25\n\tsbc r22, r22\n\tmov r23, r22\n\tmovw r24, r22\n\t"                        \
+    "subi r25, 0x80\n\tsbrc r25, 7\n"                                                          \
+    "2:\n\tinc r22\n\t"                                                                        \
+    "clr r0\n\tinc r0\n\tst Z, r0\n\t"                                                          \
+    "ret\n"                                                                                    \
+    ".size " NAME ", .-" NAME "\n"                                                              \
+    ".popsection"
+
+__asm__(FC_AVR_ADD_CALLED("fc_fx_add_avr", "add", "adc"));
+__asm__(FC_AVR_ADD_CALLED("fc_fx_sub_avr", "sub", "sbc"));
 
 /* fc_fx_mul_gain_reference for the shifts the assembly leaves, in 32-bit
  * halves (the int64_t form would be libgcc calls here): from 47

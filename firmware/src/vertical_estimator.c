@@ -108,9 +108,9 @@ static fc_real vertical_accel_mps2(fc_arith *ar, fc_quat q, fc_vec3 f, fc_real g
     const fc_real16 r21 = fc_narrow16(ar, 2 * fc_dot2_16(h.y, h.z, h.w, h.x), sq, to);
     const fc_real16 r22 = fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_dot2_16(h.x, h.x, h.y, h.y), sq, to);
     const int to_accel = FC_SHIFT(ACCEL, UNIT16, ACCEL);
-    const fc_real up = fc_add(ar, fc_add(ar, fc_mul_by16(ar, f.x, r20, to_accel), fc_mul_by16(ar, f.y, r21, to_accel)),
+    const fc_real up = fc_add_inline(ar, fc_add_inline(ar, fc_mul_by16(ar, f.x, r20, to_accel), fc_mul_by16(ar, f.y, r21, to_accel)),
                               fc_mul_by16(ar, f.z, r22, to_accel));
-    return fc_sub(ar, up, gravity_mps2);
+    return fc_sub_inline(ar, up, gravity_mps2);
 }
 
 /* h' = v, v' = a - b (the prediction), with a the bias-corrected acceleration. */
@@ -119,9 +119,9 @@ static void predict(fc_vertical_estimator *v, fc_real accel_mps2)
     fc_arith *ar = &v->ar;
     if (v->est.gear_height_known) {
         v->est.gear_height_m =
-            fc_add(ar, v->est.gear_height_m, fc_mul_gain(ar, v->est.vz_mps, v->dt, FC_GAIN_SHIFT(VEL, LENGTH)));
+            fc_add_inline(ar, v->est.gear_height_m, fc_mul_gain(ar, v->est.vz_mps, v->dt, FC_GAIN_SHIFT(VEL, LENGTH)));
     }
-    v->est.vz_mps = fc_clamp(fc_add(ar, v->est.vz_mps, fc_mul_gain(ar, accel_mps2, v->dt, FC_GAIN_SHIFT(ACCEL, VEL))),
+    v->est.vz_mps = fc_clamp(fc_add_inline(ar, v->est.vz_mps, fc_mul_gain(ar, accel_mps2, v->dt, FC_GAIN_SHIFT(ACCEL, VEL))),
                              FC_INT(-100, VEL), FC_INT(100, VEL));
 }
 
@@ -132,17 +132,17 @@ static void predict(fc_vertical_estimator *v, fc_real accel_mps2)
 static void correct_by_speed(fc_vertical_estimator *v, fc_real vz_measured_mps, bool at_rest)
 {
     fc_arith *ar = &v->ar;
-    const fc_real residual = fc_sub(ar, vz_measured_mps, v->est.vz_mps);
+    const fc_real residual = fc_sub_inline(ar, vz_measured_mps, v->est.vz_mps);
     const fc_gain speed_gain = at_rest ? v->speed_gain_rest : v->speed_gain;
     const fc_gain bias_gain = at_rest ? v->bias_gain_rest_per_s : v->bias_gain_per_s;
-    v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul_gain(ar, residual, speed_gain, FC_GAIN_SHIFT(VEL, VEL)));
+    v->est.vz_mps = fc_add_inline(ar, v->est.vz_mps, fc_mul_gain(ar, residual, speed_gain, FC_GAIN_SHIFT(VEL, VEL)));
     const fc_real bias_step = fc_mul_gain(ar, residual, bias_gain, FC_GAIN_SHIFT(VEL, ACCEL));
-    v->bias_fast_mps2 = fc_clamp(fc_sub(ar, v->bias_fast_mps2, bias_step), fc_neg(ar, v->p.accel_bias_limit_mps2),
+    v->bias_fast_mps2 = fc_clamp(fc_sub_inline(ar, v->bias_fast_mps2, bias_step), fc_neg(ar, v->p.accel_bias_limit_mps2),
                                  v->p.accel_bias_limit_mps2);
-    const fc_real change = fc_sub(ar, v->bias_fast_mps2, v->est.accel_bias_mps2);
+    const fc_real change = fc_sub_inline(ar, v->bias_fast_mps2, v->est.accel_bias_mps2);
     v->est.accel_bias_mps2 =
         at_rest ? v->bias_fast_mps2
-                : fc_add(ar, v->est.accel_bias_mps2,
+                : fc_add_inline(ar, v->est.accel_bias_mps2,
                          fc_mul_gain(ar, change, v->bias_average_gain, FC_GAIN_SHIFT(ACCEL, ACCEL)));
 }
 
@@ -158,13 +158,13 @@ static void correct_by_range(fc_vertical_estimator *v, fc_real gear_height_m, bo
     }
     const fc_real gap_s = fc_min(v->range_gap_s, v->p.range_period_max_s);
     v->range_gap_s = FC_INT(0, DT);
-    const fc_real residual = fc_sub(ar, gear_height_m, v->est.gear_height_m);
+    const fc_real residual = fc_sub_inline(ar, gear_height_m, v->est.gear_height_m);
     const fc_real height_gain = fc_mul_gain(ar, gap_s, v->height_gain_per_s, FC_GAIN_SHIFT(DT, RATIO));
     v->est.gear_height_m =
-        fc_add(ar, v->est.gear_height_m, fc_mul(ar, height_gain, residual, FC_SHIFT(RATIO, LENGTH, LENGTH)));
+        fc_add_inline(ar, v->est.gear_height_m, fc_mul(ar, height_gain, residual, FC_SHIFT(RATIO, LENGTH, LENGTH)));
     if (speed_too) {
         const fc_real speed_gain = fc_mul_gain(ar, gap_s, v->height_speed_gain_per_s2, FC_GAIN_SHIFT(DT, RATIO));
-        v->est.vz_mps = fc_add(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, LENGTH, VEL)));
+        v->est.vz_mps = fc_add_inline(ar, v->est.vz_mps, fc_mul(ar, speed_gain, residual, FC_SHIFT(RATIO, LENGTH, VEL)));
     }
 }
 
@@ -184,10 +184,10 @@ static void learn_hover_thrust(fc_vertical_estimator *v, const fc_vertical_estim
     fc_arith *ar = &v->ar;
     const fc_real vertical_thrust_n = fc_mul(ar, in->thrust_n, in->tilt_cos, FC_SHIFT(FORCE, RATIO, FORCE));
     const fc_real load_factor =
-        fc_mul_gain(ar, fc_add(ar, accel_mps2, v->p.gravity_mps2), v->inv_gravity_s2pm, FC_GAIN_SHIFT(ACCEL, RATIO));
+        fc_mul_gain(ar, fc_add_inline(ar, accel_mps2, v->p.gravity_mps2), v->inv_gravity_s2pm, FC_GAIN_SHIFT(ACCEL, RATIO));
     const fc_real held_n = fc_mul(ar, v->est.hover_thrust_n, load_factor, FC_SHIFT(FORCE, RATIO, FORCE));
-    const fc_real step_n = fc_mul_gain(ar, fc_sub(ar, vertical_thrust_n, held_n), v->hover_gain, FC_GAIN_SHIFT(FORCE, FORCE));
-    v->est.hover_thrust_n = fc_clamp(fc_add(ar, v->est.hover_thrust_n, step_n), v->p.hover_min_n, v->p.hover_max_n);
+    const fc_real step_n = fc_mul_gain(ar, fc_sub_inline(ar, vertical_thrust_n, held_n), v->hover_gain, FC_GAIN_SHIFT(FORCE, FORCE));
+    v->est.hover_thrust_n = fc_clamp(fc_add_inline(ar, v->est.hover_thrust_n, step_n), v->p.hover_min_n, v->p.hover_max_n);
 }
 
 fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_vertical_estimator_input *in,
@@ -200,18 +200,18 @@ fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_ver
     fc_arith *ar = &v->ar;
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
-    v->range_gap_s = fc_min(fc_add(ar, v->range_gap_s, v->p.dt_s), FC_INT(1, DT));
+    v->range_gap_s = fc_min(fc_add_inline(ar, v->range_gap_s, v->p.dt_s), FC_INT(1, DT));
     fc_real accel_mps2;
     if (in->accel_ok) {
         const fc_real raw_mps2 = vertical_accel_mps2(ar, in->attitude, in->accel_mps2, v->p.gravity_mps2);
-        accel_mps2 = fc_sub(ar, raw_mps2, in->vz_ok ? v->bias_fast_mps2 : v->est.accel_bias_mps2);
+        accel_mps2 = fc_sub_inline(ar, raw_mps2, in->vz_ok ? v->bias_fast_mps2 : v->est.accel_bias_mps2);
     } else {
         accel_mps2 = thrust_model_accel_mps2(v, in);
         status |= FC_STEP_DEGRADED;
     }
-    const fc_real change = fc_sub(ar, accel_mps2, v->est.accel_z_mps2);
+    const fc_real change = fc_sub_inline(ar, accel_mps2, v->est.accel_z_mps2);
     v->est.accel_z_mps2 =
-        fc_add(ar, v->est.accel_z_mps2, fc_mul_gain(ar, change, v->accel_filter_gain, FC_GAIN_SHIFT(ACCEL, ACCEL)));
+        fc_add_inline(ar, v->est.accel_z_mps2, fc_mul_gain(ar, change, v->accel_filter_gain, FC_GAIN_SHIFT(ACCEL, ACCEL)));
     predict(v, accel_mps2);
     if (in->vz_ok) {
         correct_by_speed(v, in->vz_mps, in->at_rest);

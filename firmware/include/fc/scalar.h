@@ -322,6 +322,21 @@ FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
 }
 #endif
 
+/* fc_add_inline, fc_sub_inline: the same sums, for the sites that run at
+ * every step; a port that makes fc_add and fc_sub calls (FC_PORT_ADD) keeps
+ * these inline. */
+#ifndef FC_PORT_ADD
+FC_FX_INLINE fc_real fc_add_inline(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_add(ar, a, b);
+}
+
+FC_FX_INLINE fc_real fc_sub_inline(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_sub(ar, a, b);
+}
+#endif
+
 FC_FX_INLINE fc_real fc_neg(fc_arith *ar, fc_real a)
 {
     if (a == INT32_MIN) {
@@ -613,6 +628,16 @@ static inline fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
 {
     (void)ar;
     return a - b;
+}
+
+static inline fc_real fc_add_inline(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_add(ar, a, b);
+}
+
+static inline fc_real fc_sub_inline(fc_arith *ar, fc_real a, fc_real b)
+{
+    return fc_sub(ar, a, b);
 }
 
 static inline fc_real fc_neg(fc_arith *ar, fc_real a)

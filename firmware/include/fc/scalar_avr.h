@@ -14,8 +14,13 @@
  * are written out in AVR assembly.
  *
  *   replaced            (macro)            how, and why
- *   fc_add, fc_sub      FC_PORT_ADD        ADD/ADC and the V flag (avr-gcc
- *                                          compares the sum twice)
+ *   fc_add, fc_sub,     FC_PORT_ADD        ADD/ADC and the V flag (avr-gcc
+ *   fc_add_inline,                         compares the sum twice); fc_add
+ *   fc_sub_inline                          and fc_sub one copy each, called
+ *                                          (scalar.c): inlined at every site
+ *                                          they overflow the flash; the
+ *                                          _inline forms for the sites that
+ *                                          run at every step
  *   fc_mul, fc_dot2,    FC_PORT_PRODUCTS   one out-of-line copy each (scalar.c,
  *   fc_dot3, fc_dot4,                      the shift at run time): inlined at
  *   fc_mul_inline,                         every site they overflow the flash;
@@ -545,7 +550,9 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
  * which holds the 1. On overflow the wrapped sum has the sign opposite to
  * the true one: +INT32_MAX when it reads negative (its sign byte spread over
  * the four, the top bit flipped), -INT32_MAX when it reads positive (the
- * same gives -2^31, then one more). OP is "add"/"sub" and CARRY "adc"/"sbc".
+ * same gives -2^31, then one more: the INC shared with the -2^31 case,
+ * skipped when the top bit reads +INT32_MAX). OP is "add"/"sub" and CARRY
+ * "adc"/"sbc".
  * FLAG (r16-r31, for LDI) is 1 when it saturated, else 0. */
 #define FC_AVR_ADD_SATURATED(OP, CARRY)                                                        \
     OP " %A0, %A2\n\t" CARRY " %B0, %B2\n\t" CARRY " %C0, %C2\n\t" CARRY " %D0, %D2\n\t"        \
@@ -556,7 +563,7 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
     "clr %1\n\t"                                                                               \
     "rjmp 3f\n"                                                                                \
     "1:\n\tlsl %D0\n\tsbc %A0, %A0\n\tmov %B0, %A0\n\tmovw %C0, %A0\n\t"                       \
-    "ldi %1, 0x80\n\teor %D0, %1\n\tldi %1, 1\n\tsbrs %D0, 7\n\trjmp 3f\n"                      \
+    "ldi %1, 0x80\n\teor %D0, %1\n\tldi %1, 1\n\tsbrc %D0, 7\n"                                \
     "2:\n\tinc %A0\n"                                                                          \
     "3:"
 
@@ -570,7 +577,7 @@ FC_FX_INLINE fc_real fc_avr_recorded(fc_arith *ar, fc_real value, uint8_t satura
 }
 
 #define FC_PORT_ADD
-FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+FC_FX_INLINE fc_real fc_add_inline(fc_arith *ar, fc_real a, fc_real b)
 {
     fc_real sum = a;
     uint8_t saturated;
@@ -578,12 +585,40 @@ FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
     return fc_avr_recorded(ar, sum, saturated);
 }
 
-FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+FC_FX_INLINE fc_real fc_sub_inline(fc_arith *ar, fc_real a, fc_real b)
 {
     fc_real difference = a;
     uint8_t saturated;
     __asm__(FC_AVR_ADD_SATURATED("sub", "sbc") : "+r"(difference), "=&d"(saturated) : "r"(b));
     return fc_avr_recorded(ar, difference, saturated);
+}
+
+/* fc_add, fc_sub: the same assembly out of line (scalar.c, FC_AVR_ADD_CALLED),
+ * called with the operands in the registers it names: a (the result) in
+ * r22-r25, b in r18-r21, &ar->saturated in Z; it changes only r22-r25, r0
+ * and the record (hence the memory clobber). The call, a few register moves
+ * and the clobber in place of the inlined sum and its record: most sums run
+ * at init, on the rare paths or not at every step, where flash counts and
+ * cycles do not; the others are written fc_add_inline / fc_sub_inline. */
+#define FC_AVR_ADD_CALL(NAME, A, B, AR)                                                         \
+    do {                                                                                       \
+        register fc_real fc_avr_a_ __asm__("r22") = (A);                                        \
+        register fc_real fc_avr_b_ __asm__("r18") = (B);                                        \
+        register uint8_t *fc_avr_record_ __asm__("r30") = &(AR)->saturated;                     \
+        __asm__("call " NAME : "+r"(fc_avr_a_) : "r"(fc_avr_b_), "r"(fc_avr_record_) : "memory"); \
+        (A) = fc_avr_a_;                                                                       \
+    } while (0)
+
+FC_FX_INLINE fc_real fc_add(fc_arith *ar, fc_real a, fc_real b)
+{
+    FC_AVR_ADD_CALL("fc_fx_add_avr", a, b, ar);
+    return a;
+}
+
+FC_FX_INLINE fc_real fc_sub(fc_arith *ar, fc_real a, fc_real b)
+{
+    FC_AVR_ADD_CALL("fc_fx_sub_avr", a, b, ar);
+    return a;
 }
 
 /* ======================================================================= */

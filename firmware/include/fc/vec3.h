@@ -35,12 +35,12 @@ static inline fc_vec3 fc_vec3_zero(void)
  * more than the three adds */
 FC_VEC3_INLINE fc_vec3 fc_vec3_add(fc_arith *ar, fc_vec3 a, fc_vec3 b)
 {
-    return fc_vec3_make(fc_add(ar, a.x, b.x), fc_add(ar, a.y, b.y), fc_add(ar, a.z, b.z));
+    return fc_vec3_make(fc_add_inline(ar, a.x, b.x), fc_add_inline(ar, a.y, b.y), fc_add_inline(ar, a.z, b.z));
 }
 
 FC_VEC3_INLINE fc_vec3 fc_vec3_sub(fc_arith *ar, fc_vec3 a, fc_vec3 b)
 {
-    return fc_vec3_make(fc_sub(ar, a.x, b.x), fc_sub(ar, a.y, b.y), fc_sub(ar, a.z, b.z));
+    return fc_vec3_make(fc_sub_inline(ar, a.x, b.x), fc_sub_inline(ar, a.y, b.y), fc_sub_inline(ar, a.z, b.z));
 }
 
 fc_vec3 fc_vec3_neg(fc_arith *ar, fc_vec3 v);

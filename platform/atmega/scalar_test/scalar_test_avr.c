@@ -252,7 +252,8 @@ static void compare_mul_by16(uint8_t shift, int32_t a, int16_t b, int32_t got, u
     check(OP_MUL_BY16, shift, got, got_sat, want, r.saturated);
 }
 
-/* fc_add and fc_sub (the port's ADD/SUB with the V flag) against the sum
+/* fc_add and fc_sub (the port's ADD/SUB with the V flag, called) and
+ * fc_add_inline, fc_sub_inline (the same inlined) against the sum
  * in int64_t saturated at +-INT32_MAX (so -2^31 saturates too) */
 static __attribute__((noinline)) int32_t ref_sum(fc_arith *ar, int64_t sum)
 {
@@ -268,6 +269,15 @@ static void compare_add_sub(int32_t x, int32_t y)
     want.saturated = 0u;
     value = fc_sub(&got, x, y);
     check(OP_SUB, 0u, value, got.saturated, ref_sum(&want, (int64_t)x - y), want.saturated);
+    /* the inlined forms (reported with 1 in the shift's place) */
+    got.saturated = 0u;
+    want.saturated = 0u;
+    value = fc_add_inline(&got, x, y);
+    check(OP_ADD, 1u, value, got.saturated, ref_sum(&want, (int64_t)x + y), want.saturated);
+    got.saturated = 0u;
+    want.saturated = 0u;
+    value = fc_sub_inline(&got, x, y);
+    check(OP_SUB, 1u, value, got.saturated, ref_sum(&want, (int64_t)x - y), want.saturated);
 }
 
 /* fc_mul_gain: the port (fc_fx_mul_gain_shift, out of line) against the
