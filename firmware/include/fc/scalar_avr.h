@@ -203,99 +203,131 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
 }
 
 /*
- * round(sqrt(m)) 2^14 for a 32-bit m (fc_sqrt_unit16: m is x in Q32, the
- * result the root in UNIT's Q30), digit by digit, with no product: the
- * method of scalar.c's sqrt16_digits on the remainder shifted left by one
- * bit a round instead of the trial value shifted right, so that the trial
- * value b = (4 r + 1) 2^(30 - i) of round i (r the i root bits so far) has
- * no bit below 2^15 and, up to round 14, none below 2^16: it is compared
- * with and subtracted from the remainder's high half only. T holds b / 2^16;
- * a round that sets the root bit 2^(15 - i) of T and moves the trial bit
- * from 2^(14 - i) to 2^(13 - i) adds 3 2^(13 - i), one that leaves it
- * subtracts 2^(13 - i) (round 14: +1 and -1, the trial bit 2^-1 dropped), so
- * the rounds are written out with their constants. The remainder shifted
- * left by i bits can reach 2^33: its bit 32 is the carry of the shift,
- * which alone makes the bit 1 (the difference is then below 2^32 again).
- * Its low byte moves up only after 8 rounds: rounds 0 to 7 shift the three
- * bytes above it, then one move. Round 15, the last, compares three bytes
- * (b / 2^8); after it T is the root and the remainder (m - root^2) 2^15,
- * rounded up iff it is above root 2^15; the rounded root (up to 2^16) times
- * 2^14 by byte moves and two shifts.
+ * round(sqrt(m)) 2^14 for m = 4 x, 0 < x <= 2^30 - 2^14 (fc_sqrt_unit16: x
+ * in UNIT's Q30, m in Q32, the result the root in Q30; above that range the
+ * rounded root is 2^16, which the caller returns itself). The rounded root
+ * R is the integer with R^2 - R < m <= R^2 + R, found from a first guess by
+ * steps:
+ *   M = m 4^k in [2^30, 2^32)        (whole bytes by moves, then pairs of bits)
+ *   S0 = 2^15 + T[i] + floor(d c / 2^8) + 1, at most 2^16 - 1
+ *                                    (i = M's top byte, 64..255, c the next
+ *                                    one; T[i] = round(2^16 sqrt(i / 2^8)) - 2^15,
+ *                                    table[i - 64], and d = T[i+1] - T[i] < 2^8:
+ *                                    the chord of the root over M's top 16 bits)
+ *   R0 = floor(S0 / 2^k)             (sqrt(m) = sqrt(M) / 2^k)
+ *   R  = R0 stepped up while m > R^2 + R, then down while m <= R^2 - R
+ *                                    (R^2 + R and R^2 - R kept by adds: one product)
+ * Exact whatever the guess: the table only bounds the steps (over every m:
+ * at most two up or one down). table points to the 193
+ * entries in program memory, the low 64 KB (LPM).
  */
-#define FC_AVR_SQRT_ROUND(UP, DOWN)                                                            \
-    "brcs 1f\n\t"                                                                              \
-    "cp %C[x], %A[t]\n\t"                                                                      \
-    "cpc %D[x], %B[t]\n\t"                                                                     \
-    "brcs 2f\n"                                                                                \
-    "1:\n\t"                                                                                   \
-    "sub %C[x], %A[t]\n\t"                                                                     \
-    "sbc %D[x], %B[t]\n\t"                                                                     \
-    "subi %A[t], lo8(-(" UP "))\n\t"                                                           \
-    "sbci %B[t], hi8(-(" UP "))\n\t"                                                           \
-    "rjmp 3f\n"                                                                                \
-    "2:\n\t"                                                                                   \
-    "subi %A[t], lo8(" DOWN ")\n\t"                                                            \
-    "sbci %B[t], hi8(" DOWN ")\n"                                                              \
-    "3:\n\t"                                                                                   \
-    "lsl %B[x]\n\t"                                                                            \
-    "rol %C[x]\n\t"                                                                            \
-    "rol %D[x]\n\t"
-
-static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(uint32_t m)
+static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_chord_q14(uint32_t x, const uint16_t *table)
 {
-    uint32_t x = m;
-    uint16_t t;
+    uint32_t m = x;
+    uint32_t big;  /* M, then R^2 + R, R^2 - R, then the result */
+    uint16_t root; /* S0, R0, R */
     uint8_t k;
-    __asm__("ldi %B[t], 0x40\n\t"
-            "ldi %A[t], 0\n\t"
-            "clc\n\t"
-            /* rounds 0..14: the carry is bit 32 of the shifted remainder */
-            FC_AVR_SQRT_ROUND("24576", "8192") FC_AVR_SQRT_ROUND("12288", "4096")
-            FC_AVR_SQRT_ROUND("6144", "2048") FC_AVR_SQRT_ROUND("3072", "1024")
-            FC_AVR_SQRT_ROUND("1536", "512") FC_AVR_SQRT_ROUND("768", "256")
-            FC_AVR_SQRT_ROUND("384", "128") FC_AVR_SQRT_ROUND("192", "64")
-            "mov %B[x], %A[x]\n\t" /* the low byte's turn (MOV keeps the carry) */
-            FC_AVR_SQRT_ROUND("96", "32") FC_AVR_SQRT_ROUND("48", "16")
-            FC_AVR_SQRT_ROUND("24", "8") FC_AVR_SQRT_ROUND("12", "4")
-            FC_AVR_SQRT_ROUND("6", "2") FC_AVR_SQRT_ROUND("3", "1")
-            FC_AVR_SQRT_ROUND("1", "1") /* round 14: the trial bit 2^-1 dropped */
-            /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
-            "ldi %[k], 0x80\n\t"
-            "brcs 4f\n\t"
-            "cp %B[x], %[k]\n\t"
-            "cpc %C[x], %A[t]\n\t"
-            "cpc %D[x], %B[t]\n\t"
-            "brcs 5f\n"
+    const uint16_t *z = table;
+    __asm__("lsl %A[m]\n\trol %B[m]\n\trol %C[m]\n\trol %D[m]\n\t"
+            "lsl %A[m]\n\trol %B[m]\n\trol %C[m]\n\trol %D[m]\n\t"
+            "movw %A[big], %A[m]\n\t"
+            "movw %C[big], %C[m]\n\t"
+            "clr %[k]\n"
+            /* M = m 4^k: whole bytes while the top one is 0 (m >= 4 ends it) */
+            "1:\n\t"
+            "tst %D[big]\n\t"
+            "brne 2f\n\t"
+            "mov %D[big], %C[big]\n\t"
+            "mov %C[big], %B[big]\n\t"
+            "mov %B[big], %A[big]\n\t"
+            "clr %A[big]\n\t"
+            "inc %[k]\n\tinc %[k]\n\tinc %[k]\n\tinc %[k]\n\t"
+            "rjmp 1b\n"
+            /* then pairs of bits while M < 2^30 */
+            "2:\n\t"
+            "sbrc %D[big], 7\n\t"
+            "rjmp 3f\n\t"
+            "sbrc %D[big], 6\n\t"
+            "rjmp 3f\n\t"
+            "lsl %A[big]\n\trol %B[big]\n\trol %C[big]\n\trol %D[big]\n\t"
+            "lsl %A[big]\n\trol %B[big]\n\trol %C[big]\n\trol %D[big]\n\t"
+            "inc %[k]\n\t"
+            "rjmp 2b\n"
+            /* the knot T[i] at table + 2 (i - 64), and d from the next one's
+             * low byte (d < 2^8) */
+            "3:\n\t"
+            "subi r30, lo8(128)\n\t"
+            "sbci r31, hi8(128)\n\t"
+            "add r30, %D[big]\n\t"
+            "adc r31, __zero_reg__\n\t"
+            "add r30, %D[big]\n\t"
+            "adc r31, __zero_reg__\n\t"
+            "lpm %A[root], Z+\n\t"
+            "lpm %B[root], Z+\n\t"
+            "lpm r0, Z\n\t"
+            "sub r0, %A[root]\n\t"
+            "mul r0, %C[big]\n\t"
+            "add %A[root], r1\n\t"
+            "brcc 4f\n\t"
+            "inc %B[root]\n"
             "4:\n\t"
-            "sub %B[x], %[k]\n\t"
-            "sbc %C[x], %A[t]\n\t"
-            "sbc %D[x], %B[t]\n\t"
-            "ori %A[t], 1\n"
+            /* + 2^15 + 1; a carry out (only at M = 2^32 - 2^16) keeps 2^16 - 1 */
+            "subi %A[root], lo8(-32769)\n\t"
+            "sbci %B[root], hi8(-32769)\n\t"
+            "brcs 11f\n\t"
+            "ldi %A[root], 0xff\n\t"
+            "ldi %B[root], 0xff\n"
+            /* R0 = S0 / 2^k; k is 0 after it (the zero of what follows) */
+            "11:\n\t"
+            "tst %[k]\n\t"
+            "breq 6f\n"
             "5:\n\t"
-            /* the carry: (m - root^2) = remainder / 2^15 above the root */
-            "lsl %B[x]\n\t"
-            "rol %C[x]\n\t"
-            "rol %D[x]\n\t"
-            "brcs 6f\n\t"
-            "cp %A[t], %C[x]\n\t"
-            "cpc %B[t], %D[x]\n"
+            "lsr %B[root]\n\t"
+            "ror %A[root]\n\t"
+            "dec %[k]\n\t"
+            "brne 5b\n"
+            /* R^2 + R */
             "6:\n\t"
-            /* (root + carry) 2^14: 2^16 by moves (MOV and EOR keep the
-             * carry), the 17th bit from ADC's carry, two bits back */
-            "mov %C[x], %A[t]\n\t"
-            "mov %D[x], %B[t]\n\t"
-            "clr %A[x]\n\t"
-            "clr %B[x]\n\t"
-            "adc %C[x], __zero_reg__\n\t"
-            "adc %D[x], __zero_reg__\n\t"
-            "ror %D[x]\n\t"
-            "ror %C[x]\n\t"
-            "ror %B[x]\n\t"
-            "lsr %D[x]\n\t"
-            "ror %C[x]\n\t"
-            "ror %B[x]"
-            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k));
-    return x;
+            "mul %A[root], %A[root]\n\t"
+            "movw %A[big], r0\n\t"
+            "mul %B[root], %B[root]\n\t"
+            "movw %C[big], r0\n\t"
+            "mul %A[root], %B[root]\n\t"
+            "add %B[big], r0\n\tadc %C[big], r1\n\tadc %D[big], %[k]\n\t"
+            "add %B[big], r0\n\tadc %C[big], r1\n\tadc %D[big], %[k]\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n"
+            /* up while m > R^2 + R: R + 1, and (R + 1)^2 + (R + 1) = R^2 + R + 2 (R + 1) */
+            "7:\n\t"
+            "cp %A[big], %A[m]\n\tcpc %B[big], %B[m]\n\tcpc %C[big], %C[m]\n\tcpc %D[big], %D[m]\n\t"
+            "brsh 8f\n\t"
+            "subi %A[root], 0xff\n\t"
+            "sbci %B[root], 0xff\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n\t"
+            "rjmp 7b\n"
+            /* R^2 - R = (R^2 + R) - 2 R */
+            "8:\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n"
+            /* down while m <= R^2 - R: R - 1, and (R - 1)^2 - (R - 1) = R^2 - R - 2 (R - 1) */
+            "9:\n\t"
+            "cp %A[big], %A[m]\n\tcpc %B[big], %B[m]\n\tcpc %C[big], %C[m]\n\tcpc %D[big], %D[m]\n\t"
+            "brlo 10f\n\t"
+            "subi %A[root], 1\n\t"
+            "sbci %B[root], 0\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "rjmp 9b\n"
+            /* R 2^14: R 2^16 by moves, two bits back */
+            "10:\n\t"
+            "clr %A[big]\n\t"
+            "clr %B[big]\n\t"
+            "movw %C[big], %A[root]\n\t"
+            "lsr %D[big]\n\tror %C[big]\n\tror %B[big]\n\t"
+            "lsr %D[big]\n\tror %C[big]\n\tror %B[big]\n\t"
+            "clr __zero_reg__"
+            : [big] "=&r"(big), [root] "=&d"(root), [k] "=&r"(k), [m] "+r"(m), "+z"(z));
+    return big;
 }
 
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
