@@ -367,7 +367,7 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
  * bit of the root, the trial value b = (4 r + 1) 4^(15 - i) (r the i bits
  * so far) subtracted from what is left of m when it fits (Warren, Hacker's
  * Delight, 11-1). No product: 16 rounds of adds and shifts. */
-#if !defined(__AVR__)
+#ifndef FC_PORT_SQRT_UNIT16
 static uint16_t sqrt16_digits(uint32_t m, uint32_t *remainder)
 {
     uint32_t rest = m;
@@ -387,56 +387,24 @@ static uint16_t sqrt16_digits(uint32_t m, uint32_t *remainder)
 }
 #endif
 
-#if defined(__AVR__)
-/* fc_avr_sqrt_chord_q14's knots (fc/scalar_avr.h): round(2^16 sqrt(i / 2^8))
- * - 2^15 for i = 64..256, 0 to 2^15. */
-static const uint16_t sqrt_chord_knots[193] FC_ROM_TABLE = {
-    0, 255, 508, 759, 1008, 1256, 1502, 1746, 1988, 2228, 2467, 2704,
-    2940, 3174, 3407, 3638, 3868, 4096, 4323, 4548, 4772, 4995, 5217, 5437,
-    5656, 5874, 6090, 6305, 6519, 6732, 6944, 7155, 7364, 7573, 7780, 7987,
-    8192, 8396, 8600, 8802, 9003, 9204, 9403, 9601, 9799, 9995, 10191, 10386,
-    10580, 10773, 10965, 11157, 11347, 11537, 11726, 11914, 12101, 12288, 12474, 12659,
-    12843, 13027, 13209, 13392, 13573, 13754, 13934, 14113, 14291, 14469, 14647, 14823,
-    14999, 15174, 15349, 15523, 15697, 15869, 16041, 16213, 16384, 16554, 16724, 16893,
-    17062, 17230, 17398, 17564, 17731, 17897, 18062, 18227, 18391, 18555, 18718, 18881,
-    19043, 19204, 19366, 19526, 19686, 19846, 20005, 20164, 20322, 20480, 20637, 20794,
-    20951, 21106, 21262, 21417, 21572, 21726, 21879, 22033, 22186, 22338, 22490, 22642,
-    22793, 22944, 23094, 23244, 23394, 23543, 23691, 23840, 23988, 24135, 24283, 24430,
-    24576, 24722, 24868, 25013, 25158, 25303, 25447, 25591, 25735, 25878, 26021, 26163,
-    26305, 26447, 26589, 26730, 26871, 27011, 27151, 27291, 27431, 27570, 27709, 27847,
-    27985, 28123, 28261, 28398, 28535, 28672, 28808, 28944, 29080, 29216, 29351, 29486,
-    29620, 29755, 29889, 30022, 30156, 30289, 30422, 30555, 30687, 30819, 30951, 31082,
-    31214, 31345, 31475, 31606, 31736, 31866, 31995, 32125, 32254, 32383, 32511, 32640,
-    32768
-};
-#endif
-
+#ifndef FC_PORT_SQRT_UNIT16
 fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 {
     (void)ar;
     if (x_unit <= 0) {
         return 0;
     }
-    /* x in Q32, m = 4 x (1 itself held as 2^32 - 1, whose root rounds to
-     * 2^16 all the same), its 16-bit root rounded */
+    /* x in Q32 (1 itself held as 2^32 - 1, whose root rounds to 2^16 all the
+     * same), its 16-bit root rounded: floor s with remainder r = m - s^2 is
+     * rounded up iff m > (s + 1/2)^2 = s^2 + s + 1/4, i.e. r > s */
     _Static_assert(FC_UNIT_FRAC == 30, "the root in Q16 times 2^14 is UNIT");
-#if defined(__AVR__)
-    /* the root to 2^16 - 1 from a chord and steps (fc/scalar_avr.h); for x
-     * above 1 - 2^-16 (m > 65535^2 + 65535) it rounds to 2^16, 1 in UNIT */
-    if (x_unit > FC_INT(1, UNIT) - (fc_real)((uint32_t)1u << (FC_UNIT_FRAC - 16))) {
-        return FC_INT(1, UNIT);
-    }
-    return (fc_real)fc_avr_sqrt_chord_q14((uint32_t)x_unit, sqrt_chord_knots);
-#else
-    /* floor s with remainder r = m - s^2 is rounded up iff m > (s + 1/2)^2
-     * = s^2 + s + 1/4, i.e. r > s */
     const uint32_t m = x_unit >= FC_INT(1, UNIT) ? UINT32_MAX : (uint32_t)x_unit << (32 - FC_UNIT_FRAC);
     uint32_t remainder;
     const uint32_t root_q16 = sqrt16_digits(m, &remainder);
     const uint32_t rounded_q16 = remainder > root_q16 ? root_q16 + 1u : root_q16;
     return (fc_real)(rounded_q16 << (FC_UNIT_FRAC - 16)); /* at most 2^16 2^14 = 2^30 (1 exactly) */
-#endif
 }
+#endif
 
 /* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits
  * unsigned. One copy (its three products are the flash of a few hundred

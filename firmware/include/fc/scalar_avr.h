@@ -31,6 +31,9 @@
  *   fc_fx_extract,                         scalar.c's roots: MUL by bytes,
  *   fc_fx_asr32,                           constant shifts by bytes and bits
  *   fc_fx_shl32
+ *   fc_sqrt_unit16      FC_PORT_SQRT_UNIT16  inline: a knot table's chord and
+ *                                          exact steps in assembly (the
+ *                                          allocation's rotor speeds)
  *
  * The assembly below:
  *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
@@ -52,6 +55,7 @@
 #error "fc/scalar_avr.h is for avr-gcc only (fc/scalar.h includes it)"
 #endif
 
+#include <avr/pgmspace.h>
 #include <stdint.h>
 
 /* *low + 2^32 *high = a b, unsigned, by product scanning: the 16 byte
@@ -328,6 +332,44 @@ static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_chord_q14(uint
             "clr __zero_reg__"
             : [big] "=&r"(big), [root] "=&d"(root), [k] "=&r"(k), [m] "+r"(m), "+z"(z));
     return big;
+}
+
+/* fc_sqrt_unit16 (FC_PORT_SQRT_UNIT16): inline, at the allocation's one
+ * site (a call and the saves its asm's registers need cost more than the
+ * tests around it), the root from fc_avr_sqrt_chord_q14 with its knots in
+ * program memory: round(2^16 sqrt(i / 2^8)) - 2^15 for i = 64..256, 0 to
+ * 2^15. The same bits as the portable definition (scalar.c), over every x. */
+#define FC_PORT_SQRT_UNIT16
+FC_FX_INLINE fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
+{
+    static const uint16_t knots[193] PROGMEM = {
+        0, 255, 508, 759, 1008, 1256, 1502, 1746, 1988, 2228, 2467, 2704,
+        2940, 3174, 3407, 3638, 3868, 4096, 4323, 4548, 4772, 4995, 5217, 5437,
+        5656, 5874, 6090, 6305, 6519, 6732, 6944, 7155, 7364, 7573, 7780, 7987,
+        8192, 8396, 8600, 8802, 9003, 9204, 9403, 9601, 9799, 9995, 10191, 10386,
+        10580, 10773, 10965, 11157, 11347, 11537, 11726, 11914, 12101, 12288, 12474, 12659,
+        12843, 13027, 13209, 13392, 13573, 13754, 13934, 14113, 14291, 14469, 14647, 14823,
+        14999, 15174, 15349, 15523, 15697, 15869, 16041, 16213, 16384, 16554, 16724, 16893,
+        17062, 17230, 17398, 17564, 17731, 17897, 18062, 18227, 18391, 18555, 18718, 18881,
+        19043, 19204, 19366, 19526, 19686, 19846, 20005, 20164, 20322, 20480, 20637, 20794,
+        20951, 21106, 21262, 21417, 21572, 21726, 21879, 22033, 22186, 22338, 22490, 22642,
+        22793, 22944, 23094, 23244, 23394, 23543, 23691, 23840, 23988, 24135, 24283, 24430,
+        24576, 24722, 24868, 25013, 25158, 25303, 25447, 25591, 25735, 25878, 26021, 26163,
+        26305, 26447, 26589, 26730, 26871, 27011, 27151, 27291, 27431, 27570, 27709, 27847,
+        27985, 28123, 28261, 28398, 28535, 28672, 28808, 28944, 29080, 29216, 29351, 29486,
+        29620, 29755, 29889, 30022, 30156, 30289, 30422, 30555, 30687, 30819, 30951, 31082,
+        31214, 31345, 31475, 31606, 31736, 31866, 31995, 32125, 32254, 32383, 32511, 32640,
+        32768
+    };
+    (void)ar;
+    if (x_unit <= 0) {
+        return 0;
+    }
+    /* x above 1 - 2^-16 (m = 4 x > 65535^2 + 65535): the root rounds to 2^16, 1 in UNIT */
+    if (x_unit > FC_INT(1, UNIT) - (fc_real)((uint32_t)1u << (FC_UNIT_FRAC - 16))) {
+        return FC_INT(1, UNIT);
+    }
+    return (fc_real)fc_avr_sqrt_chord_q14((uint32_t)x_unit, knots);
 }
 
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:
