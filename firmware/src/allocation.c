@@ -689,47 +689,31 @@ typedef struct rotor_parts {
     fc_real16 rate16;       /* NORM16: s_i = q_i R_i (shift) */
 } rotor_parts;
 
-/* The room for the yaw scale b: every rotor of `rotors` (bit i for rotor i)
- * v_min <= v_i + b Y_i <= 1 (the others fit at b = 0 and b = 1, so at
- * every b between). Whether a bound may bind is decided on the exact 32-bit
- * values (the upper one iff v_i + max(Y_i, 0) > 1, the lower iff v_i +
- * min(Y_i, 0) < v_min); only then are Y_i and the slack narrowed to
+/* Rotor i's bounds on the yaw scale b in room: v_min <= v_i + b Y_i <= 1
+ * (v_i without yaw, PX). Whether a bound may bind is decided on the exact
+ * 32-bit values (the upper one iff v_i + max(Y_i, 0) > 1, the lower iff
+ * v_i + min(Y_i, 0) < v_min); only then are Y_i and the slack narrowed to
  * ROTOR16. A slack beyond +-2 is beyond every |Y_i| (at most 2 - 2^-14 in
- * ROTOR16) and saturates without changing the room: not reported. */
-static scale_interval yaw_room(fc_allocation *a, const rotor_parts *q, uint8_t rotors)
+ * ROTOR16) and saturates without changing the room: not reported (slack_ar). */
+static inline __attribute__((always_inline)) void yaw_constrain(fc_arith *ar, fc_arith *slack_ar,
+                                                                scale_interval *room, fc_real v, fc_real yaw,
+                                                                fc_real v_min)
 {
-    fc_arith *ar = &a->ar;
-    fc_arith slack_ar = {0u};
-    scale_interval room = interval_full();
-    const fc_allocation_rotor *r = a->rotor;
-    for (uint8_t i = a->rotor_count; i != 0u; i--) {
-        if ((rotors & 1u) != 0u) {
-            const fc_real v = q->v;
-            const fc_real yaw = q->yaw;
-            const fc_real v_min = r->v_min;
-            /* v + max(Y, 0) and v + min(Y, 0): the larger and the smaller of v
-             * and v + Y */
-            const fc_real with_yaw = fc_add_inline(ar, v, yaw);
-            const bool up = fc_max(v, with_yaw) > FC_INT(1, PX);
-            const bool down = fc_min(v, with_yaw) < v_min;
-            if (up || down) {
-                const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
-                if (up) {
-                    const fc_real slack = fc_sub(ar, FC_INT(1, PX), v);
-                    interval_constrain(&room, yaw16, fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
-                }
-                if (down) {
-                    const fc_real slack = fc_sub_inline(ar, v, v_min);
-                    interval_constrain(&room, fc_neg16(yaw16),
-                                       fc_narrow16(&slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
-                }
-            }
+    /* v + max(Y, 0) and v + min(Y, 0): the larger and the smaller of v and v + Y */
+    const fc_real with_yaw = fc_add_inline(ar, v, yaw);
+    const bool up = fc_max(v, with_yaw) > FC_INT(1, PX);
+    const bool down = fc_min(v, with_yaw) < v_min;
+    if (up || down) {
+        const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
+        if (up) {
+            const fc_real slack = fc_sub(ar, FC_INT(1, PX), v);
+            interval_constrain(room, yaw16, fc_narrow16(slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
         }
-        rotors = (uint8_t)(rotors >> 1);
-        r++;
-        q++;
+        if (down) {
+            const fc_real slack = fc_sub_inline(ar, v, v_min);
+            interval_constrain(room, fc_neg16(yaw16), fc_narrow16(slack_ar, slack, FC_PX_FRAC, FC_ROTOR16_FRAC));
+        }
     }
-    return room;
 }
 
 /* The collective shift rate s_i = q_i R_i of a rotor (NORM16) for its R_i
@@ -894,10 +878,14 @@ static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_
 }
 
 /* Step 1's parts: t = x_0, a = b = 1: R_i, Y_i and v_i = x_0 P_i0 + R_i,
- * as demanded_speeds forms them. */
-static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *parts)
+ * as demanded_speeds forms them; returns the room for the yaw scale b that
+ * the rotors of `outside` leave (bit i for rotor i; the others fit at b = 0
+ * and b = 1, so at every b between). */
+static scale_interval split_demand(fc_allocation *a, const fc_real16 *x, uint8_t outside, rotor_parts *parts)
 {
     fc_arith *ar = &a->ar;
+    fc_arith slack_ar = {0u};
+    scale_interval room = interval_full();
     const int n = a->rotor_count;
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
@@ -906,6 +894,10 @@ static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *part
         q->roll_pitch = roll_pitch;
         q->yaw = fc_mul16(r->pinv[3], x[3]);
         q->v = fc_add_inline(ar, fc_mul16(x[0], r->pinv[0]), roll_pitch);
+        if ((outside & 1u) != 0u) {
+            yaw_constrain(ar, &slack_ar, &room, q->v, q->yaw, r->v_min);
+        }
+        outside = (uint8_t)(outside >> 1);
     }
     for (int i = n; i < FC_MAX_ROTORS; i++) {
         /* never read; stores (not a memset) for the analysers */
@@ -918,6 +910,7 @@ static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *part
         q->roll_pitch16 = FC_INT16(0, ROTOR16);
         q->rate16 = FC_INT16(0, NORM16);
     }
+    return room;
 }
 
 /* Steps 2 and 3 (fc/allocation.h), when yaw alone cannot make room: the
@@ -925,8 +918,9 @@ static void split_demand(fc_allocation *a, const fc_real16 *x, rotor_parts *part
  * every rotor with no yaw, then t, the demand x_0 clamped to the interval
  * that fits a R; the parts' v becomes t P_0 + a R. Rotor i bounds t to
  * [low_i - a s_i, high_i - a s_i], s_i = q_i R_i (derive_inverse). Returns
- * the FC_SAT_* bits of a and t. */
-static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_parts *parts)
+ * the FC_SAT_* bits of a and t; the room for the yaw scale b that the
+ * shifted parts leave goes to room (every rotor, as each v is formed). */
+static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_parts *parts, scale_interval *room)
 {
     fc_arith *ar = &a->ar;
     const int n = a->rotor_count;
@@ -994,6 +988,8 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
     const fc_real16 t16 = fc_narrow16(ar, t, FC_RATIO_FRAC, FC_NORM16_FRAC);
     const fc_real16 rest =
         fc_narrow16(ar, fc_sub_inline(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
+    fc_arith slack_ar = {0u};
+    *room = interval_full();
     r = a->rotor;
     q = parts;
     for (int i = 0; i < n; i++, r++, q++) {
@@ -1004,6 +1000,7 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
             scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, q->roll_pitch16), SCALED_FRAC, FC_PX_FRAC)
                    : q->roll_pitch;
         q->v = fc_add_inline(ar, collective, roll_pitch);
+        yaw_constrain(ar, &slack_ar, room, q->v, q->yaw, r->v_min);
     }
     return saturation;
 }
@@ -1019,15 +1016,12 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
 {
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
-    split_demand(a, x, parts);
-    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must
-     * (the rotors that fit at b = 0 and b = 1 fit at every b between) */
-    scale_interval room = yaw_room(a, parts, outside);
+    /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
+    scale_interval room = split_demand(a, x, outside, parts);
     if (!interval_feasible(&room)) {
-        /* 3. roll/pitch last, 2. then the collective */
-        saturation |= shift_collective(a, x, parts);
-        /* b = 0 fits by construction: only the upper bounds of b matter */
-        room = yaw_room(a, parts, 0xFFu);
+        /* 3. roll/pitch last, 2. then the collective, and the room of b
+         * there (b = 0 fits by construction: only its upper bounds matter) */
+        saturation |= shift_collective(a, x, parts, &room);
     }
     /* 1. yaw: the largest b that fits; b = 1 keeps Y exact (no product) */
     const fc_real16 yaw_scale = ratio_unit(room.high);

@@ -180,8 +180,8 @@ static void sqrt_knots(uint8_t k, uint16_t *at_start, uint16_t *at_end)
  *   floor(sqrt(m)) = floor(S / 2^k)          (sqrt(m) = sqrt(M) / 2^k)
  * Exact for every m whatever the first guess (the steps make it so; the
  * guess, within -2..+1 of S over every M, only bounds their number). For
- * fc_sqrt and fc_hypot3; fc_sqrt_unit16 has its own root (sqrt16_digits,
- * in assembly on the ATmega). */
+ * fc_sqrt and fc_hypot3; fc_sqrt_unit16 has its own root (sqrt16_digits;
+ * on the ATmega a chord and steps of its own in assembly). */
 static uint16_t isqrt_u32(uint32_t m, uint32_t *remainder)
 {
     if (m == 0u) {
@@ -367,7 +367,7 @@ fc_real fc_sqrt(fc_arith *ar, fc_real x, int frac)
  * bit of the root, the trial value b = (4 r + 1) 4^(15 - i) (r the i bits
  * so far) subtracted from what is left of m when it fits (Warren, Hacker's
  * Delight, 11-1). No product: 16 rounds of adds and shifts. */
-#if !defined(__AVR__)
+#ifndef FC_PORT_SQRT_UNIT16
 static uint16_t sqrt16_digits(uint32_t m, uint32_t *remainder)
 {
     uint32_t rest = m;
@@ -387,6 +387,7 @@ static uint16_t sqrt16_digits(uint32_t m, uint32_t *remainder)
 }
 #endif
 
+#ifndef FC_PORT_SQRT_UNIT16
 fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 {
     (void)ar;
@@ -398,15 +399,12 @@ fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
      * rounded up iff m > (s + 1/2)^2 = s^2 + s + 1/4, i.e. r > s */
     _Static_assert(FC_UNIT_FRAC == 30, "the root in Q16 times 2^14 is UNIT");
     const uint32_t m = x_unit >= FC_INT(1, UNIT) ? UINT32_MAX : (uint32_t)x_unit << (32 - FC_UNIT_FRAC);
-#if defined(__AVR__)
-    return (fc_real)fc_avr_sqrt_rounded_q14(m); /* the same digits in assembly (fc/scalar_avr.h) */
-#else
     uint32_t remainder;
     const uint32_t root_q16 = sqrt16_digits(m, &remainder);
     const uint32_t rounded_q16 = remainder > root_q16 ? root_q16 + 1u : root_q16;
     return (fc_real)(rounded_q16 << (FC_UNIT_FRAC - 16)); /* at most 2^16 2^14 = 2^30 (1 exactly) */
-#endif
 }
+#endif
 
 /* a^2 + b^2 + c^2: each square is at most 2^62, so three of them fit 64 bits
  * unsigned. One copy (its three products are the flash of a few hundred

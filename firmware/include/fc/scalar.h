@@ -899,7 +899,9 @@ fc_real fc_rsqrt(fc_arith *ar, fc_real x, int frac_in, int frac_out);
  * the rotor speeds of the allocation (a 30-bit root takes a 64-bit radicand,
  * some 4 times the ATmega's cycles). Float: fc_sqrt. */
 #if FC_NUMERIC_FIXED
+#ifndef FC_PORT_SQRT_UNIT16 /* (port: FC_PORT_SQRT_UNIT16) */
 fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit);
+#endif
 #else
 static inline fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
 {

@@ -36,6 +36,9 @@
  *   fc_fx_extract,                         scalar.c's roots: MUL by bytes,
  *   fc_fx_asr32,                           constant shifts by bytes and bits
  *   fc_fx_shl32
+ *   fc_sqrt_unit16      FC_PORT_SQRT_UNIT16  inline: a knot table's chord and
+ *                                          exact steps in assembly (the
+ *                                          allocation's rotor speeds)
  *
  * The assembly below:
  *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
@@ -57,6 +60,7 @@
 #error "fc/scalar_avr.h is for avr-gcc only (fc/scalar.h includes it)"
 #endif
 
+#include <avr/pgmspace.h>
 #include <stdint.h>
 
 /* *low + 2^32 *high = a b, unsigned, by product scanning: the 16 byte
@@ -208,99 +212,169 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
 }
 
 /*
- * round(sqrt(m)) 2^14 for a 32-bit m (fc_sqrt_unit16: m is x in Q32, the
- * result the root in UNIT's Q30), digit by digit, with no product: the
- * method of scalar.c's sqrt16_digits on the remainder shifted left by one
- * bit a round instead of the trial value shifted right, so that the trial
- * value b = (4 r + 1) 2^(30 - i) of round i (r the i root bits so far) has
- * no bit below 2^15 and, up to round 14, none below 2^16: it is compared
- * with and subtracted from the remainder's high half only. T holds b / 2^16;
- * a round that sets the root bit 2^(15 - i) of T and moves the trial bit
- * from 2^(14 - i) to 2^(13 - i) adds 3 2^(13 - i), one that leaves it
- * subtracts 2^(13 - i) (round 14: +1 and -1, the trial bit 2^-1 dropped), so
- * the rounds are written out with their constants. The remainder shifted
- * left by i bits can reach 2^33: its bit 32 is the carry of the shift,
- * which alone makes the bit 1 (the difference is then below 2^32 again).
- * Its low byte moves up only after 8 rounds: rounds 0 to 7 shift the three
- * bytes above it, then one move. Round 15, the last, compares three bytes
- * (b / 2^8); after it T is the root and the remainder (m - root^2) 2^15,
- * rounded up iff it is above root 2^15; the rounded root (up to 2^16) times
- * 2^14 by byte moves and two shifts.
+ * round(sqrt(m)) 2^14 for m = 4 x, 0 < x <= 2^30 - 2^14 (fc_sqrt_unit16: x
+ * in UNIT's Q30, m in Q32, the result the root in Q30; above that range the
+ * rounded root is 2^16, which the caller returns itself). The rounded root
+ * R is the integer with R^2 - R < m <= R^2 + R, found from a first guess by
+ * steps:
+ *   M = m 4^k in [2^30, 2^32)        (whole bytes by moves, then pairs of bits)
+ *   S0 = 2^15 + T[i] + floor(d c / 2^8) + 1, at most 2^16 - 1
+ *                                    (i = M's top byte, 64..255, c the next
+ *                                    one; T[i] = round(2^16 sqrt(i / 2^8)) - 2^15,
+ *                                    table[i - 64], and d = T[i+1] - T[i] < 2^8:
+ *                                    the chord of the root over M's top 16 bits)
+ *   R0 = floor(S0 / 2^k)             (sqrt(m) = sqrt(M) / 2^k)
+ *   R  = R0 stepped up while m > R^2 + R, then down while m <= R^2 - R
+ *                                    (R^2 + R and R^2 - R kept by adds: one product)
+ * Exact whatever the guess: the table only bounds the steps (over every m:
+ * at most two up or one down). table points to the 193
+ * entries in program memory, the low 64 KB (LPM).
  */
-#define FC_AVR_SQRT_ROUND(UP, DOWN)                                                            \
-    "brcs 1f\n\t"                                                                              \
-    "cp %C[x], %A[t]\n\t"                                                                      \
-    "cpc %D[x], %B[t]\n\t"                                                                     \
-    "brcs 2f\n"                                                                                \
-    "1:\n\t"                                                                                   \
-    "sub %C[x], %A[t]\n\t"                                                                     \
-    "sbc %D[x], %B[t]\n\t"                                                                     \
-    "subi %A[t], lo8(-(" UP "))\n\t"                                                           \
-    "sbci %B[t], hi8(-(" UP "))\n\t"                                                           \
-    "rjmp 3f\n"                                                                                \
-    "2:\n\t"                                                                                   \
-    "subi %A[t], lo8(" DOWN ")\n\t"                                                            \
-    "sbci %B[t], hi8(" DOWN ")\n"                                                              \
-    "3:\n\t"                                                                                   \
-    "lsl %B[x]\n\t"                                                                            \
-    "rol %C[x]\n\t"                                                                            \
-    "rol %D[x]\n\t"
-
-static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_rounded_q14(uint32_t m)
+static inline __attribute__((always_inline)) uint32_t fc_avr_sqrt_chord_q14(uint32_t x, const uint16_t *table)
 {
-    uint32_t x = m;
-    uint16_t t;
+    uint32_t m = x;
+    uint32_t big;  /* M, then R^2 + R, R^2 - R, then the result */
+    uint16_t root; /* S0, R0, R */
     uint8_t k;
-    __asm__("ldi %B[t], 0x40\n\t"
-            "ldi %A[t], 0\n\t"
-            "clc\n\t"
-            /* rounds 0..14: the carry is bit 32 of the shifted remainder */
-            FC_AVR_SQRT_ROUND("24576", "8192") FC_AVR_SQRT_ROUND("12288", "4096")
-            FC_AVR_SQRT_ROUND("6144", "2048") FC_AVR_SQRT_ROUND("3072", "1024")
-            FC_AVR_SQRT_ROUND("1536", "512") FC_AVR_SQRT_ROUND("768", "256")
-            FC_AVR_SQRT_ROUND("384", "128") FC_AVR_SQRT_ROUND("192", "64")
-            "mov %B[x], %A[x]\n\t" /* the low byte's turn (MOV keeps the carry) */
-            FC_AVR_SQRT_ROUND("96", "32") FC_AVR_SQRT_ROUND("48", "16")
-            FC_AVR_SQRT_ROUND("24", "8") FC_AVR_SQRT_ROUND("12", "4")
-            FC_AVR_SQRT_ROUND("6", "2") FC_AVR_SQRT_ROUND("3", "1")
-            FC_AVR_SQRT_ROUND("1", "1") /* round 14: the trial bit 2^-1 dropped */
-            /* round 15: T is twice the root so far, b = T 2^16 + 2^15 */
-            "ldi %[k], 0x80\n\t"
-            "brcs 4f\n\t"
-            "cp %B[x], %[k]\n\t"
-            "cpc %C[x], %A[t]\n\t"
-            "cpc %D[x], %B[t]\n\t"
-            "brcs 5f\n"
+    const uint16_t *z = table;
+    __asm__("lsl %A[m]\n\trol %B[m]\n\trol %C[m]\n\trol %D[m]\n\t"
+            "lsl %A[m]\n\trol %B[m]\n\trol %C[m]\n\trol %D[m]\n\t"
+            "movw %A[big], %A[m]\n\t"
+            "movw %C[big], %C[m]\n\t"
+            "clr %[k]\n"
+            /* M = m 4^k: whole bytes while the top one is 0 (m >= 4 ends it) */
+            "1:\n\t"
+            "tst %D[big]\n\t"
+            "brne 2f\n\t"
+            "mov %D[big], %C[big]\n\t"
+            "mov %C[big], %B[big]\n\t"
+            "mov %B[big], %A[big]\n\t"
+            "clr %A[big]\n\t"
+            "inc %[k]\n\tinc %[k]\n\tinc %[k]\n\tinc %[k]\n\t"
+            "rjmp 1b\n"
+            /* then pairs of bits while M < 2^30 */
+            "2:\n\t"
+            "sbrc %D[big], 7\n\t"
+            "rjmp 3f\n\t"
+            "sbrc %D[big], 6\n\t"
+            "rjmp 3f\n\t"
+            "lsl %A[big]\n\trol %B[big]\n\trol %C[big]\n\trol %D[big]\n\t"
+            "lsl %A[big]\n\trol %B[big]\n\trol %C[big]\n\trol %D[big]\n\t"
+            "inc %[k]\n\t"
+            "rjmp 2b\n"
+            /* the knot T[i] at table + 2 (i - 64), and d from the next one's
+             * low byte (d < 2^8) */
+            "3:\n\t"
+            "subi r30, lo8(128)\n\t"
+            "sbci r31, hi8(128)\n\t"
+            "add r30, %D[big]\n\t"
+            "adc r31, __zero_reg__\n\t"
+            "add r30, %D[big]\n\t"
+            "adc r31, __zero_reg__\n\t"
+            "lpm %A[root], Z+\n\t"
+            "lpm %B[root], Z+\n\t"
+            "lpm r0, Z\n\t"
+            "sub r0, %A[root]\n\t"
+            "mul r0, %C[big]\n\t"
+            "add %A[root], r1\n\t"
+            "brcc 4f\n\t"
+            "inc %B[root]\n"
             "4:\n\t"
-            "sub %B[x], %[k]\n\t"
-            "sbc %C[x], %A[t]\n\t"
-            "sbc %D[x], %B[t]\n\t"
-            "ori %A[t], 1\n"
+            /* + 2^15 + 1; a carry out (only at M = 2^32 - 2^16) keeps 2^16 - 1 */
+            "subi %A[root], lo8(-32769)\n\t"
+            "sbci %B[root], hi8(-32769)\n\t"
+            "brcs 11f\n\t"
+            "ldi %A[root], 0xff\n\t"
+            "ldi %B[root], 0xff\n"
+            /* R0 = S0 / 2^k; k is 0 after it (the zero of what follows) */
+            "11:\n\t"
+            "tst %[k]\n\t"
+            "breq 6f\n"
             "5:\n\t"
-            /* the carry: (m - root^2) = remainder / 2^15 above the root */
-            "lsl %B[x]\n\t"
-            "rol %C[x]\n\t"
-            "rol %D[x]\n\t"
-            "brcs 6f\n\t"
-            "cp %A[t], %C[x]\n\t"
-            "cpc %B[t], %D[x]\n"
+            "lsr %B[root]\n\t"
+            "ror %A[root]\n\t"
+            "dec %[k]\n\t"
+            "brne 5b\n"
+            /* R^2 + R */
             "6:\n\t"
-            /* (root + carry) 2^14: 2^16 by moves (MOV and EOR keep the
-             * carry), the 17th bit from ADC's carry, two bits back */
-            "mov %C[x], %A[t]\n\t"
-            "mov %D[x], %B[t]\n\t"
-            "clr %A[x]\n\t"
-            "clr %B[x]\n\t"
-            "adc %C[x], __zero_reg__\n\t"
-            "adc %D[x], __zero_reg__\n\t"
-            "ror %D[x]\n\t"
-            "ror %C[x]\n\t"
-            "ror %B[x]\n\t"
-            "lsr %D[x]\n\t"
-            "ror %C[x]\n\t"
-            "ror %B[x]"
-            : [x] "+r"(x), [t] "=&d"(t), [k] "=&d"(k));
-    return x;
+            "mul %A[root], %A[root]\n\t"
+            "movw %A[big], r0\n\t"
+            "mul %B[root], %B[root]\n\t"
+            "movw %C[big], r0\n\t"
+            "mul %A[root], %B[root]\n\t"
+            "add %B[big], r0\n\tadc %C[big], r1\n\tadc %D[big], %[k]\n\t"
+            "add %B[big], r0\n\tadc %C[big], r1\n\tadc %D[big], %[k]\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n"
+            /* up while m > R^2 + R: R + 1, and (R + 1)^2 + (R + 1) = R^2 + R + 2 (R + 1) */
+            "7:\n\t"
+            "cp %A[big], %A[m]\n\tcpc %B[big], %B[m]\n\tcpc %C[big], %C[m]\n\tcpc %D[big], %D[m]\n\t"
+            "brsh 8f\n\t"
+            "subi %A[root], 0xff\n\t"
+            "sbci %B[root], 0xff\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n\t"
+            "add %A[big], %A[root]\n\tadc %B[big], %B[root]\n\tadc %C[big], %[k]\n\tadc %D[big], %[k]\n\t"
+            "rjmp 7b\n"
+            /* R^2 - R = (R^2 + R) - 2 R */
+            "8:\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n"
+            /* down while m <= R^2 - R: R - 1, and (R - 1)^2 - (R - 1) = R^2 - R - 2 (R - 1) */
+            "9:\n\t"
+            "cp %A[big], %A[m]\n\tcpc %B[big], %B[m]\n\tcpc %C[big], %C[m]\n\tcpc %D[big], %D[m]\n\t"
+            "brlo 10f\n\t"
+            "subi %A[root], 1\n\t"
+            "sbci %B[root], 0\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "sub %A[big], %A[root]\n\tsbc %B[big], %B[root]\n\tsbc %C[big], %[k]\n\tsbc %D[big], %[k]\n\t"
+            "rjmp 9b\n"
+            /* R 2^14: R 2^16 by moves, two bits back */
+            "10:\n\t"
+            "clr %A[big]\n\t"
+            "clr %B[big]\n\t"
+            "movw %C[big], %A[root]\n\t"
+            "lsr %D[big]\n\tror %C[big]\n\tror %B[big]\n\t"
+            "lsr %D[big]\n\tror %C[big]\n\tror %B[big]\n\t"
+            "clr __zero_reg__"
+            : [big] "=&r"(big), [root] "=&d"(root), [k] "=&r"(k), [m] "+r"(m), "+z"(z));
+    return big;
+}
+
+/* fc_sqrt_unit16 (FC_PORT_SQRT_UNIT16): inline, at the allocation's one
+ * site (a call and the saves its asm's registers need cost more than the
+ * tests around it), the root from fc_avr_sqrt_chord_q14 with its knots in
+ * program memory: round(2^16 sqrt(i / 2^8)) - 2^15 for i = 64..256, 0 to
+ * 2^15. The same bits as the portable definition (scalar.c), over every x. */
+#define FC_PORT_SQRT_UNIT16
+FC_FX_INLINE fc_real fc_sqrt_unit16(fc_arith *ar, fc_real x_unit)
+{
+    static const uint16_t knots[193] PROGMEM = {
+        0, 255, 508, 759, 1008, 1256, 1502, 1746, 1988, 2228, 2467, 2704,
+        2940, 3174, 3407, 3638, 3868, 4096, 4323, 4548, 4772, 4995, 5217, 5437,
+        5656, 5874, 6090, 6305, 6519, 6732, 6944, 7155, 7364, 7573, 7780, 7987,
+        8192, 8396, 8600, 8802, 9003, 9204, 9403, 9601, 9799, 9995, 10191, 10386,
+        10580, 10773, 10965, 11157, 11347, 11537, 11726, 11914, 12101, 12288, 12474, 12659,
+        12843, 13027, 13209, 13392, 13573, 13754, 13934, 14113, 14291, 14469, 14647, 14823,
+        14999, 15174, 15349, 15523, 15697, 15869, 16041, 16213, 16384, 16554, 16724, 16893,
+        17062, 17230, 17398, 17564, 17731, 17897, 18062, 18227, 18391, 18555, 18718, 18881,
+        19043, 19204, 19366, 19526, 19686, 19846, 20005, 20164, 20322, 20480, 20637, 20794,
+        20951, 21106, 21262, 21417, 21572, 21726, 21879, 22033, 22186, 22338, 22490, 22642,
+        22793, 22944, 23094, 23244, 23394, 23543, 23691, 23840, 23988, 24135, 24283, 24430,
+        24576, 24722, 24868, 25013, 25158, 25303, 25447, 25591, 25735, 25878, 26021, 26163,
+        26305, 26447, 26589, 26730, 26871, 27011, 27151, 27291, 27431, 27570, 27709, 27847,
+        27985, 28123, 28261, 28398, 28535, 28672, 28808, 28944, 29080, 29216, 29351, 29486,
+        29620, 29755, 29889, 30022, 30156, 30289, 30422, 30555, 30687, 30819, 30951, 31082,
+        31214, 31345, 31475, 31606, 31736, 31866, 31995, 32125, 32254, 32383, 32511, 32640,
+        32768
+    };
+    (void)ar;
+    if (x_unit <= 0) {
+        return 0;
+    }
+    /* x above 1 - 2^-16 (m = 4 x > 65535^2 + 65535): the root rounds to 2^16, 1 in UNIT */
+    if (x_unit > FC_INT(1, UNIT) - (fc_real)((uint32_t)1u << (FC_UNIT_FRAC - 16))) {
+        return FC_INT(1, UNIT);
+    }
+    return (fc_real)fc_avr_sqrt_chord_q14((uint32_t)x_unit, knots);
 }
 
 /* Byte i (0..7) and the 32-bit word at byte i (0..4) of high:low, i a constant:

@@ -13,7 +13,8 @@
  * and the functions of scalar.c with an ATmega-only path: fc_div (restoring
  * division in 32-bit halves, every shift 0..31) against its int64_t form,
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
- * (digit by digit in assembly) against the digit-by-digit square
+ * (a chord and steps in assembly; also swept over its edges) against the
+ * digit-by-digit square
  * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
  * 16) against the rounded value saturated at +-INT16_MAX, and
  * fc_hypot3_within against that root compared, fc_mul16 (MULS/MULSU
@@ -329,6 +330,47 @@ static int16_t mantissa_operand(void)
     }
 }
 
+/* the 16-bit root of a UNIT value: sqrt(x 2^2) of Q32 rounded to Q16,
+ * then Q30 (x of 1 and above: 1) */
+static void compare_sqrt_unit16(int32_t x)
+{
+    fc_arith got = {0u};
+    const int32_t value = fc_sqrt_unit16(&got, x);
+    const int32_t want = x <= 0 ? 0
+                         : x >= FC_INT(1, UNIT) ? FC_INT(1, UNIT)
+                                                : (int32_t)(ref_sqrt((uint64_t)x << 2) << 14);
+    check(OP_SQRT_UNIT16, 0u, value, got.saturated, want, 0u);
+}
+
+/* fc_sqrt_unit16 where its port's steps decide: the smallest x, each power
+ * of two and its neighbours (the normalisation's bytes and pairs of bits),
+ * the top of its chord (x = 2^30 - 2^14, where the guess is clamped, and
+ * the x above, which round to 1) and x on either side of the rounding
+ * boundaries 4 x = R^2 + R of random roots R. */
+static void sweep_sqrt_unit16(void)
+{
+    for (int32_t x = -2; x <= 300; x++) {
+        compare_sqrt_unit16(x);
+    }
+    for (uint8_t j = 2; j <= 30; j++) {
+        const int32_t p = (int32_t)((uint32_t)1u << j);
+        compare_sqrt_unit16(p - 1);
+        compare_sqrt_unit16(p);
+        compare_sqrt_unit16(p + 1);
+    }
+    for (int32_t d = -3; d <= 3; d++) {
+        compare_sqrt_unit16(FC_INT(1, UNIT) - (1 << 14) + d);
+        compare_sqrt_unit16(INT32_MAX + (d <= 0 ? d : -d));
+    }
+    for (uint16_t i = 0; i < 400u; i++) {
+        const uint32_t root = rng_next() & 0xFFFFu;
+        const int32_t boundary = (int32_t)((root * root + root) >> 2);
+        for (int32_t d = -1; d <= 1; d++) {
+            compare_sqrt_unit16(boundary + d);
+        }
+    }
+}
+
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
     compare_add_sub(a[0], b[0]);
@@ -342,14 +384,7 @@ static void compare_functions(const int32_t *a, const int32_t *b)
     value = fc_sqrt(&got, a[1], frac);
     const int32_t want_sqrt = a[1] > 0 ? (int32_t)ref_sqrt((uint64_t)a[1] << frac) : 0;
     check(OP_SQRT, (uint8_t)frac, value, got.saturated, want_sqrt, 0u);
-    /* the 16-bit root of a UNIT value: sqrt(x 2^2) of Q32 rounded to Q16,
-     * then Q30 (x of 1 and above: 1) */
-    got.saturated = 0u;
-    value = fc_sqrt_unit16(&got, a[1]);
-    const int32_t want_unit16 = a[1] <= 0 ? 0
-                                : a[1] >= FC_INT(1, UNIT) ? FC_INT(1, UNIT)
-                                                          : (int32_t)(ref_sqrt((uint64_t)a[1] << 2) << 14);
-    check(OP_SQRT_UNIT16, 0u, value, got.saturated, want_unit16, 0u);
+    compare_sqrt_unit16(a[1]);
     compare_narrow16(a[2]);
     compare_mul16(a[3], b[3]);
     compare_mul16(a[3] >> (rng_next() % 16u), b[3] >> (rng_next() % 16u)); /* small ones too */
@@ -536,6 +571,7 @@ int main(void)
             cases[s](a, b);
         }
     }
+    sweep_sqrt_unit16();
     for (uint16_t round = 0; round < SCALAR_TEST_ROUNDS; round++) {
         for (uint8_t k = 0; k < 8; k++) {
             a[k] = operand();
