@@ -399,6 +399,13 @@ FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
  * of num (scalar.c). */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 
+/* num 2^shift / den to 15 significant bits, for a step's division whose
+ * quotient needs no more: num times den's reciprocal as an fc_gain (den's
+ * leading 16 bits, a linear seed and two Newton steps in 16 x 16 products,
+ * no division), rounded and saturated as fc_mul_gain; within 2^-13 of the
+ * quotient relatively. den <= 0 is fc_div (scalar.c). */
+fc_real fc_div15(fc_arith *ar, fc_real num, fc_real den, int shift);
+
 /* Change of format: a value in format FROM re-expressed in format TO,
  * rounded and saturated as fc_fx_narrow, in 32 bits. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
@@ -702,6 +709,12 @@ static inline fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 #else
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 #endif
+
+/* fc_div: the float quotient has its 24 bits anyway. */
+static inline fc_real fc_div15(fc_arith *ar, fc_real num, fc_real den, int shift)
+{
+    return fc_div(ar, num, den, shift);
+}
 
 static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
