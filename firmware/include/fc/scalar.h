@@ -1169,7 +1169,7 @@ FC_FX_INLINE fc_real fc_div15(fc_arith *ar, fc_real num, fc_real den, int shift)
     }
     /* 1/den = (2^30/m) 2^-(30 + e), 2^30/m in (2^14, 2^15] as the gain's
      * mantissa, held below 2^15 */
-    const uint16_t mantissa = (uint16_t)((fc_fx_reciprocal_q15((uint16_t)m) + 1u) >> 1);
+    const uint32_t mantissa = ((uint32_t)fc_fx_reciprocal_q15((uint16_t)m) + 1u) >> 1;
     return fc_fx_mul_gain_shift(ar, num, (int16_t)(mantissa > 0x7FFFu ? 0x7FFFu : mantissa), 30 + e - shift);
 }
 #else
