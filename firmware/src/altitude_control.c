@@ -893,7 +893,8 @@ static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_cont
 static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *t, bool learn)
 {
     fc_arith *ar = &c->ar;
-    const fc_real sigma_phi = fc_mul(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
+    /* inline products (fc/scalar.h, fc_mul_inline): here and u_nom's, every step */
+    const fc_real sigma_phi = fc_mul_inline(ar, t->sigma_mps, t->phi_mps2, FC_SHIFT(VEL, ACCEL, SIGMA_PHI));
     if (learn) {
         const fc_real learnt = fc_clamp(sigma_phi, FC_C(-FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI),
                                         FC_C(FC_ALT_THETA_LEARN_SIGMA_PHI, SIGMA_PHI));
@@ -913,8 +914,10 @@ static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *
     return fc_clamp(fc_sub_inline(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
 }
 
-/* A body thrust in N as the normalised thrust the allocation takes. */
-static fc_real16 thrust_fraction(const fc_altitude_control *c, fc_real thrust_n)
+/* A body thrust in N as the normalised thrust the allocation takes. Inlined:
+ * a call on the ATmega saves and restores more registers than it computes. */
+static inline __attribute__((always_inline)) fc_real16 thrust_fraction(const fc_altitude_control *c,
+                                                                       fc_real thrust_n)
 {
     fc_arith ar = {0u};
     const fc_real share = fc_mul_gain(&ar, thrust_n, c->k.inv_thrust_authority, FC_GAIN_SHIFT(FORCE, RATIO));
@@ -995,7 +998,7 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     }
     /* Theta phi (4.4), inside the vertical force the thrust can deliver: beyond it
      * z_r'' asks for an acceleration the airframe cannot make (the start of (3.6)) */
-    const fc_real u_nom = fc_clamp(fc_mul(ar, theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)), u_min, u_max);
+    const fc_real u_nom = fc_clamp(fc_mul_inline(ar, theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)), u_min, u_max);
 
     fc_real u;
     switch (p->law) {
@@ -1028,7 +1031,8 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
      * itself (F = u / k_h rounds either way of the thrust's limit) */
     const bool at_max = u >= u_max;
     const bool at_min = u <= u_min;
-    const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
+    /* to 15 significant bits, as many as the normalised thrust it becomes holds */
+    const fc_real thrust = fc_div15(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
     out->thrust_n = at_max ? p->thrust_max_n : (at_min ? p->thrust_min_n : fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n));
     out->clamped = at_max || at_min || thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
     if (out->clamped) {
