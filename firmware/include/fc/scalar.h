@@ -728,11 +728,16 @@ static inline bool fc_is_finite(fc_real a)
     return a - a == 0.0f;
 }
 
-/* a, b and c all finite, by one comparison: the sum of the three a - a is
- * +0 when each is and NaN when any is NaN. */
+/* a, b and c all finite. With an FPU by one comparison: the sum of the
+ * three a - a is +0 when each is and NaN when any is NaN (soft-float: the
+ * additions cost more than the comparisons they save). */
 static inline bool fc_is_finite3(fc_real a, fc_real b, fc_real c)
 {
+#if FC_FLOAT_INLINE_MATH
     return (a - a) + (b - b) + (c - c) == 0.0f;
+#else
+    return fc_is_finite(a) && fc_is_finite(b) && fc_is_finite(c);
+#endif
 }
 
 /* ---- 16-bit values: float here too, the same expressions as fc_real's ---- */
