@@ -1104,8 +1104,7 @@ static __attribute__((noinline)) uint8_t allocate_nonlinear(fc_allocation *a, co
 
 static bool demand_is_finite(const fc_allocation_demand *d)
 {
-    return fc_is_finite(d->thrust) && fc_is_finite(d->moment.x) && fc_is_finite(d->moment.y) &&
-           fc_is_finite(d->moment.z);
+    return fc_is_finite(d->thrust) && fc_is_finite3(d->moment.x, d->moment.y, d->moment.z);
 }
 
 fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,

@@ -46,7 +46,7 @@ static inline __attribute__((always_inline)) fc_quat quat_scale(fc_arith *ar, fc
 
 bool fc_quat_is_finite(fc_quat q)
 {
-    return fc_is_finite(q.w) && fc_is_finite(q.x) && fc_is_finite(q.y) && fc_is_finite(q.z);
+    return fc_is_finite(q.w) && fc_is_finite3(q.x, q.y, q.z);
 }
 
 fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
@@ -58,6 +58,14 @@ fc_quat fc_quat_normalize(fc_arith *ar, fc_quat q, bool *ok)
      * quarter it first (the direction is all that matters). */
     fc_arith probe = {0u};
     fc_real norm_sq = fc_quat_norm_sq(&probe, q);
+    /* unit already (a quaternion this function returned, say), the common
+     * case, first: scaling would move each component by rounding alone.
+     * Such a |q|^2 is a number and far above the smallest taken below, so
+     * the answer is the one the tests below give. */
+    if (probe.saturated == 0u && fc_within(fc_sub(ar, FC_INT(1, UNIT), norm_sq), UNIT_LENGTH_SQ_TOLERANCE)) {
+        *ok = true;
+        return q;
+    }
     if (probe.saturated != 0u) {
         q = quat_scale(ar, q, FC_C(0.25f, UNIT), UNIT_X_UNIT);
         norm_sq = fc_quat_norm_sq(ar, q);

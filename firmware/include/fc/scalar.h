@@ -443,6 +443,14 @@ FC_FX_INLINE bool fc_is_finite(fc_real a)
     return true;
 }
 
+FC_FX_INLINE bool fc_is_finite3(fc_real a, fc_real b, fc_real c)
+{
+    (void)a;
+    (void)b;
+    (void)c;
+    return true;
+}
+
 /* ---- 16-bit values (fc_real16; formats in the table above) ------------- */
 
 /* x (format frac_from) in the 16-bit format frac_to <= frac_from: rounded to
@@ -746,6 +754,18 @@ static inline bool fc_is_finite(fc_real a)
     return a - a == 0.0f;
 }
 
+/* a, b and c all finite. With an FPU by one comparison: the sum of the
+ * three a - a is +0 when each is and NaN when any is NaN (soft-float: the
+ * additions cost more than the comparisons they save). */
+static inline bool fc_is_finite3(fc_real a, fc_real b, fc_real c)
+{
+#if FC_FLOAT_INLINE_MATH
+    return (a - a) + (b - b) + (c - c) == 0.0f;
+#else
+    return fc_is_finite(a) && fc_is_finite(b) && fc_is_finite(c);
+#endif
+}
+
 /* ---- 16-bit values: float here too, the same expressions as fc_real's ---- */
 typedef float fc_real16;
 #define FC_REAL16_MAX FC_REAL_MAX
@@ -840,6 +860,23 @@ static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real l
      * same answer as finite && -limit <= x <= limit, for every limit, NaN too;
      * a constant limit folds (the input checks, ~30 a step) */
     return __builtin_fabsf(x) <= (limit > FC_REAL_MAX ? FC_REAL_MAX : limit);
+#endif
+}
+
+/* fc_within(x, limit) for a limit formed at run time (the norm clamps'
+ * remainders, fc_norm1_within): the same answer. With an FPU by the sign of
+ * |x| - limit, one comparison with the zero VCMP takes as an immediate and
+ * no test of the limit: the difference of two floats is 0 only when they
+ * are equal (IEEE gradual underflow, the FPU's default) and has the sign of
+ * their order otherwise, and an infinite |x| against an infinite limit
+ * gives NaN, which fails. Fixed, and soft-float (where the subtraction costs
+ * more than the test it saves): fc_within. */
+static inline __attribute__((always_inline)) bool fc_within_runtime(fc_real x, fc_real limit)
+{
+#if !FC_NUMERIC_FIXED && defined(FC_FLOAT_INLINE_MATH) && FC_FLOAT_INLINE_MATH
+    return __builtin_fabsf(x) - limit <= 0.0f;
+#else
+    return fc_within(x, limit);
 #endif
 }
 

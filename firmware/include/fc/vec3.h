@@ -107,15 +107,15 @@ fc_vec3 fc_vec3_clamp_norm_report(fc_arith *ar, fc_vec3 v, fc_real max_norm, int
 FC_VEC3_INLINE bool fc_norm1_within(fc_real x, fc_real y, fc_real z, fc_real limit)
 {
     /* what each component leaves of the limit: differences of values in
-     * [0, limit], so nothing overflows; a NaN fails fc_within */
-    if (!fc_within(x, limit)) {
+     * [0, limit], so nothing overflows; a NaN fails fc_within_runtime */
+    if (!fc_within_runtime(x, limit)) {
         return false;
     }
     const fc_real after_x = limit - (x < FC_INT(0, UNIT) ? -x : x);
-    if (!fc_within(y, after_x)) {
+    if (!fc_within_runtime(y, after_x)) {
         return false;
     }
-    return fc_within(z, after_x - (y < FC_INT(0, UNIT) ? -y : y));
+    return fc_within_runtime(z, after_x - (y < FC_INT(0, UNIT) ? -y : y));
 }
 
 /* Format change of all three components. */
@@ -130,7 +130,7 @@ FC_VEC3_INLINE fc_vec3 fc_vec3_convert(fc_arith *ar, fc_vec3 v, int frac_from, i
  * Inlined: called on every step, a few instructions each. */
 FC_VEC3_INLINE bool fc_vec3_is_finite(fc_vec3 v)
 {
-    return fc_is_finite(v.x) && fc_is_finite(v.y) && fc_is_finite(v.z);
+    return fc_is_finite3(v.x, v.y, v.z);
 }
 
 /* Every component a number with |v_i| <= limit (fc_within). */
