@@ -474,7 +474,8 @@ FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
 
 /* a b, exact (below 2^31 in magnitude for operands within +-FC_REAL16_MAX),
  * in the format whose FRAC is the sum of the operands'; and the same for an
- * unsigned 16-bit a (the low half of a 32-bit value): |a b| < 2^31.
+ * unsigned 16-bit a (the low half of a 32-bit value): |a b| < 2^31; and for
+ * both unsigned (the roots' mantissas): a b < 2^32, unsigned.
  * (port: FC_PORT_MUL16) */
 #ifndef FC_PORT_MUL16
 FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
@@ -485,6 +486,11 @@ FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
 FC_FX_INLINE fc_real fc_mul16_unsigned(uint16_t a, fc_real16 b)
 {
     return (fc_real)a * b;
+}
+
+FC_FX_INLINE uint32_t fc_umul16(uint16_t a, uint16_t b)
+{
+    return (uint32_t)a * b;
 }
 #endif
 

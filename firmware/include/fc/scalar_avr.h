@@ -23,8 +23,9 @@
  *                                          inline, for the hottest sites
  *   fc_acc_mac          FC_PORT_ACC_MAC    out of line (scalar.c)
  *   fc_narrow16         FC_PORT_NARROW16   a shift of 16: the high half
- *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU (avr-gcc calls libgcc)
- *   fc_mul16_unsigned
+ *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU/MUL (avr-gcc calls libgcc)
+ *   fc_mul16_unsigned,
+ *   fc_umul16
  *   fc_mul_gain         FC_PORT_MUL_GAIN   assembly, out of line (scalar.c)
  *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
  *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
@@ -535,6 +536,34 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
             "clr __zero_reg__"
             : "=&r"(product), "=&r"(zero)
             : "a"(a), "a"(b));
+    return product;
+}
+
+/* fc_umul16: the unsigned 16 x 16 -> 32 product inline (avr-gcc calls
+ * libgcc's __umulhisi3, or widens an operand and calls __mulsi3): MUL of the
+ * low bytes and of the high ones into the two halves, then the two cross
+ * products added at byte 1 (no carry leaves byte 3: the product is below
+ * 2^32) */
+static inline __attribute__((always_inline)) uint32_t fc_umul16(uint16_t a, uint16_t b)
+{
+    uint32_t product;
+    uint8_t zero;
+    __asm__("clr %1\n\t"
+            "mul %A2, %A3\n\t"
+            "movw %A0, r0\n\t"
+            "mul %B2, %B3\n\t"
+            "movw %C0, r0\n\t"
+            "mul %A2, %B3\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "mul %B2, %A3\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "clr __zero_reg__"
+            : "=&r"(product), "=&r"(zero)
+            : "r"(a), "r"(b));
     return product;
 }
 
