@@ -399,6 +399,15 @@ FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
  * of num (scalar.c). */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 
+/* (h >> 1) + (h & 1): floor((h + 1) / 2), the last bit of a rounding
+ * shift, never beyond the range. (port: FC_PORT_HALVE_ROUNDED) */
+#ifndef FC_PORT_HALVE_ROUNDED
+FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
+{
+    return (h >> 1) + (h & 1);
+}
+#endif
+
 /* Change of format: a value in format FROM re-expressed in format TO,
  * rounded and saturated as fc_fx_narrow, in 32 bits. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
@@ -408,7 +417,7 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
         /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^(shift-1)) + 1,
          * halved: rounded to nearest in 32 bits, and never beyond the range */
         const int32_t half = fc_fx_asr32(a, shift - 1); /* floor(a / 2^(shift-1)) */
-        return (half >> 1) + (half & 1);
+        return fc_fx_halve_rounded(half);
     }
     if (shift < 0 && shift > -32) {
         /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */

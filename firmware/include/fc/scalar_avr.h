@@ -30,8 +30,9 @@
  *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
  *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
  *   fc_fx_extract,                         scalar.c's roots: MUL by bytes,
- *   fc_fx_asr32,                           constant shifts by bytes and bits
- *   fc_fx_shl32
+ *   fc_fx_asr32,                           constant shifts by bytes and bits;
+ *   fc_fx_shl32,                           fc_convert's last bit by the carry
+ *   fc_fx_halve_rounded
  *
  * The assembly below:
  *   fc_avr_mul_u32   32 x 32 -> 64 unsigned: the 16 byte products of the
@@ -308,18 +309,19 @@ static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, u
 
 static inline __attribute__((always_inline)) uint32_t fc_avr_word(uint32_t low, uint32_t high, int i)
 {
-    switch (i) {
-    case 0:
-        return low;
-    case 1:
-        return (low >> 8) | (high << 24);
-    case 2:
-        return (low >> 16) | (high << 16);
-    case 3:
-        return (low >> 24) | (high << 8);
-    default:
-        return high;
+    if (i <= 0 || i >= 4) {
+        return i <= 0 ? low : high;
     }
+    /* byte by byte (the shifts and OR of the C form cost moves and ORs) */
+    union {
+        uint32_t word;
+        uint8_t bytes[4];
+    } w;
+    w.bytes[0] = fc_avr_byte(low, high, i);
+    w.bytes[1] = fc_avr_byte(low, high, i + 1);
+    w.bytes[2] = fc_avr_byte(low, high, i + 2);
+    w.bytes[3] = fc_avr_byte(low, high, i + 3);
+    return w.word;
 }
 
 /* ======================================================================= */
@@ -400,6 +402,17 @@ FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
         return (int32_t)fc_fx_extract(0u, (uint32_t)a, 32 - n);
     }
     return (int32_t)((uint32_t)a << n);
+}
+
+/* fc_fx_halve_rounded: ASR/ROR, and the bit shifted out (the carry) added
+ * back by ADC (avr-gcc masks the low bit and adds it as a 32-bit value) */
+#define FC_PORT_HALVE_ROUNDED
+FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
+{
+    __asm__("asr %D0\n\tror %C0\n\tror %B0\n\tror %A0\n\t"
+            "adc %A0, __zero_reg__\n\tadc %B0, __zero_reg__\n\tadc %C0, __zero_reg__\n\tadc %D0, __zero_reg__"
+            : "+r"(h));
+    return h;
 }
 
 /* fc_fx_asr_wide: by ASR/ROR, unrolled for a compile-time constant and a
