@@ -408,16 +408,23 @@ FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
 }
 #endif
 
+/* floor((a + 2^(n-1)) / 2^n) for 0 < n < 32: a / 2^n rounded to nearest,
+ * never beyond the range. (port: FC_PORT_ROUND_ASR32) */
+#ifndef FC_PORT_ROUND_ASR32
+FC_FX_INLINE int32_t fc_fx_round_asr32(int32_t a, int n)
+{
+    /* floor(a / 2^(n-1)) + 1, halved: in 32 bits */
+    return fc_fx_halve_rounded(fc_fx_asr32(a, n - 1));
+}
+#endif
+
 /* Change of format: a value in format FROM re-expressed in format TO,
  * rounded and saturated as fc_fx_narrow, in 32 bits. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
     const int shift = frac_from - frac_to;
     if (shift > 0 && shift < 32) {
-        /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^(shift-1)) + 1,
-         * halved: rounded to nearest in 32 bits, and never beyond the range */
-        const int32_t half = fc_fx_asr32(a, shift - 1); /* floor(a / 2^(shift-1)) */
-        return fc_fx_halve_rounded(half);
+        return fc_fx_round_asr32(a, shift);
     }
     if (shift < 0 && shift > -32) {
         /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */

@@ -415,6 +415,28 @@ FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
     return h;
 }
 
+/* fc_fx_round_asr32: for a constant n whose last byte's bits are 0 or 5..7,
+ * the word above the byte that holds bit n - 1 shifted left by 8 - n % 8
+ * bits (none for n % 8 = 0) out of that byte, whose next bit, bit n - 1 of
+ * a, is then shifted into the carry and added (ADC); other shifts as the
+ * portable form (fc_fx_asr32 by n - 1 is then no longer than by n) */
+#define FC_PORT_ROUND_ASR32
+FC_FX_INLINE int32_t fc_fx_round_asr32(int32_t a, int n)
+{
+    if (__builtin_constant_p(n) && n >= 5 && (n % 8 == 0 || n % 8 >= 5)) {
+        const uint32_t sign = a < 0 ? UINT32_MAX : 0u;
+        const int bytes = (n - 1) / 8;
+        uint32_t word = fc_avr_word((uint32_t)a, sign, bytes + 1);
+        uint8_t bottom = fc_avr_byte((uint32_t)a, sign, bytes);
+        FC_AVR_SHL40(word, bottom, (8 - n % 8) % 8);
+        __asm__("lsl %1\n\t"
+                "adc %A0, __zero_reg__\n\tadc %B0, __zero_reg__\n\tadc %C0, __zero_reg__\n\tadc %D0, __zero_reg__"
+                : "+r"(word), "+r"(bottom));
+        return (int32_t)word;
+    }
+    return fc_fx_halve_rounded(fc_fx_asr32(a, n - 1));
+}
+
 /* fc_fx_asr_wide: by ASR/ROR, unrolled for a compile-time constant and a
  * counted loop for a run-time one */
 FC_FX_INLINE fc_fx_wide fc_fx_asr_wide(fc_fx_wide value, int bits)
