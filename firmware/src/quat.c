@@ -493,7 +493,8 @@ static bool half_length_error(const fc_quat *p, fc_quat16 *high, fc_real16 *erro
  * (|q| <= 1 + 2^-13, |v_i| <= 2^15 LSB: every sum below 2^30). Operands
  * by address, one component at a time: the ATmega keeps the products in
  * registers. */
-static void quat16_times_vector16(const fc_quat16 *q, const fc_vec3_16 *v, fc_quat *out)
+static inline __attribute__((always_inline)) void quat16_times_vector16(const fc_quat16 *q, const fc_vec3_16 *v,
+                                                                       fc_quat *out)
 {
     out->w = -(fc_dot2_16(q->x, v->x, q->y, v->y) + fc_mul16(q->z, v->z));
     out->x = fc_dot2_16(q->w, v->x, q->y, v->z) - fc_mul16(q->z, v->y);
@@ -501,27 +502,41 @@ static void quat16_times_vector16(const fc_quat16 *q, const fc_vec3_16 *v, fc_qu
     out->z = fc_dot2_16(q->w, v->z, q->x, v->y) - fc_mul16(q->y, v->x);
 }
 
+#if FC_NUMERIC_FIXED
+/* q (x) [0, v] and q (x) [0, u] (add_increment's two parts of theta) in one
+ * function: one call and one set of register saves for both */
+static __attribute__((noinline)) void quat16_times_vector16_pair(const fc_quat16 *q, const fc_vec3_16 *v,
+                                                                 const fc_vec3_16 *u, fc_quat *out_v, fc_quat *out_u)
+{
+    quat16_times_vector16(q, v, out_v);
+    quat16_times_vector16(q, u, out_u);
+}
+#endif
+
 /* p = q + q (x) [0, theta] in UNIT for the half-angle theta (UNIT, |theta_i|
- * <= 2^-5), q rounded to UNIT16 in the product: in fixed theta = 2^16 hi +
- * lo, hi rounded to UNIT16 and lo the rest in UNIT as 16 bits, each part's
- * product exact. |q_i| <= 1 and the increment within 2^-4: p stays far
- * inside the format. */
+ * <= 2^-5), q rounded to UNIT16 in the product: in fixed theta is read in
+ * Q32 (four times its UNIT value, below 2^27: exact) as 2^16 hi + lo, hi
+ * rounded (theta in Q16) and lo the rest in Q32 as 16 bits, so that q16 hi
+ * is UNIT itself and q16 lo (Q46) is rounded to UNIT by taking its high
+ * half; the sum is q16 (x) theta rounded once, as from any other split.
+ * |q_i| <= 1 and the increment within 2^-4: p stays far inside the format. */
 static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
 {
     const fc_quat16 q16 = fc_quat16_round_unit(*q);
     fc_quat by_hi;
 #if FC_NUMERIC_FIXED
-    const fc_vec3_16 hi = {high_half(theta.x), high_half(theta.y), high_half(theta.z)};
-    const fc_vec3_16 lo = {low_half(theta.x), low_half(theta.y), low_half(theta.z)};
-    fc_quat by_lo;
-    quat16_times_vector16(&q16, &hi, &by_hi); /* UNIT16_SQ: UNIT / 4 */
-    quat16_times_vector16(&q16, &lo, &by_lo); /* UNIT16 x UNIT */
     fc_arith never = {0u};
-    const int from_lo = FC_UNIT16_FRAC + FC_UNIT_FRAC;
-    p->w = q->w + 4 * by_hi.w + fc_convert(&never, by_lo.w, from_lo, FC_UNIT_FRAC);
-    p->x = q->x + 4 * by_hi.x + fc_convert(&never, by_lo.x, from_lo, FC_UNIT_FRAC);
-    p->y = q->y + 4 * by_hi.y + fc_convert(&never, by_lo.y, from_lo, FC_UNIT_FRAC);
-    p->z = q->z + 4 * by_hi.z + fc_convert(&never, by_lo.z, from_lo, FC_UNIT_FRAC);
+    const int q32 = FC_UNIT_FRAC + 2;
+    const fc_vec3 theta32 = fc_vec3_convert(&never, theta, FC_UNIT_FRAC, q32);
+    const fc_vec3_16 hi = {high_half(theta32.x), high_half(theta32.y), high_half(theta32.z)};
+    const fc_vec3_16 lo = {low_half(theta32.x), low_half(theta32.y), low_half(theta32.z)};
+    fc_quat by_lo;
+    quat16_times_vector16_pair(&q16, &hi, &lo, &by_hi, &by_lo); /* UNIT16 x Q16: UNIT; x Q32: UNIT 2^16 */
+    const int from_lo = FC_UNIT16_FRAC + q32;
+    p->w = q->w + by_hi.w + fc_round16(by_lo.w, from_lo, FC_UNIT_FRAC);
+    p->x = q->x + by_hi.x + fc_round16(by_lo.x, from_lo, FC_UNIT_FRAC);
+    p->y = q->y + by_hi.y + fc_round16(by_lo.y, from_lo, FC_UNIT_FRAC);
+    p->z = q->z + by_hi.z + fc_round16(by_lo.z, from_lo, FC_UNIT_FRAC);
 #else
     quat16_times_vector16(&q16, &theta, &by_hi);
     p->w = q->w + by_hi.w;

@@ -437,13 +437,6 @@ bool fc_hypot3_within(fc_real a, fc_real b, fc_real c, fc_real limit)
     return !wide_above(sum, bound);
 }
 
-/* a b for unsigned 16-bit a and b, as one 16 x 16 -> 32 product (avr-gcc
- * otherwise may widen an operand and call a 32 x 16 or 32 x 32 routine) */
-static uint32_t umul16(uint16_t a, uint16_t b)
-{
-    return (uint32_t)a * b;
-}
-
 /* Bit length of a positive value: X lies in [2^(len-1), 2^len). */
 static int bit_length_u32(uint32_t x)
 {
@@ -493,7 +486,7 @@ static inline __attribute__((always_inline)) uint32_t rsqrt_chord_q30(uint32_t m
     uint16_t knot_start, knot_end;
     rsqrt_knots(fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT) - 8u, &knot_start, &knot_end);
     const uint16_t position_q16 = (uint16_t)fc_fx_extract(m_q30, 0u, RSQRT_SEGMENT_SHIFT - 16);
-    const uint32_t drop_q30 = umul16((uint16_t)(knot_start - knot_end), position_q16);
+    const uint32_t drop_q30 = fc_umul16((uint16_t)(knot_start - knot_end), position_q16);
     return ((uint32_t)knot_start << 16) - drop_q30;
 }
 
@@ -585,9 +578,9 @@ static uint16_t rsqrt_newton_q15(uint32_t m)
     const uint16_t m_q16 = m_rounded >= (uint32_t)1u << UNIT2_M_FRAC
                                ? UINT16_MAX
                                : (uint16_t)fc_fx_extract(m_rounded, 0u, UNIT2_M_FRAC - 16);
-    const uint32_t t_q31 = umul16(m_q16, y0) + ((uint32_t)1u << 15);
+    const uint32_t t_q31 = fc_umul16(m_q16, y0) + ((uint32_t)1u << 15);
     const uint16_t t_q15 = (uint16_t)(t_q31 >> 16); /* m y0 < 1.002: below 2^16 */
-    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - umul16(t_q15, y0)); /* 1 - m y0^2 */
+    const int32_t d_q30 = (int32_t)(((uint32_t)1u << 30) - fc_umul16(t_q15, y0)); /* 1 - m y0^2 */
     /* |d| < 2^-8.5: below 2^13.5 in Q22 (a floor, by a byte move) */
     const int16_t d_q22 = (int16_t)fc_fx_extract((uint32_t)d_q30, d_q30 < 0 ? UINT32_MAX : 0u, 8);
     /* y0 d / 2: Q15 x Q22 = Q37, the half Q38, rounded to Q15 */
@@ -681,9 +674,9 @@ static int16_t direction_mantissa(uint32_t shifted)
  * before the rounding, so a whole root (an axis-aligned v) is exact. */
 static uint32_t direction_length_q4(uint32_t s, uint16_t y_q15, bool halve)
 {
-    const uint32_t top = umul16((uint16_t)fc_fx_extract(s, 0u, 16), y_q15);
+    const uint32_t top = fc_umul16((uint16_t)fc_fx_extract(s, 0u, 16), y_q15);
     const uint16_t r0 = (uint16_t)(halve ? fc_fx_extract(top, 0u, 15) : fc_fx_extract(top, 0u, 14));
-    const int32_t residual = (int32_t)(s - umul16(r0, r0));
+    const int32_t residual = (int32_t)(s - fc_umul16(r0, r0));
     const int16_t residual16 = (int16_t)fc_fx_asr32(residual, DIRECTION_RESIDUAL_SHIFT);
     /* (S - r0^2) y / 2^(31+h) in Q4, rounded: the product (below 2^29)
      * shifted by 31 + h - 8 - 4 */

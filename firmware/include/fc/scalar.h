@@ -414,16 +414,32 @@ FC_FX_INLINE fc_real fc_acc_result(fc_arith *ar, fc_acc acc, int shift)
  * of num (scalar.c). */
 fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift);
 
+/* (h >> 1) + (h & 1): floor((h + 1) / 2), the last bit of a rounding
+ * shift, never beyond the range. (port: FC_PORT_HALVE_ROUNDED) */
+#ifndef FC_PORT_HALVE_ROUNDED
+FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
+{
+    return (h >> 1) + (h & 1);
+}
+#endif
+
+/* floor((a + 2^(n-1)) / 2^n) for 0 < n < 32: a / 2^n rounded to nearest,
+ * never beyond the range. (port: FC_PORT_ROUND_ASR32) */
+#ifndef FC_PORT_ROUND_ASR32
+FC_FX_INLINE int32_t fc_fx_round_asr32(int32_t a, int n)
+{
+    /* floor(a / 2^(n-1)) + 1, halved: in 32 bits */
+    return fc_fx_halve_rounded(fc_fx_asr32(a, n - 1));
+}
+#endif
+
 /* Change of format: a value in format FROM re-expressed in format TO,
  * rounded and saturated as fc_fx_narrow, in 32 bits. */
 FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac_to)
 {
     const int shift = frac_from - frac_to;
     if (shift > 0 && shift < 32) {
-        /* floor((a + 2^(shift-1)) / 2^shift) = floor(a / 2^(shift-1)) + 1,
-         * halved: rounded to nearest in 32 bits, and never beyond the range */
-        const int32_t half = fc_fx_asr32(a, shift - 1); /* floor(a / 2^(shift-1)) */
-        return (half >> 1) + (half & 1);
+        return fc_fx_round_asr32(a, shift);
     }
     if (shift < 0 && shift > -32) {
         /* a 2^n saturates beyond +-INT32_MAX, i.e. for |a| > INT32_MAX >> n */
@@ -497,7 +513,8 @@ FC_FX_INLINE fc_real fc_widen16(fc_real16 x, int frac_from, int frac_to)
 
 /* a b, exact (below 2^31 in magnitude for operands within +-FC_REAL16_MAX),
  * in the format whose FRAC is the sum of the operands'; and the same for an
- * unsigned 16-bit a (the low half of a 32-bit value): |a b| < 2^31.
+ * unsigned 16-bit a (the low half of a 32-bit value): |a b| < 2^31; and for
+ * both unsigned (the roots' mantissas): a b < 2^32, unsigned.
  * (port: FC_PORT_MUL16) */
 #ifndef FC_PORT_MUL16
 FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
@@ -508,6 +525,11 @@ FC_FX_INLINE fc_real fc_mul16(fc_real16 a, fc_real16 b)
 FC_FX_INLINE fc_real fc_mul16_unsigned(uint16_t a, fc_real16 b)
 {
     return (fc_real)a * b;
+}
+
+FC_FX_INLINE uint32_t fc_umul16(uint16_t a, uint16_t b)
+{
+    return (uint32_t)a * b;
 }
 #endif
 

@@ -28,14 +28,16 @@
  *                                          inline, for the hottest sites
  *   fc_acc_mac          FC_PORT_ACC_MAC    out of line (scalar.c)
  *   fc_narrow16         FC_PORT_NARROW16   a shift of 16: the high half
- *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU (avr-gcc calls libgcc)
- *   fc_mul16_unsigned
+ *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU/MUL (avr-gcc calls libgcc)
+ *   fc_mul16_unsigned,
+ *   fc_umul16
  *   fc_mul_gain         FC_PORT_MUL_GAIN   assembly, out of line (scalar.c)
  *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
  *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
  *   fc_fx_extract,                         scalar.c's roots: MUL by bytes,
- *   fc_fx_asr32,                           constant shifts by bytes and bits
- *   fc_fx_shl32
+ *   fc_fx_asr32,                           constant shifts by bytes and bits;
+ *   fc_fx_shl32,                           fc_convert's last bit by the carry
+ *   fc_fx_halve_rounded
  *   fc_sqrt_unit16      FC_PORT_SQRT_UNIT16  inline: a knot table's chord and
  *                                          exact steps in assembly (the
  *                                          allocation's rotor speeds)
@@ -386,18 +388,19 @@ static inline __attribute__((always_inline)) uint8_t fc_avr_byte(uint32_t low, u
 
 static inline __attribute__((always_inline)) uint32_t fc_avr_word(uint32_t low, uint32_t high, int i)
 {
-    switch (i) {
-    case 0:
-        return low;
-    case 1:
-        return (low >> 8) | (high << 24);
-    case 2:
-        return (low >> 16) | (high << 16);
-    case 3:
-        return (low >> 24) | (high << 8);
-    default:
-        return high;
+    if (i <= 0 || i >= 4) {
+        return i <= 0 ? low : high;
     }
+    /* byte by byte (the shifts and OR of the C form cost moves and ORs) */
+    union {
+        uint32_t word;
+        uint8_t bytes[4];
+    } w;
+    w.bytes[0] = fc_avr_byte(low, high, i);
+    w.bytes[1] = fc_avr_byte(low, high, i + 1);
+    w.bytes[2] = fc_avr_byte(low, high, i + 2);
+    w.bytes[3] = fc_avr_byte(low, high, i + 3);
+    return w.word;
 }
 
 /* ======================================================================= */
@@ -478,6 +481,39 @@ FC_FX_INLINE int32_t fc_fx_shl32(int32_t a, int n)
         return (int32_t)fc_fx_extract(0u, (uint32_t)a, 32 - n);
     }
     return (int32_t)((uint32_t)a << n);
+}
+
+/* fc_fx_halve_rounded: ASR/ROR, and the bit shifted out (the carry) added
+ * back by ADC (avr-gcc masks the low bit and adds it as a 32-bit value) */
+#define FC_PORT_HALVE_ROUNDED
+FC_FX_INLINE int32_t fc_fx_halve_rounded(int32_t h)
+{
+    __asm__("asr %D0\n\tror %C0\n\tror %B0\n\tror %A0\n\t"
+            "adc %A0, __zero_reg__\n\tadc %B0, __zero_reg__\n\tadc %C0, __zero_reg__\n\tadc %D0, __zero_reg__"
+            : "+r"(h));
+    return h;
+}
+
+/* fc_fx_round_asr32: for a constant n whose last byte's bits are 0 or 5..7,
+ * the word above the byte that holds bit n - 1 shifted left by 8 - n % 8
+ * bits (none for n % 8 = 0) out of that byte, whose next bit, bit n - 1 of
+ * a, is then shifted into the carry and added (ADC); other shifts as the
+ * portable form (fc_fx_asr32 by n - 1 is then no longer than by n) */
+#define FC_PORT_ROUND_ASR32
+FC_FX_INLINE int32_t fc_fx_round_asr32(int32_t a, int n)
+{
+    if (__builtin_constant_p(n) && n >= 5 && (n % 8 == 0 || n % 8 >= 5)) {
+        const uint32_t sign = a < 0 ? UINT32_MAX : 0u;
+        const int bytes = (n - 1) / 8;
+        uint32_t word = fc_avr_word((uint32_t)a, sign, bytes + 1);
+        uint8_t bottom = fc_avr_byte((uint32_t)a, sign, bytes);
+        FC_AVR_SHL40(word, bottom, (8 - n % 8) % 8);
+        __asm__("lsl %1\n\t"
+                "adc %A0, __zero_reg__\n\tadc %B0, __zero_reg__\n\tadc %C0, __zero_reg__\n\tadc %D0, __zero_reg__"
+                : "+r"(word), "+r"(bottom));
+        return (int32_t)word;
+    }
+    return fc_fx_halve_rounded(fc_fx_asr32(a, n - 1));
 }
 
 /* fc_fx_asr_wide: by ASR/ROR, unrolled for a compile-time constant and a
@@ -614,6 +650,34 @@ static inline __attribute__((always_inline)) int32_t fc_mul16_unsigned(uint16_t 
             "clr __zero_reg__"
             : "=&r"(product), "=&r"(zero)
             : "a"(a), "a"(b));
+    return product;
+}
+
+/* fc_umul16: the unsigned 16 x 16 -> 32 product inline (avr-gcc calls
+ * libgcc's __umulhisi3, or widens an operand and calls __mulsi3): MUL of the
+ * low bytes and of the high ones into the two halves, then the two cross
+ * products added at byte 1 (no carry leaves byte 3: the product is below
+ * 2^32) */
+static inline __attribute__((always_inline)) uint32_t fc_umul16(uint16_t a, uint16_t b)
+{
+    uint32_t product;
+    uint8_t zero;
+    __asm__("clr %1\n\t"
+            "mul %A2, %A3\n\t"
+            "movw %A0, r0\n\t"
+            "mul %B2, %B3\n\t"
+            "movw %C0, r0\n\t"
+            "mul %A2, %B3\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "mul %B2, %A3\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "clr __zero_reg__"
+            : "=&r"(product), "=&r"(zero)
+            : "r"(a), "r"(b));
     return product;
 }
 

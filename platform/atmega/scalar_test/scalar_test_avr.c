@@ -213,8 +213,8 @@ static void compare_narrow16(int32_t x)
     check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
 }
 
-/* fc_mul16 and fc_mul16_unsigned (the port's MULS/MULSU assembly) against
- * the C product of the values widened to int32_t (libgcc), for the low
+/* fc_mul16, fc_mul16_unsigned and fc_umul16 (the port's MULS/MULSU/MUL assembly) against
+ * the C product of the values widened to int32_t or uint32_t (libgcc), for the low
  * halves of x and y and for the operands at their edges */
 static __attribute__((noinline)) int32_t ref_mul16(int16_t x, int16_t y)
 {
@@ -224,6 +224,11 @@ static __attribute__((noinline)) int32_t ref_mul16(int16_t x, int16_t y)
 static __attribute__((noinline)) int32_t ref_mul16_unsigned(uint16_t x, int16_t y)
 {
     return (int32_t)x * (int32_t)y;
+}
+
+static __attribute__((noinline)) uint32_t ref_umul16(uint16_t x, uint16_t y)
+{
+    return (uint32_t)x * (uint32_t)y;
 }
 
 static void compare_mul16(int32_t x, int32_t y)
@@ -237,6 +242,10 @@ static void compare_mul16(int32_t x, int32_t y)
     check(OP_MUL16, 4u, fc_mul16_unsigned(xu, y16), 0u, ref_mul16_unsigned(xu, y16), 0u);
     check(OP_MUL16, 5u, fc_mul16_unsigned(UINT16_MAX, y16), 0u, ref_mul16_unsigned(UINT16_MAX, y16), 0u);
     check(OP_MUL16, 6u, fc_mul16_unsigned(xu, -INT16_MAX), 0u, ref_mul16_unsigned(xu, -INT16_MAX), 0u);
+    const uint16_t yu = (uint16_t)y;
+    check(OP_MUL16, 7u, (int32_t)fc_umul16(xu, yu), 0u, (int32_t)ref_umul16(xu, yu), 0u);
+    check(OP_MUL16, 8u, (int32_t)fc_umul16(UINT16_MAX, yu), 0u, (int32_t)ref_umul16(UINT16_MAX, yu), 0u);
+    check(OP_MUL16, 9u, (int32_t)fc_umul16(xu, UINT16_MAX), 0u, (int32_t)ref_umul16(xu, UINT16_MAX), 0u);
 }
 
 /* fc_mul_by16 (two 16 x 16 products) against the 64-bit product narrowed
