@@ -386,11 +386,11 @@ static void rls_update(fc_pad_motion *pm, fc_real residual_m)
 
 /* FC_PAD_WORK_COVARIANCE_HEAD updates S's rows [0, COVARIANCE_SPLIT_ROW)
  * (with trace(S)), FC_PAD_WORK_COVARIANCE_TAIL the rest: for 3 modes (n = 7)
- * 18 and 10 of the 28 entries of the upper triangle. The tail shares its
- * minor frame with the phases and the summary, so it takes the fewer rows:
- * the two work-ahead slices of a sample then come out about the same (the
- * Crazyflie's step on the Cortex-M4F, tools/m4f-line-profile.sh). */
-#define COVARIANCE_SPLIT_ROW 3u
+ * 13 and 15 of the 28 entries of the upper triangle. The head is the lighter
+ * because the controller's arming step, which resets its loops, falls in its
+ * minor frame (so that every minor frame of the Crazyflie's step fits the
+ * Cortex-M4F's budget, tools/bench.sh). */
+#define COVARIANCE_SPLIT_ROW 2u
 
 /* Whether S's update of the newest sample inflates: not while trace(S) is
  * above its bound (a scratch sum: past the format is past the bound),

@@ -196,7 +196,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
 
 /* The deferred pieces (FC_PAD_WORK_*) of the next step done ahead of it, one
  * slice per call, the first slice with a piece left of:
- *   1. FC_PAD_WORK_COVARIANCE_HEAD (18 of the 28 entries of S's upper
+ *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
  *      triangle for 3 modes)
  *   2. FC_PAD_WORK_COVARIANCE_TAIL, FC_PAD_WORK_PHASES and FC_PAD_WORK_SUMMARY
  *   3. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
