@@ -1031,8 +1031,7 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
      * itself (F = u / k_h rounds either way of the thrust's limit) */
     const bool at_max = u >= u_max;
     const bool at_min = u <= u_min;
-    /* to 15 significant bits, as many as the normalised thrust it becomes holds */
-    const fc_real thrust = fc_div15(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
+    const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
     out->thrust_n = at_max ? p->thrust_max_n : (at_min ? p->thrust_min_n : fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n));
     out->clamped = at_max || at_min || thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
     if (out->clamped) {

@@ -1554,53 +1554,6 @@ static void test_div_exact(void **state)
 #endif
 }
 
-/* fc_div15: within 2^-13 of the exact quotient relatively (and one LSB of
- * its rounding) for divisors of every leading 16 bits at scales 2^7 to 2^30, saturated
- * as fc_div where the quotient leaves the format; fc_div for den <= 0 and
- * in float. */
-static void test_div15(void **state)
-{
-    (void)state;
-    ts_rng rng = ts_rng_seed(6161u);
-    unsigned cases = 0u;
-#if FC_NUMERIC_FIXED
-    for (uint32_t m = 0x8000u; m < 0x10000u; m++) {
-        const int scale = (int)(m % 24u);
-        const int32_t den = (int32_t)(((m << 15) | (ts_rand_u32(&rng) & 0x7FFFu)) >> (23 - scale));
-        const int32_t num = (int32_t)ts_rand_u32(&rng) >> (ts_rand_u32(&rng) % 32u);
-        const int shift = (int)(ts_rand_u32(&rng) % 32u);
-        fc_arith got_ar = {0}, want_ar = {0};
-        const fc_real got = fc_div15(&got_ar, num, den, shift);
-        const fc_real want = fc_div(&want_ar, num, den, shift);
-        const double exact = (double)num * ldexp(1.0, shift) / (double)den;
-        if (fabs(exact) < 2147483000.0) {
-            assert_true(fabs((double)got - exact) <= fabs(exact) * ldexp(1.0, -13) + 1.0);
-            assert_int_equal(got_ar.saturated, 0u);
-        } else if (fabs(exact) > 2147484000.0) {
-            assert_int_equal(got, want);
-            assert_int_equal(got_ar.saturated, 1u);
-        }
-        cases++;
-    }
-    const int32_t dens[] = {0, -1, -(int32_t)0x01000000, INT32_MIN};
-    for (unsigned i = 0u; i < sizeof dens / sizeof dens[0]; i++) {
-        fc_arith got_ar = {0}, want_ar = {0};
-        assert_int_equal(fc_div15(&got_ar, 12345, dens[i], 24), fc_div(&want_ar, 12345, dens[i], 24));
-        assert_int_equal(got_ar.saturated, want_ar.saturated);
-        cases++;
-    }
-#else
-    for (unsigned i = 0u; i < 1000u; i++) {
-        const fc_real num = (fc_real)(int32_t)ts_rand_u32(&rng) * 1.0e-6f;
-        const fc_real den = (fc_real)(int32_t)ts_rand_u32(&rng) * 1.0e-9f;
-        fc_arith got_ar = {0}, want_ar = {0};
-        assert_true(fc_div15(&got_ar, num, den, 24) == fc_div(&want_ar, num, den, 24));
-        cases++;
-    }
-#endif
-    print_message("div15: %u cases\n", cases);
-}
-
 static void test_hypot3(void **state)
 {
     (void)state;
@@ -2070,7 +2023,6 @@ int main(void)
         cmocka_unit_test(test_gain_of),
         cmocka_unit_test(test_mul_gain_exact),
         cmocka_unit_test(test_div_exact),
-        cmocka_unit_test(test_div15),
         cmocka_unit_test(test_sin_cos_octant),
         cmocka_unit_test(test_sin_cos_full_turn),
         cmocka_unit_test(test_sin_cos_wrap),

@@ -1199,65 +1199,6 @@ FC_FX_INLINE fc_real fc_mul_gain(fc_arith *ar, fc_real x, fc_gain g, int shift_i
 {
     return fc_fx_mul_gain_shift(ar, x, g.mantissa, g.frac + shift_in_out);
 }
-
-/* y + y (1 - x y), one Newton step toward 1/x, x = m 2^-16 in [1/2, 1) and y
- * in Q15 below 2^16: 1 - x y in Q31 from 16 x 16 products, m = 2^15 + m_low
- * (2^31 - m y = (2^16 - y) 2^15 - m_low y), then in a 16-bit word of
- * frac_error fraction bits (|1 - x y| below 2^(15 - frac_error)); held
- * below 2^16 (only m = 2^15, 1/x = 2, reaches it). */
-FC_FX_INLINE uint32_t fc_fx_reciprocal_step(uint32_t y, int16_t m_low, int frac_error)
-{
-    const int32_t error_q31 = fc_fx_shl32((int32_t)(0x10000u - y), 15) - fc_mul16_unsigned((uint16_t)y, m_low);
-    const int16_t error = (int16_t)fc_fx_asr32(error_q31, 31 - frac_error);
-    const int32_t step = fc_mul16_unsigned((uint16_t)y, error) + ((int32_t)1 << (frac_error - 1));
-    const int32_t next = (int32_t)y + fc_fx_asr32(step, frac_error);
-    return next > 0xFFFF ? 0xFFFFu : (uint32_t)next;
-}
-
-/* 1/x in Q15 for x = m 2^-16 in [1/2, 1), m in [2^15, 2^16): the seed
- * 48/17 - 32/17 x (relative error at most 1/17 over the range) and two
- * Newton steps, each squaring the relative error: its word in Q15 for the
- * first (below 1/17), Q23 for the second (below 1/17^2 and y's rounding). */
-FC_FX_INLINE uint16_t fc_fx_reciprocal_q15(uint16_t m)
-{
-    const int16_t m_low = (int16_t)(m - 0x8000u);
-    /* 48/17 2^15 - (32/17 2^14 m) 2^-15 */
-    uint32_t y = 92521u - (uint32_t)fc_fx_asr32(fc_mul16_unsigned(m, 30840), 15);
-    y = fc_fx_reciprocal_step(y, m_low, 15);
-    y = fc_fx_reciprocal_step(y, m_low, 23);
-    return (uint16_t)y;
-}
-
-/* num 2^shift / den to 15 significant bits, for a step's division whose
- * quotient needs no more: num times den's reciprocal as a gain (den's
- * leading 16 bits, a linear seed and two Newton steps in 16 x 16 products,
- * no division), rounded and saturated as fc_mul_gain; within 2^-13 of the
- * quotient relatively. den <= 0 is fc_div. In float, fc_div. */
-FC_FX_INLINE fc_real fc_div15(fc_arith *ar, fc_real num, fc_real den, int shift)
-{
-    if (den <= 0) {
-        return fc_div(ar, num, den, shift);
-    }
-    /* den = m 2^e, m its leading 16 bits: whole bytes first, then bits */
-    uint32_t m = (uint32_t)den;
-    int e = 0;
-    while (m >= ((uint32_t)1u << 23)) {
-        m >>= 8;
-        e += 8;
-    }
-    while (m >= 0x10000u) {
-        m >>= 1;
-        e++;
-    }
-    while (m < 0x8000u) {
-        m <<= 1;
-        e--;
-    }
-    /* 1/den = (2^30/m) 2^-(30 + e), 2^30/m in (2^14, 2^15] as the gain's
-     * mantissa, held below 2^15 */
-    const uint32_t mantissa = ((uint32_t)fc_fx_reciprocal_q15((uint16_t)m) + 1u) >> 1;
-    return fc_fx_mul_gain_shift(ar, num, (int16_t)(mantissa > 0x7FFFu ? 0x7FFFu : mantissa), 30 + e - shift);
-}
 #else
 typedef float fc_gain;
 
@@ -1286,11 +1227,6 @@ static inline fc_real fc_mul_gain(fc_arith *ar, fc_real x, fc_gain g, int shift_
     (void)ar;
     (void)shift_in_out;
     return x * g;
-}
-
-static inline fc_real fc_div15(fc_arith *ar, fc_real num, fc_real den, int shift)
-{
-    return fc_div(ar, num, den, shift);
 }
 #endif
 /* ======================================================================= */

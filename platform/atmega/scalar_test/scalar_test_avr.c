@@ -22,8 +22,7 @@
  * and the V flag) against the int64_t sum saturated; the out-of-line products
  * that every other unit calls on the ATmega (fc_fx_mul_outline,
  * fc_fx_dot2/3/4_outline: a run-time shift narrowed by bytes and bits)
- * against the int64_t form; fc_div15 (portable) within 2^-13 of fc_div's
- * quotient; fc_mul_gain's product by a 16-bit mantissa (the
+ * against the int64_t form; fc_mul_gain's product by a 16-bit mantissa (the
  * port's fc_fx_mul_gain_avr: two 16 x 16 products and a run-time shift
  * by bytes and bits) against fc_fx_mul_gain_reference, for every shift
  * -2..49 and some far beyond, operands at their edges and pseudo-random.
@@ -182,7 +181,6 @@ static __attribute__((noinline)) uint32_t ref_sqrt(uint64_t v)
 #define OP_ADD 22u
 #define OP_SUB 23u
 #define OP_MUL_GAIN 24u
-#define OP_DIV15 25u
 
 /* fc_narrow16's value: the rounded shift, saturated at +-INT16_MAX */
 static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
@@ -382,23 +380,6 @@ static void sweep_sqrt_unit16(void)
     }
 }
 
-/* fc_div15 (portable, built with the ATmega's 16-bit int): within 2^-13 of
- * fc_div's rounded quotient relatively, plus one, where that does not
- * saturate (a result within the bound counts as the quotient itself) */
-static void compare_div15(int32_t num, int32_t den, int shift)
-{
-    fc_arith got = {0u}, want = {0u};
-    const int32_t value = fc_div15(&got, num, den, shift);
-    const int32_t quotient = ref_div(&want, num, den, shift);
-    if (want.saturated != 0u || den <= 0 || quotient == INT32_MAX || quotient == -INT32_MAX) {
-        return;
-    }
-    const uint32_t size = quotient < 0 ? 0u - (uint32_t)quotient : (uint32_t)quotient;
-    const int64_t gap = (int64_t)value - quotient;
-    const bool within = (gap < 0 ? -gap : gap) <= (int64_t)(size >> 13) + 1;
-    check(OP_DIV15, (uint8_t)shift, within ? quotient : value, got.saturated, quotient, 0u);
-}
-
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
     compare_add_sub(a[0], b[0]);
@@ -407,8 +388,6 @@ static void compare_functions(const int32_t *a, const int32_t *b)
     fc_arith got = {0u}, want = {0u};
     int32_t value = fc_div(&got, a[0], b[0], shift);
     check(OP_DIV, (uint8_t)shift, value, got.saturated, ref_div(&want, a[0], b[0], shift), want.saturated);
-    compare_div15(a[0], b[0] < 0 ? -(b[0] + 1) : b[0], shift);
-    compare_div15(a[0], (int32_t)1 << (rng_next() % 31u), shift); /* a power of two: 1/x = 2 */
     const int frac = (int)(rng_next() % 32u);
     got.saturated = 0u;
     value = fc_sqrt(&got, a[1], frac);
