@@ -378,14 +378,18 @@ fc_quat fc_quat_from_up(fc_arith *ar, fc_vec3 up_body, fc_real yaw_rad)
     fc_real cr, sr, cp, sp;
     half_angle(ar, cos_roll, sin_roll, &cr, &sr);
     half_angle(ar, cos_pitch, sin_pitch, &cp, &sp);
-    const fc_quat tilt = fc_quat_make(fc_mul(ar, cp, cr, UNIT_X_UNIT), fc_mul(ar, cp, sr, UNIT_X_UNIT),
-                                      fc_mul(ar, sp, cr, UNIT_X_UNIT), fc_neg(ar, fc_mul(ar, sp, sr, UNIT_X_UNIT)));
-    if (yaw_rad == FC_INT(0, ANGLE)) {
-        return tilt;
+    fc_quat q = fc_quat_make(fc_mul(ar, cp, cr, UNIT_X_UNIT), fc_mul(ar, cp, sr, UNIT_X_UNIT),
+                             fc_mul(ar, sp, cr, UNIT_X_UNIT), fc_neg(ar, fc_mul(ar, sp, sr, UNIT_X_UNIT)));
+    if (yaw_rad != FC_INT(0, ANGLE)) {
+        fc_real sy, cy;
+        fc_sincos(ar, fc_mul(ar, yaw_rad, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE)), &sy, &cy);
+        q = fc_quat_mul(ar, fc_quat_make(cy, FC_INT(0, UNIT), FC_INT(0, UNIT), sy), q);
     }
-    fc_real sy, cy;
-    fc_sincos(ar, fc_mul(ar, yaw_rad, FC_C(0.5f, UNIT), FC_SHIFT(ANGLE, UNIT, ANGLE)), &sy, &cy);
-    return fc_quat_mul(ar, fc_quat_make(cy, FC_INT(0, UNIT), FC_INT(0, UNIT), sy), tilt);
+    /* unit already, but for a vector whose lengths saturate (fixed) or whose
+     * squares leave the float range: then the cosines and sines are no pair */
+    bool ok;
+    const fc_quat unit = fc_quat_normalize(ar, q, &ok);
+    return ok ? unit : fc_quat_identity();
 }
 
 fc_vec3 fc_quat_to_rpy(fc_arith *ar, fc_quat q)
