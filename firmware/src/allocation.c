@@ -1145,9 +1145,11 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
     const fc_allocation_rotor *r = a->rotor;
     for (uint8_t i = a->rotor_count; i != 0u; i--) {
-        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, *v)
-                                                        : fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent);
-        *v = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+        /* the root lies in [0, 1] (fc_sqrt_unit16): only the power needs the upper bound */
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u
+                              ? fc_sqrt_unit16(&a->ar, *v)
+                              : fc_min(fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent), FC_INT(1, UNIT));
+        *v = fc_max(u, r->speed_min);
         v++;
         r++;
     }
