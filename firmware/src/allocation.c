@@ -743,7 +743,6 @@ static fc_real16 shift_rate(fc_arith *ar, const fc_allocation_rotor *r, fc_real1
  * |s_j - s_i| and saturates without changing the room (not reported). */
 static fc_real16 roll_pitch_room(fc_allocation *a, const rotor_parts *parts)
 {
-    fc_arith *ar = &a->ar;
     fc_arith pair_ar = {0u};
     scale_interval fit = interval_full();
     const int n = a->rotor_count;
@@ -763,8 +762,9 @@ static fc_real16 roll_pitch_room(fc_allocation *a, const rotor_parts *parts)
                 continue;
             }
             if (high_j < qi->low || shift_high_j < ri->shift_low) {
-                const fc_real c = fc_sub(ar, rate_j, fc_widen16(qi->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC));
-                const fc_real e = fc_sub(ar, shift_high_j, ri->shift_low);
+                /* exact: |s_j - s_i| < 4 and |high_j - low_i| <= 64 (RATIO) */
+                const fc_real c = rate_j - fc_widen16(qi->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+                const fc_real e = shift_high_j - ri->shift_low;
                 interval_constrain(&fit, fc_narrow16(&pair_ar, c, FC_RATIO_FRAC, FC_PAIR16_FRAC),
                                    fc_narrow16(&pair_ar, e, FC_RATIO_FRAC, FC_PAIR16_FRAC));
             }
@@ -826,9 +826,10 @@ static uint8_t limit_demand(fc_allocation *a, const fc_allocation_demand *w, fc_
     }
     fc_real16 keep = FC_INT16(1, UNIT16); /* roll/pitch: one factor, the direction kept */
     for (int k = 1; k <= 2; k++) {
-        const fc_real size = fc_abs(ar, x[k]); /* 32 bits: 2^15 for a NORM16 -2 */
-        if (size > a->demand_limit[k]) {
-            const fc_real16 factor = fraction_down(a->demand_limit[k], size);
+        const fc_real16 limit = a->demand_limit[k];
+        if (x[k] > limit || x[k] < fc_neg16(limit)) {
+            const fc_real size = fc_abs(ar, x[k]); /* 32 bits: 2^15 for a NORM16 -2 */
+            const fc_real16 factor = fraction_down(limit, size);
             if (factor < keep) {
                 keep = factor;
             }
@@ -864,9 +865,10 @@ static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_
     const fc_allocation_rotor *r = a->rotor;
     for (uint8_t i = a->rotor_count; i != 0u; i--) {
         const fc_real v = fc_add_inline(ar, fc_mul16(thrust, r->pinv[0]), fc_dot2_16(r->pinv[1], roll, r->pinv[2], pitch));
-        const fc_real demanded = rotor_fits(r, v) ? fc_add_inline(ar, v, fc_mul16(r->pinv[3], yaw)) : FC_REAL_MAX;
+        /* exact: |v| <= 1 and |P_i3 x_3| < 16 (PINV16 times NORM16) */
+        const fc_real demanded = rotor_fits(r, v) ? v + fc_mul16(r->pinv[3], yaw) : FC_REAL_MAX;
         if (rotor_fits(r, demanded)) {
-            *v_out = fc_convert(ar, demanded, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+            *v_out = fc_widen_bounded(demanded, FC_PX_FRAC, FC_UNIT_FRAC); /* v in [v_min, 1] */
         } else {
             outside = (uint8_t)(outside | bit);
         }
@@ -936,8 +938,9 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
         q->roll_pitch16 = fc_narrow16(ar, q->roll_pitch, FC_PX_FRAC, FC_ROTOR16_FRAC);
         q->rate16 = shift_rate(ar, r, q->roll_pitch16); /* 0 for a rotor that does not shift */
         const fc_real rate = fc_widen16(q->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
-        q->low = fc_sub_inline(ar, r->shift_low, rate);
-        q->high = fc_sub_inline(ar, r->shift_high, rate);
+        /* exact: |low_i|, |high_i| <= |q_i| <= 32 and |s_i| < 2 (RATIO) */
+        q->low = r->shift_low - rate;
+        q->high = r->shift_high - rate;
         if ((r->flags & ROTOR_SHIFTS) != 0u) {
             t_low = fc_max(t_low, q->low);
             t_high = fc_min(t_high, q->high);
@@ -958,8 +961,9 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
             if ((r->flags & ROTOR_SHIFTS) != 0u) {
                 const fc_real moved =
                     fc_convert(ar, fc_mul16(roll_pitch_scale, q->rate16), MOVED_FRAC, FC_RATIO_FRAC);
-                t_low = fc_max(t_low, fc_sub(ar, r->shift_low, moved));
-                t_high = fc_min(t_high, fc_sub(ar, r->shift_high, moved));
+                /* exact: |low_i|, |high_i| <= 32 and |a s_i| < 2 (RATIO) */
+                t_low = fc_max(t_low, r->shift_low - moved);
+                t_high = fc_min(t_high, r->shift_high - moved);
             }
         }
     }
@@ -1038,7 +1042,7 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
             yaw = fc_convert(ar, fc_mul16(yaw_scale, yaw16), SCALED_FRAC, FC_PX_FRAC);
         }
         const fc_real v = fc_clamp(fc_add_inline(ar, q->v, yaw), r->v_min, FC_INT(1, PX));
-        *v_out = fc_convert(ar, v, FC_PX_FRAC, FC_UNIT_FRAC); /* exact: v <= 1 */
+        *v_out = fc_widen_bounded(v, FC_PX_FRAC, FC_UNIT_FRAC); /* clamped to [v_min, 1] */
         r++;
         q++;
         v_out++;
@@ -1141,9 +1145,11 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     /* u = v^(1/r); r = 2: the root to 16 bits (fc/allocation.h) */
     const fc_allocation_rotor *r = a->rotor;
     for (uint8_t i = a->rotor_count; i != 0u; i--) {
-        const fc_real u = (r->flags & ROTOR_SQRT) != 0u ? fc_sqrt_unit16(&a->ar, *v)
-                                                        : fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent);
-        *v = fc_clamp(u, r->speed_min, FC_INT(1, UNIT));
+        /* the root lies in [0, 1] (fc_sqrt_unit16): only the power needs the upper bound */
+        const fc_real u = (r->flags & ROTOR_SQRT) != 0u
+                              ? fc_sqrt_unit16(&a->ar, *v)
+                              : fc_min(fc_pow_unit(&a->ar, *v, r->inv_thrust_exponent), FC_INT(1, UNIT));
+        *v = fc_max(u, r->speed_min);
         v++;
         r++;
     }

@@ -453,6 +453,16 @@ FC_FX_INLINE fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int frac
     return fc_fx_narrow(ar, (int64_t)a, shift);
 }
 
+/* fc_convert to a finer format (frac_to > frac_from) without the saturation
+ * test, for an x the caller has bounded (a clamp or a documented range,
+ * written next to the use). PRECONDITION: |x| 2^(frac_to - frac_from) <=
+ * INT32_MAX, where both give the same value; beyond it the result is
+ * undefined (wraps). Float: x. */
+FC_FX_INLINE fc_real fc_widen_bounded(fc_real x, int frac_from, int frac_to)
+{
+    return fc_fx_shl32(x, frac_to - frac_from);
+}
+
 FC_FX_INLINE bool fc_is_finite(fc_real a)
 {
     (void)a;
@@ -765,6 +775,13 @@ static inline fc_real fc_convert(fc_arith *ar, fc_real a, int frac_from, int fra
     (void)frac_from;
     (void)frac_to;
     return a;
+}
+
+static inline fc_real fc_widen_bounded(fc_real x, int frac_from, int frac_to)
+{
+    (void)frac_from;
+    (void)frac_to;
+    return x;
 }
 
 static inline bool fc_is_finite(fc_real a)
