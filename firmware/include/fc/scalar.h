@@ -551,6 +551,23 @@ FC_FX_INLINE fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_r
     return fc_narrow16(ar, sum, frac_products, frac_to);
 }
 
+/* fc_dot4_16 without the saturation test (fc_round16), for a sum the caller
+ * has bounded (the reason written next to the use). PRECONDITION: the
+ * rounded sum within +-FC_REAL16_MAX, where both give the same value. */
+FC_FX_INLINE fc_real16 fc_dot4_round16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1, fc_real16 a2,
+                                       fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products, int frac_to)
+{
+    const fc_real sum = fc_dot2_16(a0, b0, a1, b1) + fc_dot2_16(a2, b2, a3, b3);
+    return fc_round16(sum, frac_products, frac_to);
+}
+
+/* x / 2 rounded to nearest, ties up: fc_mul(ar, x, 1/2, shift) bit for bit,
+ * which cannot saturate. */
+FC_FX_INLINE fc_real fc_half(fc_real x)
+{
+    return fc_fx_halve_rounded(x);
+}
+
 FC_FX_INLINE fc_real16 fc_neg16(fc_real16 a)
 {
     return (fc_real16)-a; /* never -INT16_MIN: the range is symmetric */
@@ -833,6 +850,19 @@ static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_
     (void)frac_products;
     (void)frac_to;
     return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+static inline fc_real16 fc_dot4_round16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1, fc_real16 a2,
+                                        fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products, int frac_to)
+{
+    (void)frac_products;
+    (void)frac_to;
+    return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+static inline fc_real fc_half(fc_real x)
+{
+    return x * 0.5f;
 }
 
 static inline fc_real16 fc_neg16(fc_real16 a)
