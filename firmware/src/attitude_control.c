@@ -488,7 +488,8 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
     out->moment = (fc_vec3_16){fc_round16(moment.x, FC_NSUM_FRAC, FC_NORM16_FRAC),
                                fc_round16(moment.y, FC_NSUM_FRAC, FC_NORM16_FRAC),
                                fc_round16(moment.z, FC_NSUM_FRAC, FC_NORM16_FRAC)};
-    out->attitude_error_rad = c->last_error_rad;
+    /* by component: a struct copy is a byte loop at -Os on the ATmega */
+    out->attitude_error_rad = fc_vec3_make(c->last_error_rad.x, c->last_error_rad.y, c->last_error_rad.z);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

@@ -483,6 +483,15 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
 }
 #endif
 
+/* bits shift .. shift + 15 of t as a 16-bit value (0 < shift < 17): the
+ * last step of fc_round16. (port: FC_PORT_LOW16_ASR) */
+#ifndef FC_PORT_LOW16_ASR
+FC_FX_INLINE fc_real16 fc_fx_low16_asr(uint32_t t, int shift)
+{
+    return (fc_real16)fc_fx_asr32((fc_real)t, shift);
+}
+#endif
+
 /* fc_narrow16 without the saturation test, for an x the caller has bounded
  * (a clamp or a documented range, written next to the use). PRECONDITION:
  * |x| / 2^(frac_from - frac_to) < FC_REAL16_MAX + 1/2 (x rounds into
@@ -500,7 +509,7 @@ FC_FX_INLINE fc_real16 fc_round16(fc_real x, int frac_from, int frac_to)
     /* floor((x + 2^(shift-1)) / 2^shift), as fc_convert rounds; the sum
      * stays below 2^31 under the precondition */
     const int shift = frac_from - frac_to;
-    return (fc_real16)fc_fx_asr32((fc_real)((uint32_t)x + ((uint32_t)1 << (shift - 1))), shift);
+    return fc_fx_low16_asr((uint32_t)x + ((uint32_t)1 << (shift - 1)), shift);
 }
 
 /* x (16-bit format frac_from) in the 32-bit format frac_to >= frac_from,

@@ -38,6 +38,8 @@
  *   fc_fx_asr32,                           constant shifts by bytes and bits;
  *   fc_fx_shl32,                           fc_convert's last bit by the carry
  *   fc_fx_halve_rounded
+ *   fc_fx_low16_asr     FC_PORT_LOW16_ASR  fc_round16's shift: the two bytes
+ *                                          kept, by LSL/ROL
  *   fc_sqrt_unit16      FC_PORT_SQRT_UNIT16  inline: a knot table's chord and
  *                                          exact steps in assembly (the
  *                                          allocation's rotor speeds)
@@ -462,6 +464,29 @@ FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
     }
     FC_AVR_ASR64(low, high, shift % 8);
     return low;
+}
+
+/* fc_fx_low16_asr: for a constant shift of 12..15 the three high bytes of
+ * t shifted left by 16 - shift bits (LSL/ROL, 3 cycles a bit), their upper
+ * two the result; the 32-bit shift would form and sign-extend the two
+ * bytes the 16-bit result drops. Other shifts as the portable form. */
+#define FC_PORT_LOW16_ASR
+#define FC_AVR_SHL24_1 "lsl %0\n\trol %1\n\trol %2\n\t"
+FC_FX_INLINE int16_t fc_fx_low16_asr(uint32_t t, int shift)
+{
+    if (__builtin_constant_p(shift) && shift >= 12 && shift <= 15) {
+        uint8_t b1 = (uint8_t)(t >> 8), b2 = (uint8_t)(t >> 16), b3 = (uint8_t)(t >> 24);
+        switch (16 - shift) {
+        case 1: __asm__(FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        case 2: __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        case 3: __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        default:
+            __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3));
+            break;
+        }
+        return (int16_t)(uint16_t)((uint16_t)b2 | (uint16_t)((uint16_t)b3 << 8));
+    }
+    return (int16_t)fc_fx_asr32((int32_t)t, shift);
 }
 
 /* fc_fx_asr32, fc_fx_shl32: a constant shift by bytes and a few bits
