@@ -216,8 +216,8 @@ STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
 {
 #if FC_NUMERIC_FIXED
     const fc_quat16 r = fc_quat16_round_unit(*q);
-    const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
-                             (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
+    const uint32_t norm_sq = (uint32_t)fc_sq16(r.w) + (uint32_t)fc_sq16(r.x) + (uint32_t)fc_sq16(r.y) +
+                             (uint32_t)fc_sq16(r.z);
     const uint32_t one = (uint32_t)FC_INT(1, UNIT16_SQ);
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
     if (off <= (uint32_t)FC_QUAT16_UNIT_SQ_TOLERANCE) {
@@ -267,7 +267,7 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
     const fc_quat16 e = error_quat16(qd, q);
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
-    const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
+    const fc_real n_sq = fc_sumsq2_16(e.w, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
     const fc_real d = fc_sub_inline(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
@@ -343,12 +343,15 @@ STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, 
 
 /* Roll and pitch scaled down together into their box (the tilt axis is kept);
  * yaw clamped on its own. The limits are validated positive: -limit needs
- * no saturation test. */
-static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
+ * no saturation test. *limited: whether the result differs from m (a
+ * scaling leaves the axis beyond its box inside it; a clamp moves yaw). */
+static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit, bool *limited)
 {
     const fc_real abs_x = fc_abs(ar, m.x);
     const fc_real abs_y = fc_abs(ar, m.y);
+    *limited = false;
     if (abs_x > limit.x || abs_y > limit.y) {
+        *limited = true;
         const int ratio_shift = FC_DIV_SHIFT(NSUM, NSUM, UNIT);
         fc_real f = FC_INT(1, UNIT);
         if (abs_x > limit.x) {
@@ -365,6 +368,9 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
     }
     /* (unscaled, |m.x| and |m.y| are inside their limits already, or NaN,
      * which the clamp would pass through as well) */
+    if (m.z > limit.z || m.z < -limit.z) {
+        *limited = true;
+    }
     return fc_vec3_make(m.x, m.y, fc_clamp(m.z, -limit.z, limit.z));
 }
 
@@ -458,13 +464,15 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
             axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
             axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
             axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
-        moment = limit_moment(ar, raw, c->moment_limit_sum);
+        bool limited = false;
+        moment = limit_moment(ar, raw, c->moment_limit_sum, &limited);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
             moment = fc_vec3_zero();
             ar->saturated = 1u;
+            limited = true;
         }
-        if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
+        if (limited) {
             status |= FC_STEP_OUTPUT_LIMITED;
         }
         /* anti-windup: the allocation's report and this step's own clamp;

@@ -548,6 +548,20 @@ FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_rea
     return fc_mul16(a0, b0) + fc_mul16(a1, b1);
 }
 
+/* a a, exact, as fc_mul16 (a port may form the cross product once), and
+ * a^2 + b^2, as fc_dot2_16(a, a, b, b). (port: FC_PORT_SQ16) */
+#ifndef FC_PORT_SQ16
+FC_FX_INLINE fc_real fc_sq16(fc_real16 a)
+{
+    return fc_mul16(a, a);
+}
+#endif
+
+FC_FX_INLINE fc_real fc_sumsq2_16(fc_real16 a, fc_real16 b)
+{
+    return fc_sq16(a) + fc_sq16(b);
+}
+
 /* a0 b0 + .. + a3 b3 rounded to nearest into the 16-bit format frac_to
  * (frac_to < the products' FRAC), saturated at +-FC_REAL16_MAX; the sum is
  * formed exactly, so the operands must keep it below 2^31 (UNIT16 values
@@ -849,6 +863,16 @@ static inline fc_real fc_mul16(fc_real16 a, fc_real16 b)
 static inline fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1)
 {
     return a0 * b0 + a1 * b1;
+}
+
+static inline fc_real fc_sq16(fc_real16 a)
+{
+    return a * a;
+}
+
+static inline fc_real fc_sumsq2_16(fc_real16 a, fc_real16 b)
+{
+    return a * a + b * b;
 }
 
 static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1,

@@ -31,6 +31,7 @@
  *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU/MUL (avr-gcc calls libgcc)
  *   fc_mul16_unsigned,
  *   fc_umul16
+ *   fc_sq16             FC_PORT_SQ16       one MULSU for the cross product
  *   fc_mul_gain         FC_PORT_MUL_GAIN   assembly, out of line (scalar.c)
  *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
  *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
@@ -648,6 +649,32 @@ static inline __attribute__((always_inline)) int32_t fc_mul16(int16_t a, int16_t
             "clr __zero_reg__"
             : "=&r"(product), "=&r"(zero)
             : "a"(a), "a"(b));
+    return product;
+}
+
+/* fc_sq16: a a by MULS of the high byte, MUL of the low one and the cross
+ * product by one MULSU, added twice (its sign byte formed by SBC of its
+ * carry) */
+#define FC_PORT_SQ16
+static inline __attribute__((always_inline)) int32_t fc_sq16(int16_t a)
+{
+    int32_t product;
+    uint8_t sign;
+    __asm__("muls %B2, %B2\n\t"
+            "movw %C0, r0\n\t"
+            "mul %A2, %A2\n\t"
+            "movw %A0, r0\n\t"
+            "mulsu %B2, %A2\n\t"
+            "sbc %1, %1\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "clr __zero_reg__"
+            : "=&r"(product), "=&r"(sign)
+            : "a"(a));
     return product;
 }
 
