@@ -343,15 +343,12 @@ STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, 
 
 /* Roll and pitch scaled down together into their box (the tilt axis is kept);
  * yaw clamped on its own. The limits are validated positive: -limit needs
- * no saturation test. *limited: whether the result differs from m (a
- * scaling leaves the axis beyond its box inside it; a clamp moves yaw). */
-static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit, bool *limited)
+ * no saturation test. */
+static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 {
     const fc_real abs_x = fc_abs(ar, m.x);
     const fc_real abs_y = fc_abs(ar, m.y);
-    *limited = false;
     if (abs_x > limit.x || abs_y > limit.y) {
-        *limited = true;
         const int ratio_shift = FC_DIV_SHIFT(NSUM, NSUM, UNIT);
         fc_real f = FC_INT(1, UNIT);
         if (abs_x > limit.x) {
@@ -368,9 +365,6 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit, bool *limite
     }
     /* (unscaled, |m.x| and |m.y| are inside their limits already, or NaN,
      * which the clamp would pass through as well) */
-    if (m.z > limit.z || m.z < -limit.z) {
-        *limited = true;
-    }
     return fc_vec3_make(m.x, m.y, fc_clamp(m.z, -limit.z, limit.z));
 }
 
@@ -464,15 +458,13 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
             axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
             axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
             axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
-        bool limited = false;
-        moment = limit_moment(ar, raw, c->moment_limit_sum, &limited);
+        moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */
             moment = fc_vec3_zero();
             ar->saturated = 1u;
-            limited = true;
         }
-        if (limited) {
+        if (moment.x != raw.x || moment.y != raw.y || moment.z != raw.z) {
             status |= FC_STEP_OUTPUT_LIMITED;
         }
         /* anti-windup: the allocation's report and this step's own clamp;
