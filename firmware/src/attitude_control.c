@@ -216,8 +216,8 @@ STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
 {
 #if FC_NUMERIC_FIXED
     const fc_quat16 r = fc_quat16_round_unit(*q);
-    const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
-                             (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
+    const uint32_t norm_sq = (uint32_t)fc_sq16(r.w) + (uint32_t)fc_sq16(r.x) + (uint32_t)fc_sq16(r.y) +
+                             (uint32_t)fc_sq16(r.z);
     const uint32_t one = (uint32_t)FC_INT(1, UNIT16_SQ);
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
     if (off <= (uint32_t)FC_QUAT16_UNIT_SQ_TOLERANCE) {
@@ -229,15 +229,17 @@ STEP_INLINE fc_quat16 quat16_unit(fc_arith *ar, const fc_quat *q, bool *ok)
 }
 
 /* p* (x) q with w >= 0: fc_quat16_conj_mul and fc_quat16_shortest (the same
- * bits) inlined into the step. */
-STEP_INLINE fc_quat16 error_quat16(fc_arith *ar, const fc_quat16 *p, const fc_quat16 *q)
+ * bits) inlined into the step. No saturation test (fc_dot4_round16): p and q
+ * are unit within FC_QUAT16_UNIT_SQ_TOLERANCE (quat16_unit), so that each
+ * component of the product is at most |p| |q|, near 1, inside UNIT16's 2. */
+STEP_INLINE fc_quat16 error_quat16(const fc_quat16 *p, const fc_quat16 *q)
 {
     const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
     fc_quat16 r = {
-        fc_dot4_16(ar, p->w, q->w, p->x, q->x, p->y, q->y, p->z, q->z, sq, to),
-        fc_dot4_16(ar, p->w, q->x, fc_neg16(p->x), q->w, fc_neg16(p->y), q->z, p->z, q->y, sq, to),
-        fc_dot4_16(ar, p->w, q->y, p->x, q->z, fc_neg16(p->y), q->w, fc_neg16(p->z), q->x, sq, to),
-        fc_dot4_16(ar, p->w, q->z, fc_neg16(p->x), q->y, p->y, q->x, fc_neg16(p->z), q->w, sq, to)};
+        fc_dot4_round16(p->w, q->w, p->x, q->x, p->y, q->y, p->z, q->z, sq, to),
+        fc_dot4_round16(p->w, q->x, fc_neg16(p->x), q->w, fc_neg16(p->y), q->z, p->z, q->y, sq, to),
+        fc_dot4_round16(p->w, q->y, p->x, q->z, fc_neg16(p->y), q->w, fc_neg16(p->z), q->x, sq, to),
+        fc_dot4_round16(p->w, q->z, fc_neg16(p->x), q->y, p->y, q->x, fc_neg16(p->z), q->w, sq, to)};
     if (r.w < FC_INT16(0, UNIT16)) {
         r.w = fc_neg16(r.w);
         r.x = fc_neg16(r.x);
@@ -263,17 +265,15 @@ STEP_INLINE fc_real16 scaled16(fc_arith *ar, fc_real16 v, fc_real k)
 STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_quat16 *qd, fc_vec3 *err)
 {
     /* (2.9) in the body frame: q_eb = q_d* (x) q = q* (x) (q (x) q_d*) (x) q, w >= 0 */
-    const fc_quat16 e = error_quat16(ar, qd, q);
+    const fc_quat16 e = error_quat16(qd, q);
     /* N^2 = w^2 + z^2 = cos^2(tilt_e/2); c = w/N, s = z/N: the half heading error */
-    const fc_real n_sq = fc_dot2_16(e.w, e.w, e.z, e.z); /* UNIT16_SQ */
+    const fc_real n_sq = fc_sumsq2_16(e.w, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
     const fc_real d = fc_sub_inline(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
     if (fc_within(d, SERIES_MAX_D)) {
         /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
-        fc_arith never = {0u};
-        const fc_real16 half = fc_narrow16(&never, FC_C(0.5f, UNIT), FC_UNIT_FRAC, FC_UNIT16_FRAC); /* folds */
-        const fc_real half_d = fc_mul_by16(ar, d, half, FC_SHIFT(UNIT16_SQ, UNIT16, UNIT16_SQ));
+        const fc_real half_d = fc_half(d);
         const fc_real inv_n = fc_add_inline(ar, FC_INT(1, UNIT16_SQ), half_d);
         c = scaled16(ar, e.w, inv_n);
         s = scaled16(ar, e.z, inv_n);
@@ -337,11 +337,13 @@ STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, 
         return integral;
     }
     const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
-    return fc_clamp(fc_add_inline(ar, integral, step), fc_neg(ar, limit), limit);
+    /* -limit without a saturation test: the limit is validated positive */
+    return fc_clamp(fc_add_inline(ar, integral, step), -limit, limit);
 }
 
 /* Roll and pitch scaled down together into their box (the tilt axis is kept);
- * yaw clamped on its own. */
+ * yaw clamped on its own. The limits are validated positive: -limit needs
+ * no saturation test. */
 static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
 {
     const fc_real abs_x = fc_abs(ar, m.x);
@@ -358,12 +360,12 @@ static fc_vec3 limit_moment(fc_arith *ar, fc_vec3 m, fc_vec3 limit)
         m.x = fc_mul(ar, m.x, f, FC_SHIFT(NSUM, UNIT, NSUM));
         m.y = fc_mul(ar, m.y, f, FC_SHIFT(NSUM, UNIT, NSUM));
         /* the hard clamp catches the last rounding of the scaling */
-        m.x = fc_clamp(m.x, fc_neg(ar, limit.x), limit.x);
-        m.y = fc_clamp(m.y, fc_neg(ar, limit.y), limit.y);
+        m.x = fc_clamp(m.x, -limit.x, limit.x);
+        m.y = fc_clamp(m.y, -limit.y, limit.y);
     }
     /* (unscaled, |m.x| and |m.y| are inside their limits already, or NaN,
      * which the clamp would pass through as well) */
-    return fc_vec3_make(m.x, m.y, fc_clamp(m.z, fc_neg(ar, limit.z), limit.z));
+    return fc_vec3_make(m.x, m.y, fc_clamp(m.z, -limit.z, limit.z));
 }
 
 /* A rate as the products read it: RATE16, clamped to its range first (by
@@ -486,7 +488,8 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
     out->moment = (fc_vec3_16){fc_round16(moment.x, FC_NSUM_FRAC, FC_NORM16_FRAC),
                                fc_round16(moment.y, FC_NSUM_FRAC, FC_NORM16_FRAC),
                                fc_round16(moment.z, FC_NSUM_FRAC, FC_NORM16_FRAC)};
-    out->attitude_error_rad = c->last_error_rad;
+    /* by component: a struct copy is a byte loop at -Os on the ATmega */
+    out->attitude_error_rad = fc_vec3_make(c->last_error_rad.x, c->last_error_rad.y, c->last_error_rad.z);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }

@@ -493,6 +493,15 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
 }
 #endif
 
+/* bits shift .. shift + 15 of t as a 16-bit value (0 < shift < 17): the
+ * last step of fc_round16. (port: FC_PORT_LOW16_ASR) */
+#ifndef FC_PORT_LOW16_ASR
+FC_FX_INLINE fc_real16 fc_fx_low16_asr(uint32_t t, int shift)
+{
+    return (fc_real16)fc_fx_asr32((fc_real)t, shift);
+}
+#endif
+
 /* fc_narrow16 without the saturation test, for an x the caller has bounded
  * (a clamp or a documented range, written next to the use). PRECONDITION:
  * |x| / 2^(frac_from - frac_to) < FC_REAL16_MAX + 1/2 (x rounds into
@@ -510,7 +519,7 @@ FC_FX_INLINE fc_real16 fc_round16(fc_real x, int frac_from, int frac_to)
     /* floor((x + 2^(shift-1)) / 2^shift), as fc_convert rounds; the sum
      * stays below 2^31 under the precondition */
     const int shift = frac_from - frac_to;
-    return (fc_real16)fc_fx_asr32((fc_real)((uint32_t)x + ((uint32_t)1 << (shift - 1))), shift);
+    return fc_fx_low16_asr((uint32_t)x + ((uint32_t)1 << (shift - 1)), shift);
 }
 
 /* x (16-bit format frac_from) in the 32-bit format frac_to >= frac_from,
@@ -549,6 +558,20 @@ FC_FX_INLINE fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_rea
     return fc_mul16(a0, b0) + fc_mul16(a1, b1);
 }
 
+/* a a, exact, as fc_mul16 (a port may form the cross product once), and
+ * a^2 + b^2, as fc_dot2_16(a, a, b, b). (port: FC_PORT_SQ16) */
+#ifndef FC_PORT_SQ16
+FC_FX_INLINE fc_real fc_sq16(fc_real16 a)
+{
+    return fc_mul16(a, a);
+}
+#endif
+
+FC_FX_INLINE fc_real fc_sumsq2_16(fc_real16 a, fc_real16 b)
+{
+    return fc_sq16(a) + fc_sq16(b);
+}
+
 /* a0 b0 + .. + a3 b3 rounded to nearest into the 16-bit format frac_to
  * (frac_to < the products' FRAC), saturated at +-FC_REAL16_MAX; the sum is
  * formed exactly, so the operands must keep it below 2^31 (UNIT16 values
@@ -559,6 +582,23 @@ FC_FX_INLINE fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_r
 {
     const fc_real sum = fc_dot2_16(a0, b0, a1, b1) + fc_dot2_16(a2, b2, a3, b3);
     return fc_narrow16(ar, sum, frac_products, frac_to);
+}
+
+/* fc_dot4_16 without the saturation test (fc_round16), for a sum the caller
+ * has bounded (the reason written next to the use). PRECONDITION: the
+ * rounded sum within +-FC_REAL16_MAX, where both give the same value. */
+FC_FX_INLINE fc_real16 fc_dot4_round16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1, fc_real16 a2,
+                                       fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products, int frac_to)
+{
+    const fc_real sum = fc_dot2_16(a0, b0, a1, b1) + fc_dot2_16(a2, b2, a3, b3);
+    return fc_round16(sum, frac_products, frac_to);
+}
+
+/* x / 2 rounded to nearest, ties up: fc_mul(ar, x, 1/2, shift) bit for bit,
+ * which cannot saturate. */
+FC_FX_INLINE fc_real fc_half(fc_real x)
+{
+    return fc_fx_halve_rounded(x);
 }
 
 FC_FX_INLINE fc_real16 fc_neg16(fc_real16 a)
@@ -842,6 +882,16 @@ static inline fc_real fc_dot2_16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_re
     return a0 * b0 + a1 * b1;
 }
 
+static inline fc_real fc_sq16(fc_real16 a)
+{
+    return a * a;
+}
+
+static inline fc_real fc_sumsq2_16(fc_real16 a, fc_real16 b)
+{
+    return a * a + b * b;
+}
+
 static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1,
                                    fc_real16 a2, fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products,
                                    int frac_to)
@@ -850,6 +900,19 @@ static inline fc_real16 fc_dot4_16(fc_arith *ar, fc_real16 a0, fc_real16 b0, fc_
     (void)frac_products;
     (void)frac_to;
     return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+static inline fc_real16 fc_dot4_round16(fc_real16 a0, fc_real16 b0, fc_real16 a1, fc_real16 b1, fc_real16 a2,
+                                        fc_real16 b2, fc_real16 a3, fc_real16 b3, int frac_products, int frac_to)
+{
+    (void)frac_products;
+    (void)frac_to;
+    return a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3;
+}
+
+static inline fc_real fc_half(fc_real x)
+{
+    return x * 0.5f;
 }
 
 static inline fc_real16 fc_neg16(fc_real16 a)

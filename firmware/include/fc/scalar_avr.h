@@ -31,6 +31,7 @@
  *   fc_mul16,           FC_PORT_MUL16      MULS/MULSU/MUL (avr-gcc calls libgcc)
  *   fc_mul16_unsigned,
  *   fc_umul16
+ *   fc_sq16             FC_PORT_SQ16       one MULSU for the cross product
  *   fc_mul_gain         FC_PORT_MUL_GAIN   assembly, out of line (scalar.c)
  *   fc_fx_mul_wide,     FC_PORT_HALVES     the helpers under fc_fx_narrow,
  *   fc_fx_umul_wide,                       fc_convert, fc_mul_by16 and
@@ -38,6 +39,8 @@
  *   fc_fx_asr32,                           constant shifts by bytes and bits;
  *   fc_fx_shl32,                           fc_convert's last bit by the carry
  *   fc_fx_halve_rounded
+ *   fc_fx_low16_asr     FC_PORT_LOW16_ASR  fc_round16's shift: the two bytes
+ *                                          kept, by LSL/ROL
  *   fc_sqrt_unit16      FC_PORT_SQRT_UNIT16  inline: a knot table's chord and
  *                                          exact steps in assembly (the
  *                                          allocation's rotor speeds)
@@ -464,6 +467,29 @@ FC_FX_INLINE uint32_t fc_fx_extract(uint32_t low, uint32_t high, int shift)
     return low;
 }
 
+/* fc_fx_low16_asr: for a constant shift of 12..15 the three high bytes of
+ * t shifted left by 16 - shift bits (LSL/ROL, 3 cycles a bit), their upper
+ * two the result; the 32-bit shift would form and sign-extend the two
+ * bytes the 16-bit result drops. Other shifts as the portable form. */
+#define FC_PORT_LOW16_ASR
+#define FC_AVR_SHL24_1 "lsl %0\n\trol %1\n\trol %2\n\t"
+FC_FX_INLINE int16_t fc_fx_low16_asr(uint32_t t, int shift)
+{
+    if (__builtin_constant_p(shift) && shift >= 12 && shift <= 15) {
+        uint8_t b1 = (uint8_t)(t >> 8), b2 = (uint8_t)(t >> 16), b3 = (uint8_t)(t >> 24);
+        switch (16 - shift) {
+        case 1: __asm__(FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        case 2: __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        case 3: __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3)); break;
+        default:
+            __asm__(FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 FC_AVR_SHL24_1 : "+r"(b1), "+r"(b2), "+r"(b3));
+            break;
+        }
+        return (int16_t)(uint16_t)((uint16_t)b2 | (uint16_t)((uint16_t)b3 << 8));
+    }
+    return (int16_t)fc_fx_asr32((int32_t)t, shift);
+}
+
 /* fc_fx_asr32, fc_fx_shl32: a constant shift by bytes and a few bits
  * (fc_fx_extract), not by a C shift, a loop at -Os */
 FC_FX_INLINE int32_t fc_fx_asr32(int32_t a, int n)
@@ -623,6 +649,32 @@ static inline __attribute__((always_inline)) int32_t fc_mul16(int16_t a, int16_t
             "clr __zero_reg__"
             : "=&r"(product), "=&r"(zero)
             : "a"(a), "a"(b));
+    return product;
+}
+
+/* fc_sq16: a a by MULS of the high byte, MUL of the low one and the cross
+ * product by one MULSU, added twice (its sign byte formed by SBC of its
+ * carry) */
+#define FC_PORT_SQ16
+static inline __attribute__((always_inline)) int32_t fc_sq16(int16_t a)
+{
+    int32_t product;
+    uint8_t sign;
+    __asm__("muls %B2, %B2\n\t"
+            "movw %C0, r0\n\t"
+            "mul %A2, %A2\n\t"
+            "movw %A0, r0\n\t"
+            "mulsu %B2, %A2\n\t"
+            "sbc %1, %1\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "add %B0, r0\n\t"
+            "adc %C0, r1\n\t"
+            "adc %D0, %1\n\t"
+            "clr __zero_reg__"
+            : "=&r"(product), "=&r"(sign)
+            : "a"(a));
     return product;
 }
 
