@@ -297,7 +297,7 @@ static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat16 q)
     const fc_vec3_16 up = {
         fc_narrow16(ar, 2 * fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y), sq, to),                    /* 2(xz - wy) */
         fc_narrow16(ar, 2 * fc_dot2_16(q.y, q.z, q.w, q.x), sq, to),                              /* 2(yz + wx) */
-        fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_dot2_16(q.x, q.x, q.y, q.y), sq, to)};      /* 1 - 2(x^2 + y^2) */
+        fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_sumsq2_16(q.x, q.y), sq, to)};               /* 1 - 2(x^2 + y^2) */
     return up;
 }
 

@@ -120,8 +120,8 @@ fc_quat16 fc_quat16_normalize(fc_arith *ar, fc_quat q, bool *ok)
      * the long way. The squares sum unsigned (each at most 2^30; four of
      * -2 wrap the sum to 0, off by one all the same). */
     const fc_quat16 r = fc_quat16_round_unit(q);
-    const uint32_t norm_sq = (uint32_t)fc_mul16(r.w, r.w) + (uint32_t)fc_mul16(r.x, r.x) +
-                             (uint32_t)fc_mul16(r.y, r.y) + (uint32_t)fc_mul16(r.z, r.z);
+    const uint32_t norm_sq =
+        (uint32_t)fc_sq16(r.w) + (uint32_t)fc_sq16(r.x) + (uint32_t)fc_sq16(r.y) + (uint32_t)fc_sq16(r.z);
     const uint32_t one = (uint32_t)1u << FC_UNIT16_SQ_FRAC;
     const uint32_t off = norm_sq > one ? norm_sq - one : one - norm_sq;
     if (off <= (uint32_t)FC_QUAT16_UNIT_SQ_TOLERANCE) {
@@ -466,8 +466,8 @@ static fc_real16 low_half(fc_real v)
 static bool half_length_error(const fc_quat *p, fc_quat16 *high, fc_real16 *error)
 {
     const fc_quat16 h = fc_quat16_round_unit(*p);
-    const fc_real squares_off = fc_dot2_16(h.w, h.w, h.x, h.x) + fc_dot2_16(h.y, h.y, h.z, h.z) -
-                                FC_INT(1, UNIT16_SQ); /* UNIT16_SQ */
+    const fc_real squares_off =
+        fc_sumsq2_16(h.w, h.x) + fc_sumsq2_16(h.y, h.z) - FC_INT(1, UNIT16_SQ); /* UNIT16_SQ */
     if (!fc_within(squares_off, NEWTON_WINDOW_UNIT16_SQ)) {
         return false;
     }
