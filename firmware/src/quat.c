@@ -341,7 +341,7 @@ fc_quat fc_quat_from_rpy(fc_arith *ar, fc_real roll_rad, fc_real pitch_rad, fc_r
  * 0, c = sqrt((1 + cos a) / 2) >= 1/sqrt(2) and s = (sin a / 2) / c; else
  * s = +-sqrt((1 - cos a) / 2) with the sign of sin a and c = (sin a / 2) / s
  * (a = pi: s > 0, c = 0). 1/2 +- (cos a) / 2 stays within UNIT's range. */
-static void half_angle(fc_arith *ar, fc_real cos_a, fc_real sin_a, fc_real *cos_half, fc_real *sin_half)
+static void half_angle_of(fc_arith *ar, fc_real cos_a, fc_real sin_a, fc_real *cos_half, fc_real *sin_half)
 {
     const fc_real half_cos = fc_mul(ar, cos_a, FC_C(0.5f, UNIT), UNIT_X_UNIT);
     const fc_real half_sin = fc_mul(ar, sin_a, FC_C(0.5f, UNIT), UNIT_X_UNIT);
@@ -376,8 +376,8 @@ fc_quat fc_quat_from_up(fc_arith *ar, fc_vec3 up_body, fc_real yaw_rad)
     const fc_real cos_pitch = fc_div(ar, h, length, FC_UNIT_FRAC);
     const fc_real sin_pitch = fc_div(ar, fc_neg(ar, up_body.x), length, FC_UNIT_FRAC);
     fc_real cr, sr, cp, sp;
-    half_angle(ar, cos_roll, sin_roll, &cr, &sr);
-    half_angle(ar, cos_pitch, sin_pitch, &cp, &sp);
+    half_angle_of(ar, cos_roll, sin_roll, &cr, &sr);
+    half_angle_of(ar, cos_pitch, sin_pitch, &cp, &sp);
     fc_quat q = fc_quat_make(fc_mul(ar, cp, cr, UNIT_X_UNIT), fc_mul(ar, cp, sr, UNIT_X_UNIT),
                              fc_mul(ar, sp, cr, UNIT_X_UNIT), fc_neg(ar, fc_mul(ar, sp, sr, UNIT_X_UNIT)));
     if (yaw_rad != FC_INT(0, ANGLE)) {
