@@ -20,7 +20,11 @@
  * controller step alone is timed too (the benchmark figure).
  *
  * The library is called through its entry point only (fc/controller.h):
- * fc_controller_default_params, fc_controller_init, fc_controller_step. No
+ * fc_controller_step on a controller that fc_controller_init set up for the
+ * build's parameters (controller_setup.h). The image holds that controller
+ * as a snapshot made at build time (controller_snapshot.h) and copies it
+ * from flash at boot, so it links none of the init code; a build without
+ * simavr (no snapshot) runs fc_controller_init at boot instead. No
  * soft-float in the fixed image: constants are FC_C/FC_INT, conversions to
  * us and mN are integer arithmetic.
  *
@@ -46,8 +50,10 @@
 #include <avr/wdt.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 #include <util/crc16.h>
 
+#include "controller_setup.h"
 #include "fc/controller.h"
 #include "hal_clock.h"
 #include "hal_esc.h"
@@ -61,27 +67,13 @@
 #define FC_ATMEGA_SIMAVR 0
 #endif
 
-/* Loop rate and the outer group's major frame: what the worst iteration
- * measured in simavr allows (platform/atmega/CMakeLists.txt sets both). */
-#ifndef FC_ATMEGA_LOOP_HZ
-#define FC_ATMEGA_LOOP_HZ 100
+/* 1: the controller comes from the build-time snapshot (CMakeLists.txt sets
+ * it when simavr is there to make one) */
+#ifndef FC_ATMEGA_SNAPSHOT
+#define FC_ATMEGA_SNAPSHOT 0
 #endif
-
-#ifndef FC_ATMEGA_AIRFRAME
-#define FC_ATMEGA_AIRFRAME FC_AIRFRAME_F450 /* the hexa: FC_AIRFRAME_HEXA_4KG */
-#endif
-#ifndef FC_ATMEGA_ALTITUDE_VARIANT
-#define FC_ATMEGA_ALTITUDE_VARIANT FC_ALT_VARIANT_SSC_ADAPTIVE
-#endif
-
-/* The outer group's major frame in loops (fc_controller_set_outer_divider):
- * each of its parts (position loop, pad model, the pad model's work ahead)
- * in its own minor frame, so that no loop carries two of them. */
-#ifndef FC_ATMEGA_OUTER_DIVIDER
-#define FC_ATMEGA_OUTER_DIVIDER 2
-#endif
-#if FC_ATMEGA_OUTER_DIVIDER < 1 || FC_ATMEGA_OUTER_DIVIDER > 10
-#error "FC_ATMEGA_OUTER_DIVIDER must be in [1, FC_OUTER_DIVIDER_MAX]"
+#if FC_ATMEGA_SNAPSHOT
+#include "controller_snapshot.h"
 #endif
 
 #define PERIOD_CYCLES (F_CPU / FC_ATMEGA_LOOP_HZ)
@@ -140,7 +132,8 @@ ISR(TIMER1_COMPB_vect)
 
 /* Before anything else (.init3, ahead of .data/.bss setup): a watchdog reset
  * leaves the watchdog running, so it is switched off here or it would reset
- * again during the 30-70 ms of fc_controller_init. */
+ * again during the boot (the 30-70 ms of fc_controller_init in a build
+ * without the snapshot). */
 void early_watchdog_off(void) __attribute__((naked, used, section(".init3")));
 void early_watchdog_off(void)
 {
@@ -308,15 +301,47 @@ static void send_frame(loop_stats *s, fc_step_status fc_status, uint8_t status, 
 
 /* ---- setup ----------------------------------------------------------------- */
 
-/* The parameters live on this frame only: fc_controller_init copies them into
- * g_ctl, so they take no RAM once the loop runs. */
+#if FC_ATMEGA_SNAPSHOT
+/* g_ctl from the snapshot's records (controller_snapshot.h): zero, then each
+ * record's bytes after its zeros. A record that would run past g_ctl ends
+ * the copy (avr_snapshot writes none such; atmega.snapshot_boot checks the
+ * result byte for byte). */
+static void controller_from_snapshot(void)
+{
+    uint8_t *const ctl = (uint8_t *)&g_ctl;
+    memset(ctl, 0, sizeof g_ctl);
+    const uint8_t *rec = fc_atmega_controller_snapshot;
+    uint16_t at = 0u;
+    while (at < sizeof g_ctl) {
+        const uint8_t skip = pgm_read_byte(rec);
+        const uint8_t n = pgm_read_byte(rec + 1);
+        rec += 2;
+        if (skip > sizeof g_ctl - at || n > sizeof g_ctl - at - skip) {
+            break;
+        }
+        at = (uint16_t)(at + skip);
+        memcpy_P(ctl + at, rec, n);
+        at = (uint16_t)(at + n);
+        rec += n;
+    }
+}
+#endif
+
+/* g_ctl as fc_controller_init leaves it for the build's parameters. With the
+ * snapshot: from flash; its init ran at build time, and one that failed
+ * failed the build (avr_snapshot), so the result is FC_INIT_OK. Without:
+ * fc_controller_init here, the parameters on this frame only (init copies
+ * them into g_ctl), so they take no RAM once the loop runs. */
 static __attribute__((noinline)) fc_init_result controller_setup(void)
 {
+#if FC_ATMEGA_SNAPSHOT
+    controller_from_snapshot();
+    return FC_INIT_OK;
+#else
     fc_controller_params p;
-    fc_controller_default_params(&p, FC_ATMEGA_AIRFRAME, FC_ATMEGA_ALTITUDE_VARIANT,
-                                 FC_C(1.0f / (float)FC_ATMEGA_LOOP_HZ, DT));
-    fc_controller_set_outer_divider(&p, FC_ATMEGA_OUTER_DIVIDER);
+    fc_atmega_params(&p);
     return fc_controller_init(&g_ctl, &p);
+#endif
 }
 
 /* Placeholders until a navigation HAL exists: hover at the reference's start

@@ -20,7 +20,8 @@
  *   16   4   worst cycles of one iteration's work in this frame's window
  *   20   4   fewest cycles of one fc_controller_step call in the window
  *   24   4   most cycles of one fc_controller_step call in the window
- *   28   4   cycles of fc_controller_init at boot
+ *   28   4   cycles of the controller's setup at boot: copying the
+ *            build-time snapshot (fc_controller_init without simavr)
  *   32   2   fc_step_status of the last step (fc/status.h)
  *   34   1   platform status bits (TM_STATUS_*)
  *   35   1   rotor count
@@ -68,7 +69,9 @@
 #define TM_STATUS_ARMED (1u << 1)       /* armed over the UART and by the controller's checks */
 #define TM_STATUS_MOTORS_ON (1u << 2)   /* the controller drives the motors */
 #define TM_STATUS_FIXED (1u << 3)       /* fixed-point backend (else float) */
-#define TM_STATUS_INIT_FAILED (1u << 4) /* fc_controller_init did not return FC_INIT_OK */
+#define TM_STATUS_INIT_FAILED (1u << 4) /* fc_controller_init did not return FC_INIT_OK (at
+                                         * boot without the snapshot; with it, at build time: the
+                                         * build fails) */
 #define TM_STATUS_TX_DROPPED (1u << 5)  /* a frame found the TX buffer full and was dropped */
 #define TM_STATUS_SIMAVR (1u << 6)      /* the build with simavr's .mmcu section */
 #define TM_STATUS_OVERRUN (1u << 7)     /* an overrun happened in this window */
