@@ -18,8 +18,8 @@
 /* Records, one after the other until they fill sizeof(fc_controller) bytes
  * (the generated source asserts it): a count of zero bytes to skip, a count
  * n, then the next n bytes of the controller. Most of an initialised
- * controller is zero (states, integrators, histories), so the records hold
- * about half of it. */
+ * controller is zero (states, integrators, histories), so the records are
+ * much shorter than the controller. */
 extern const uint8_t fc_atmega_controller_snapshot[] PROGMEM;
 
 #endif /* FC_ATMEGA_CONTROLLER_SNAPSHOT_H */

@@ -111,7 +111,7 @@ AVR_MCU_SIMAVR_CONSOLE(&GPIOR0);
 
 /* ---- state (platform code may have globals; the library has none) ------ */
 
-static fc_controller g_ctl; /* ~2 KiB: every module state, allocation for 8 rotors */
+static fc_controller g_ctl; /* every module's state, the allocation for 8 rotors */
 static fc_controller_inputs g_in;
 static fc_controller_outputs g_out;
 
@@ -132,8 +132,8 @@ ISR(TIMER1_COMPB_vect)
 
 /* Before anything else (.init3, ahead of .data/.bss setup): a watchdog reset
  * leaves the watchdog running, so it is switched off here or it would reset
- * again during the boot (the 30-70 ms of fc_controller_init in a build
- * without the snapshot). */
+ * again during the boot (fc_controller_init, in a build without the
+ * snapshot). */
 void early_watchdog_off(void) __attribute__((naked, used, section(".init3")));
 void early_watchdog_off(void)
 {

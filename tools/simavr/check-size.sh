@@ -5,12 +5,14 @@
 # (.data + .bss + .noinit) against 8 KiB; the stack comes on top of the
 # static RAM (avr_loop_test measures its peak in simavr). On the fixed
 # backend the linked image must hold no soft-float routine at all.
-#   check-size.sh ELF SIZE NM NUMERIC
+# FLASH_MAX, if given, is a tighter flash budget in bytes (the flight image's).
+#   check-size.sh ELF SIZE NM NUMERIC [FLASH_MAX]
 set -euo pipefail
 elf=$1
 size=$2
 nm=$3
 numeric=$4
+flash_max=${5:-253952} # 256 KiB - the 8 KiB boot section
 read -r text data bss noinit < <("$size" -A "$elf" | awk '
   $1 == ".text" { t = $2 } $1 == ".data" { d = $2 } $1 == ".bss" { b = $2 } $1 == ".noinit" { n = $2 }
   END { print t + 0, d + 0, b + 0, n + 0 }')
@@ -18,7 +20,6 @@ flash=$((text + data))
 ram=$((data + bss + noinit))
 status=0
 echo "image $(basename "$elf") ($numeric): text $text, data $data, bss $bss, noinit $noinit bytes"
-flash_max=253952 # 256 KiB - the 8 KiB boot section
 echo "flash $flash of $flash_max bytes ($((flash * 100 / flash_max))%), $((flash_max - flash)) left; static RAM $ram of 8192 bytes ($((ram * 100 / 8192))%), $((8192 - ram)) bytes left for the stack"
 if [ "$flash" -gt "$flash_max" ] || [ "$ram" -ge 8192 ]; then
   echo "DOES NOT FIT"

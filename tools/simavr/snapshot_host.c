@@ -27,14 +27,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "avr_uart.h"
 #include "sim_avr.h"
 #include "sim_elf.h"
 #include "sim_support.h"
 
 /* fc_init_result's names (firmware/include/fc/status.h), for the message */
 static const char *const init_names[] = {
-    "FC_INIT_OK",           "FC_INIT_BAD_PARAM",         "FC_INIT_RANK_DEFICIENT",    "FC_INIT_GRAVITY_MISMATCH",
-    "FC_INIT_MASS_MISMATCH", "FC_INIT_THRUST_TOO_LOW",   "FC_INIT_THRUST_ABOVE_ROTORS", "FC_INIT_AUTHORITY_MISMATCH",
+    "FC_INIT_OK",
+    "FC_INIT_BAD_PARAM",
+    "FC_INIT_RANK_DEFICIENT",
+    "FC_INIT_GRAVITY_MISMATCH",
+    "FC_INIT_MASS_MISMATCH",
+    "FC_INIT_THRUST_TOO_LOW",
+    "FC_INIT_THRUST_ABOVE_ROTORS",
+    "FC_INIT_AUTHORITY_MISMATCH",
 };
 
 #define SNAPSHOT_MAX_S 10u /* simulated seconds for the init */
@@ -223,6 +230,11 @@ static int check_boot(const char *path, const uint8_t *bytes, uint32_t size)
     if (avr == NULL) {
         return 2;
     }
+    /* the banner and telemetry on USART0: not to stdout */
+    uint32_t flags = 0;
+    avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+    flags &= ~(uint32_t)AVR_UART_FLAG_STDIO;
+    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
     int state = cpu_Running;
     const uint64_t limit = (uint64_t)fw.frequency * BOOT_MAX_S;
     while (avr->pc != step && avr->cycle < limit && state != cpu_Done && state != cpu_Crashed) {
