@@ -303,9 +303,9 @@ static void send_frame(loop_stats *s, fc_step_status fc_status, uint8_t status, 
 
 #if FC_ATMEGA_SNAPSHOT
 /* g_ctl from the snapshot's records (controller_snapshot.h): zero, then each
- * record's bytes after its zeros. A record that would run past g_ctl ends
- * the copy (avr_snapshot writes none such; atmega.snapshot_boot checks the
- * result byte for byte). */
+ * record's bytes after its zeros. An empty record, or one that would run
+ * past g_ctl, ends the copy (avr_snapshot writes none such;
+ * atmega.snapshot_boot checks the result byte for byte). */
 static void controller_from_snapshot(void)
 {
     uint8_t *const ctl = (uint8_t *)&g_ctl;
@@ -316,7 +316,7 @@ static void controller_from_snapshot(void)
         const uint8_t skip = pgm_read_byte(rec);
         const uint8_t n = pgm_read_byte(rec + 1);
         rec += 2;
-        if (skip > sizeof g_ctl - at || n > sizeof g_ctl - at - skip) {
+        if ((skip | n) == 0u || skip > sizeof g_ctl - at || n > sizeof g_ctl - at - skip) {
             break;
         }
         at = (uint16_t)(at + skip);
