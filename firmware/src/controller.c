@@ -458,8 +458,8 @@ static void guard_init(fc_controller_guard *g)
 /* The plausibility gates (fc/input_gate.h); the pad counts when tracking it. */
 static fc_step_status gate_inputs(fc_controller *ctl, const fc_controller_inputs *in, step_context *c)
 {
-    const fc_gated_inputs raw = {in->position_m, in->velocity_mps, in->pad, in->position_setpoint_m,
-                                 in->yaw_setpoint_rad, in->yaw_rate_setpoint_radps};
+    const fc_input_gate_input raw = {&in->position_m,         &in->velocity_mps,     &in->pad,
+                                     &in->position_setpoint_m, in->yaw_setpoint_rad, in->yaw_rate_setpoint_radps};
     c->inputs_ok = fc_input_gate_step(&ctl->gate, &raw, c->command == FC_COMMAND_TRACK_PAD, ctl->mission.armed, NULL);
     c->in = &ctl->gate.accepted;
     c->height_m = c->in->position_m.z;
@@ -765,7 +765,7 @@ static bool hover_learnable(const fc_controller *ctl, const step_context *c)
 static fc_step_status vertical_step(fc_controller *ctl, const fc_controller_inputs *in, const step_context *c,
                                     fc_controller_telemetry *tm)
 {
-    const fc_vertical_estimator_input vin = {*c->attitude,       in->imu.accel_mps2, c->estimate.accel_ok,
+    const fc_vertical_estimator_input vin = {c->attitude,        &in->imu.accel_mps2, c->estimate.accel_ok,
                                              c->vz_mps,            c->inputs_ok,     ctl->pad.gear_height_m,
                                              c->range_fresh,     ctl->last_thrust_n, c->tilt_cos,
                                              hover_learnable(ctl, c), !ctl->mission.armed};

@@ -94,17 +94,17 @@ static fc_real slack_since_accepted(fc_input_gate *g, fc_gain rate, fc_real marg
 }
 
 /* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
-static bool plausible(const fc_input_gate *g, const fc_gated_inputs *in, bool use_pad)
+static bool plausible(const fc_input_gate *g, const fc_input_gate_input *in, bool use_pad)
 {
-    const bool pad_ok = !use_pad || (fc_within(in->pad.z_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
-                                     fc_within(in->pad.vz_mps, g->p.pad_speed_max_mps) &&
-                                     fc_within(in->pad.az_mps2, g->p.pad_accel_max_mps2));
-    return fc_vec3_within(in->position_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
-           fc_vec3_within(in->velocity_mps, g->p.speed_max_mps) && pad_ok;
+    const bool pad_ok = !use_pad || (fc_within(in->pad->z_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+                                     fc_within(in->pad->vz_mps, g->p.pad_speed_max_mps) &&
+                                     fc_within(in->pad->az_mps2, g->p.pad_accel_max_mps2));
+    return fc_vec3_within(*in->position_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+           fc_vec3_within(*in->velocity_mps, g->p.speed_max_mps) && pad_ok;
 }
 
 /* The jumps since the last accepted sample, t ago. */
-static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad)
+static bool consistent(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad)
 {
     fc_arith *ar = &g->ar;
     const fc_input_gate_params *p = &g->p;
@@ -114,13 +114,13 @@ static bool consistent(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad
                                                         FC_GAIN_SHIFT(TIME, VEL));
     const fc_real position_slack = slack_since_accepted(g, g->speed_max, p->position_jump_m, l->position_slack_m,
                                                         FC_GAIN_SHIFT(TIME, LENGTH));
-    const bool velocity_ok = fc_vec3_within(fc_vec3_sub(ar, in->velocity_mps, last->velocity_mps), velocity_slack);
-    const bool position_ok = fc_vec3_within(fc_vec3_sub(ar, in->position_m, last->position_m), position_slack);
+    const bool velocity_ok = fc_vec3_within(fc_vec3_sub(ar, *in->velocity_mps, last->velocity_mps), velocity_slack);
+    const bool position_ok = fc_vec3_within(fc_vec3_sub(ar, *in->position_m, last->position_m), position_slack);
     bool pad_ok = true;
     if (use_pad && g->pad_accepted) {
         const fc_real pad_slack = slack_since_accepted(g, g->pad_speed_max, p->position_jump_m, l->pad_slack_m,
                                                        FC_GAIN_SHIFT(TIME, LENGTH));
-        pad_ok = fc_within(fc_sub_inline(ar, in->pad.z_m, last->pad.z_m), pad_slack);
+        pad_ok = fc_within(fc_sub_inline(ar, in->pad->z_m, last->pad.z_m), pad_slack);
     }
     return velocity_ok && position_ok && pad_ok;
 }
@@ -151,16 +151,16 @@ static bool vec3_equal(fc_vec3 a, fc_vec3 b)
 
 /* The accepted position and yaw setpoints moved towards the command at their
  * rates (a command already reached, the usual case, stays as it is). */
-static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in)
+static void limit_setpoints(fc_input_gate *g, const fc_input_gate_input *in)
 {
     fc_arith *ar = &g->ar;
     fc_gated_inputs *accepted = &g->accepted;
-    if (!vec3_equal(in->position_setpoint_m, accepted->position_setpoint_m)) {
+    if (!vec3_equal(*in->position_setpoint_m, accepted->position_setpoint_m)) {
         const fc_real step_m = g->per_step.setpoint_step_m;
         fc_vec3 *setpoint = &accepted->position_setpoint_m;
-        setpoint->x = toward(ar, setpoint->x, in->position_setpoint_m.x, step_m);
-        setpoint->y = toward(ar, setpoint->y, in->position_setpoint_m.y, step_m);
-        setpoint->z = toward(ar, setpoint->z, in->position_setpoint_m.z, step_m);
+        setpoint->x = toward(ar, setpoint->x, in->position_setpoint_m->x, step_m);
+        setpoint->y = toward(ar, setpoint->y, in->position_setpoint_m->y, step_m);
+        setpoint->z = toward(ar, setpoint->z, in->position_setpoint_m->z, step_m);
     }
     if (in->yaw_setpoint_rad != accepted->yaw_setpoint_rad) {
         const fc_real step_rad = g->per_step.yaw_step_rad;
@@ -174,25 +174,25 @@ static void limit_setpoints(fc_input_gate *g, const fc_gated_inputs *in)
  * acceleration, fed forward to the reference, among them) at their rates
  * from the last accepted ones unless limit_commands is off or this is the
  * first sample. Updates g->accepted in place. */
-static void accept(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands, bool first)
+static void accept(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad, bool limit_commands, bool first)
 {
     fc_arith *ar = &g->ar;
     fc_gated_inputs *accepted = &g->accepted;
-    accepted->position_m = in->position_m;
-    accepted->velocity_mps = in->velocity_mps;
+    accepted->position_m = *in->position_m;
+    accepted->velocity_mps = *in->velocity_mps;
     if (use_pad) {
         if (g->pad_accepted && limit_commands) {
             fc_vertical_trajectory *pad = &accepted->pad;
-            pad->z_m = in->pad.z_m;
-            pad->vz_mps = toward(ar, pad->vz_mps, in->pad.vz_mps, g->per_step.pad_speed_step_mps);
-            pad->az_mps2 = toward(ar, pad->az_mps2, in->pad.az_mps2, g->per_step.pad_accel_step_mps2);
+            pad->z_m = in->pad->z_m;
+            pad->vz_mps = toward(ar, pad->vz_mps, in->pad->vz_mps, g->per_step.pad_speed_step_mps);
+            pad->az_mps2 = toward(ar, pad->az_mps2, in->pad->az_mps2, g->per_step.pad_accel_step_mps2);
         } else {
-            accepted->pad = in->pad;
+            accepted->pad = *in->pad;
         }
     }
     g->pad_accepted = use_pad;
     if (first || !limit_commands) {
-        accepted->position_setpoint_m = in->position_setpoint_m;
+        accepted->position_setpoint_m = *in->position_setpoint_m;
         accepted->yaw_setpoint_rad = in->yaw_setpoint_rad;
     } else {
         limit_setpoints(g, in);
@@ -204,7 +204,7 @@ static void accept(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bo
     g->have_accepted = true;
 }
 
-bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
+bool fc_input_gate_step(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad, bool limit_commands,
                         fc_gated_inputs *out)
 {
     if (!g->ready) {
@@ -217,7 +217,7 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pa
     ar->saturated = 0u;
     const fc_real step_s = g->per_step.step_s;
     g->since_accepted_s = fc_min(fc_add_inline(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
-    const bool commands_ok = fc_vec3_within(in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
+    const bool commands_ok = fc_vec3_within(*in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                              fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
                              fc_within(in->yaw_rate_setpoint_radps, FC_INT(100, RATE));
     const bool absolute_ok = commands_ok && plausible(g, in, use_pad);

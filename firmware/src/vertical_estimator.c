@@ -99,17 +99,17 @@ void fc_vertical_estimator_reset(fc_vertical_estimator *v)
  * products exact in UNIT16_SQ, each entry rounded once to UNIT16), each
  * entry within 2^-12 of R's: the vertical acceleration within 3 2^-12 |f|,
  * a bias at a steady attitude that the bias loop takes out. */
-static fc_real vertical_accel_mps2(fc_arith *ar, fc_quat q, fc_vec3 f, fc_real gravity_mps2)
+static fc_real vertical_accel_mps2(fc_arith *ar, const fc_quat *q, const fc_vec3 *f, fc_real gravity_mps2)
 {
-    const fc_quat16 h = fc_quat16_round_unit(q); /* q is unit (fc_vertical_estimator_input) */
+    const fc_quat16 h = fc_quat16_round_unit(*q); /* q is unit (fc_vertical_estimator_input) */
     const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
     /* each sum of two products within 1 + 2^-12: twice it fits 32 bits */
     const fc_real16 r20 = fc_narrow16(ar, 2 * fc_dot2_16(h.x, h.z, fc_neg16(h.w), h.y), sq, to);
     const fc_real16 r21 = fc_narrow16(ar, 2 * fc_dot2_16(h.y, h.z, h.w, h.x), sq, to);
     const fc_real16 r22 = fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_sumsq2_16(h.x, h.y), sq, to);
     const int to_accel = FC_SHIFT(ACCEL, UNIT16, ACCEL);
-    const fc_real up = fc_add_inline(ar, fc_add_inline(ar, fc_mul_by16(ar, f.x, r20, to_accel), fc_mul_by16(ar, f.y, r21, to_accel)),
-                              fc_mul_by16(ar, f.z, r22, to_accel));
+    const fc_real up = fc_add_inline(ar, fc_add_inline(ar, fc_mul_by16(ar, f->x, r20, to_accel), fc_mul_by16(ar, f->y, r21, to_accel)),
+                              fc_mul_by16(ar, f->z, r22, to_accel));
     return fc_sub_inline(ar, up, gravity_mps2);
 }
 

@@ -442,7 +442,10 @@ static void test_descent_with_learnt_hover_and_accel_bias(void **state)
         const double descent = D(f.p.descent_mps, VEL);
         fc_vertical_estimator_input vin;
         memset(&vin, 0, sizeof vin);
-        vin.attitude = fc_quat_identity();
+        const fc_quat level = fc_quat_identity();
+        fc_vec3 accel_mps2 = fc_vec3_zero();
+        vin.attitude = &level;
+        vin.accel_mps2 = &accel_mps2;
         vin.accel_ok = true;
         vin.tilt_cos = FC_INT(1, RATIO);
         double v = 0.0, thrust = mass * G;
@@ -452,7 +455,7 @@ static void test_descent_with_learnt_hover_and_accel_bias(void **state)
         for (int k = 0; k < 60 * STEPS_PER_S; k++) {
             const bool hovering = k < 30 * STEPS_PER_S;
             /* the accelerometer reads the specific force of the thrust held over the last step */
-            vin.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(thrust / mass + accel_bias, ACCEL));
+            accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(thrust / mass + accel_bias, ACCEL));
             vin.vz_mps = F(v, VEL);
             vin.vz_ok = hovering;
             vin.thrust_n = F(thrust, FORCE);

@@ -48,6 +48,15 @@ typedef struct fixture {
     fc_gated_inputs out;
 } fixture;
 
+/* fc_input_gate_step on a sample held as fc_gated_inputs. */
+static bool gate_step(fc_input_gate *g, const fc_gated_inputs *s, bool use_pad, bool limit_commands,
+                      fc_gated_inputs *out)
+{
+    const fc_input_gate_input in = {&s->position_m,         &s->velocity_mps,     &s->pad,
+                                    &s->position_setpoint_m, s->yaw_setpoint_rad, s->yaw_rate_setpoint_radps};
+    return fc_input_gate_step(g, &in, use_pad, limit_commands, out);
+}
+
 /* A vehicle at (1, 2, 3) m moving at (0.5, 0, -0.2) m/s over a pad at 0.5 m
  * (0.2 m/s, 0.5 m/s^2), its setpoint where it is, yaw 0. */
 static void fixture_init(fixture *f)
@@ -66,7 +75,7 @@ static void fixture_init(fixture *f)
 
 static bool step(fixture *f, bool use_pad, bool limit_commands)
 {
-    return fc_input_gate_step(&f->g, &f->in, use_pad, limit_commands, &f->out);
+    return gate_step(&f->g, &f->in, use_pad, limit_commands, &f->out);
 }
 
 static void assert_vec3_eq(fc_vec3 a, fc_vec3 b)
@@ -456,15 +465,15 @@ static void test_yaw_rate_feedforward(void **state)
         fixture f;
         fixture_init(&f);
         f.in.yaw_rate_setpoint_radps = F(cases[k][0], RATE);
-        assert_true(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+        assert_true(gate_step(&f.g, &f.in, true, true, &f.out));
         assert_true(fabs(D(f.out.yaw_rate_setpoint_radps, RATE) - cases[k][1]) < 1e-6);
     }
     fixture f;
     fixture_init(&f);
     f.in.yaw_rate_setpoint_radps = F(1.0, RATE);
-    assert_true(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+    assert_true(gate_step(&f.g, &f.in, true, true, &f.out));
     f.in.yaw_rate_setpoint_radps = F(NAN_OR_BEYOND_RATE, RATE);
-    assert_false(fc_input_gate_step(&f.g, &f.in, true, true, &f.out));
+    assert_false(gate_step(&f.g, &f.in, true, true, &f.out));
     assert_true(fabs(D(f.out.yaw_rate_setpoint_radps, RATE) - 1.0) < 1e-6);
 }
 
@@ -536,7 +545,7 @@ static void test_params_rejected(void **state)
             }
             if (expected[j] != FC_INIT_OK) {
                 fc_gated_inputs out;
-                assert_false(fc_input_gate_step(&g, &f.in, true, true, &out)); /* not ready */
+                assert_false(gate_step(&g, &f.in, true, true, &out)); /* not ready */
             }
         }
     }

@@ -63,6 +63,8 @@ typedef struct fixture {
     fc_vertical_estimator v;
     fc_vertical_estimator_params p;
     fc_vertical_estimator_input in;
+    fc_quat attitude;     /* in.attitude points here */
+    fc_vec3 accel_mps2;   /* in.accel_mps2 points here */
     fc_vertical_estimate out;
     fc_step_status status;
     double g;   /* the estimator's gravity, as held */
@@ -76,8 +78,10 @@ static void fixture_init(fixture *f)
     fc_vertical_estimator_default_params(&f->p, F(DT_S, DT), F(G, ACCEL), F(WEIGHT_N, FORCE));
     assert_int_equal(fc_vertical_estimator_init(&f->v, &f->p), FC_INIT_OK);
     f->g = D(f->p.gravity_mps2, ACCEL);
-    f->in.attitude = fc_quat_identity();
-    f->in.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), f->p.gravity_mps2);
+    f->in.attitude = &f->attitude;
+    f->in.accel_mps2 = &f->accel_mps2;
+    f->attitude = fc_quat_identity();
+    f->accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), f->p.gravity_mps2);
     f->in.accel_ok = true;
     f->in.vz_mps = F(0, VEL);
     f->in.vz_ok = true;
@@ -97,14 +101,14 @@ static void step(fixture *f)
 /* The accelerometer of a level vehicle whose world-z specific force is g + a. */
 static void set_level_accel(fixture *f, double a_mps2)
 {
-    f->in.attitude = fc_quat_identity();
-    f->in.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(f->g + a_mps2, ACCEL));
+    f->attitude = fc_quat_identity();
+    f->accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(f->g + a_mps2, ACCEL));
 }
 
 /* The world-z acceleration the estimator sees in it (quantised input). */
 static double level_accel_held(const fixture *f)
 {
-    return D(f->in.accel_mps2.z, ACCEL) - f->g;
+    return D(f->accel_mps2.z, ACCEL) - f->g;
 }
 
 static double vz(const fixture *f) { return ts_val(f->out.vz_mps, FC_VEL_FRAC); }
@@ -252,13 +256,13 @@ static void test_tilted_specific_force_projected(void **state)
     const double tw = cos(half), tx = sin(half) / sqrt(2.0), ty = tx;
     const double yw = cos(yaw_half), yz = sin(yaw_half);
     const double w = yw * tw, x = yw * tx - yz * ty, y = yw * ty + yz * tx, z = yz * tw;
-    f.in.attitude.w = F(w, UNIT);
-    f.in.attitude.x = F(x, UNIT);
-    f.in.attitude.y = F(y, UNIT);
-    f.in.attitude.z = F(z, UNIT);
+    f.attitude.w = F(w, UNIT);
+    f.attitude.x = F(x, UNIT);
+    f.attitude.y = F(y, UNIT);
+    f.attitude.z = F(z, UNIT);
     const double r20 = 2 * (x * z - w * y), r21 = 2 * (y * z + w * x), r22 = 1 - 2 * (x * x + y * y);
     const double up = f.g + 0.3;
-    f.in.accel_mps2 = fc_vec3_make(F(r20 * up, ACCEL), F(r21 * up, ACCEL), F(r22 * up, ACCEL));
+    f.accel_mps2 = fc_vec3_make(F(r20 * up, ACCEL), F(r21 * up, ACCEL), F(r22 * up, ACCEL));
     f.in.vz_ok = false;
     for (int k = 0; k < STEPS_PER_S; k++) {
         step(&f);
@@ -467,12 +471,12 @@ static void check_hover_learning(double mass_factor, double tilt_cos, double a_m
     fixture f;
     fixture_init(&f);
     const double phi = acos(tilt_cos);
-    f.in.attitude.w = F(cos(phi / 2), UNIT);
-    f.in.attitude.x = F(sin(phi / 2), UNIT);
-    f.in.attitude.y = F(0, UNIT);
-    f.in.attitude.z = F(0, UNIT);
+    f.attitude.w = F(cos(phi / 2), UNIT);
+    f.attitude.x = F(sin(phi / 2), UNIT);
+    f.attitude.y = F(0, UNIT);
+    f.attitude.z = F(0, UNIT);
     const double up = f.g + a_mps2;
-    f.in.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(sin(phi) * up, ACCEL), F(cos(phi) * up, ACCEL));
+    f.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(sin(phi) * up, ACCEL), F(cos(phi) * up, ACCEL));
     f.in.vz_ok = false;
     f.in.thrust_n = F(mass_factor * (G + a_mps2) * 1.5 / tilt_cos, FORCE);
     f.in.tilt_cos = F(tilt_cos, RATIO);
@@ -585,7 +589,7 @@ static void test_thrust_model_without_accelerometer(void **state)
     fixture_init(&f);
     f.in.accel_ok = false;
     f.in.vz_ok = false;
-    f.in.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(0, ACCEL)); /* not looked at */
+    f.accel_mps2 = fc_vec3_make(F(0, ACCEL), F(0, ACCEL), F(0, ACCEL)); /* not looked at */
     f.in.thrust_n = F(1.1 * WEIGHT_N / 0.9, FORCE);
     f.in.tilt_cos = F(0.9, RATIO);
     const double ratio = D(f.in.thrust_n, FORCE) * D(f.in.tilt_cos, RATIO) / D(f.p.hover_thrust_n, FORCE);

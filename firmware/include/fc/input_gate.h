@@ -58,6 +58,17 @@ typedef struct fc_gated_inputs {
     fc_real yaw_rate_setpoint_radps; /* RATE: its rate, fed forward; clamped to +-yaw_rate_max */
 } fc_gated_inputs;
 
+/* A sample for the gate, fc_gated_inputs's fields where the caller holds
+ * them (the vectors by pointer: read in place, not copied for each step). */
+typedef struct fc_input_gate_input {
+    const fc_vec3 *position_m;                /* LENGTH */
+    const fc_vec3 *velocity_mps;              /* VEL */
+    const fc_vertical_trajectory *pad;        /* checked when use_pad */
+    const fc_vec3 *position_setpoint_m;       /* LENGTH */
+    fc_real yaw_setpoint_rad;                 /* ANGLE */
+    fc_real yaw_rate_setpoint_radps;          /* RATE */
+} fc_input_gate_input;
+
 /* The limits over one step, formed at init from the parameters: a sample
  * a step after the last accepted one (the usual case) is checked against
  * these, any other against the limits over its own interval. */
@@ -103,7 +114,7 @@ void fc_input_gate_reset(fc_input_gate *g);
  * accepted, else the last accepted ones; the commands limited), and so does
  * out unless it is NULL (a caller that reads g->accepted in place). Returns
  * true when the measurements (and the pad, with use_pad) were accepted. */
-bool fc_input_gate_step(fc_input_gate *g, const fc_gated_inputs *in, bool use_pad, bool limit_commands,
+bool fc_input_gate_step(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad, bool limit_commands,
                         fc_gated_inputs *out);
 
 #endif /* FC_INPUT_GATE_H */

@@ -60,8 +60,10 @@ typedef struct fc_vertical_estimator_params {
 } fc_vertical_estimator_params;
 
 typedef struct fc_vertical_estimator_input {
-    fc_quat attitude;               /* UNIT: body -> world, of unit length (read at UNIT16) */
-    fc_vec3 accel_mps2;             /* ACCEL: specific force, body */
+    const fc_quat *attitude;        /* UNIT: body -> world, of unit length (read at UNIT16); by
+                                     * pointer, as the accelerometer sample: the caller's own,
+                                     * not copied for each step */
+    const fc_vec3 *accel_mps2;      /* ACCEL: specific force, body (read when accel_ok) */
     bool accel_ok;                  /* accel_mps2 is a good sample */
     fc_real vz_mps;                 /* VEL: measured vertical speed, world */
     bool vz_ok;                     /* vz_mps is a good sample */
