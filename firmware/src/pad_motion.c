@@ -283,20 +283,14 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
  * value of UNIT's resolution (range +-2^-15) holds it exactly. */
 #define FC_PHASE_DEFECT16_FRAC 30
 
-/* The modes whose phases FC_PAD_WORK_PHASES turns; FC_PAD_WORK_PHASES_REST
- * turns the others (each mode's phases depend on its own only, so the turn
- * in two parts is the turn in one, bit for bit). */
-#define PHASES_SPLIT_MODE 2u
-
-/* One step of the phases of modes [k_begin, k_end) (those in use),
- * renormalised by one Newton step of 1/sqrt:
+/* One step of every phase, renormalised by one Newton step of 1/sqrt:
  * (s, c) (3 - s^2 - c^2) / 2 = (s, c) + (s, c) d, d = (1 - s^2 - c^2) / 2,
  * which keeps s^2 + c^2 at 1 to second order; then phi16. */
-static void advance_phases(fc_pad_motion *pm, unsigned k_begin, unsigned k_end)
+static void advance_phases(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
     update_rotations(pm);
-    for (unsigned k = k_begin; k < k_end && k < pm->p.mode_count; k++) {
+    for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         fc_real *sin_k = &pm->phi[sin_of(k)], *cos_k = &pm->phi[cos_of(k)];
         rotate(ar, sin_k, cos_k, pm->step_cos[k], pm->step_sin[k]);
         const fc_real norm_sq = fc_dot2(ar, *sin_k, *sin_k, *cos_k, *cos_k, FC_SHIFT(UNIT, UNIT, UNIT));
@@ -498,8 +492,7 @@ static void summarise_fit(fc_pad_motion *pm)
 /* What a step needs done before it starts: all but the sample's gain, which
  * only a sample needs. */
 #define PIECES_BEFORE_A_STEP                                                                                 \
-    (FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_PHASES_REST |      \
-     FC_PAD_WORK_SUMMARY)
+    (FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY)
 
 /* Whether piece is deferred and among those of mask; if so it is taken off
  * the list, to be done now. */
@@ -532,10 +525,7 @@ static fc_step_status run_deferred(fc_pad_motion *pm, unsigned mask)
         }
     }
     if (take_piece(pm, mask, FC_PAD_WORK_PHASES)) {
-        advance_phases(pm, 0u, PHASES_SPLIT_MODE);
-    }
-    if (take_piece(pm, mask, FC_PAD_WORK_PHASES_REST)) {
-        advance_phases(pm, PHASES_SPLIT_MODE, FC_PAD_MAX_MODES);
+        advance_phases(pm);
     }
     if (take_piece(pm, mask, FC_PAD_WORK_SUMMARY)) {
         summarise_fit(pm);
@@ -636,7 +626,6 @@ fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
     static const uint8_t slices[] = {
         FC_PAD_WORK_COVARIANCE_HEAD,
         FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY,
-        FC_PAD_WORK_PHASES_REST,
         FC_PAD_WORK_SAMPLE_GAIN,
     };
     if (!pm->ready) {
@@ -707,7 +696,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
     /* the phases turn to the next step's time when it comes: what its sample
      * changes in between (the rotations) can wait for a minor frame; the
      * gain is of the next step's phases */
-    pm->deferred |= (uint8_t)(FC_PAD_WORK_PHASES | FC_PAD_WORK_PHASES_REST | FC_PAD_WORK_SAMPLE_GAIN);
+    pm->deferred |= (uint8_t)(FC_PAD_WORK_PHASES | FC_PAD_WORK_SAMPLE_GAIN);
     if (pm->learning) {
         pm->since_sample_s = fc_min(fc_add_inline(ar, pm->since_sample_s, pm->step_s), FC_INT(60, TIME));
         pm->observed_s = fc_min(fc_add_inline(ar, pm->observed_s, pm->step_s), FC_INT(600, TIME));

@@ -44,9 +44,8 @@
  *                  needs no sample, one slice a frame: the
  *                  covariance update of the newest sample in two parts (the
  *                  first with the rotations of adapted frequencies, the second
- *                  with the first two modes' phases turned to the next step
- *                  and the summary of the newest fit), the third mode's
- *                  phases, then the RLS gain for those phases
+ *                  with the phases turned to the next step and the summary
+ *                  of the newest fit), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
  * These frames are for outer_divider >= 5. With 2 to 4 the position loop

@@ -126,11 +126,9 @@ typedef struct fc_pad_motion_summary {
 #define FC_PAD_WORK_COVARIANCE_HEAD 0x01u /* the rotations w_k dt of the newest sample's frequencies,
                                               and S's update of that sample, its first rows */
 #define FC_PAD_WORK_COVARIANCE_TAIL 0x02u /* the rest of S's update */
-#define FC_PAD_WORK_PHASES 0x04u          /* phi of the first two modes turned from the last step's
-                                              time to the next's */
-#define FC_PAD_WORK_PHASES_REST 0x08u     /* the same for the other modes */
-#define FC_PAD_WORK_SUMMARY 0x10u         /* the fit's bounds, dominant mode and error ratio */
-#define FC_PAD_WORK_SAMPLE_GAIN 0x20u     /* the RLS gain and model values at the next phases */
+#define FC_PAD_WORK_PHASES 0x04u          /* phi turned from the last step's time to the next's */
+#define FC_PAD_WORK_SUMMARY 0x08u         /* the fit's bounds, dominant mode and error ratio */
+#define FC_PAD_WORK_SAMPLE_GAIN 0x10u     /* the RLS gain and model values at the next phases */
 
 typedef struct fc_pad_motion {
     fc_pad_motion_params p;
@@ -201,8 +199,7 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
  *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
  *      triangle for 3 modes)
  *   2. FC_PAD_WORK_COVARIANCE_TAIL, FC_PAD_WORK_PHASES and FC_PAD_WORK_SUMMARY
- *   3. FC_PAD_WORK_PHASES_REST (the third mode's phases)
- *   4. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
+ *   3. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
  *      32 x 16 bits; g; all of a sample's RLS update but theta += g e)
  * The slices are about the same size (the controller calls one per spare
  * minor frame; fc/controller.h). A caller with spare minor frames calls this
