@@ -620,13 +620,15 @@ typedef struct scale_interval {
     bool zero_violates; /* some constraint fails even at s = 0 (e < 0 <= c) */
 } scale_interval;
 
-static scale_interval interval_full(void)
+/* s = [0, 1], by field: a struct copy is a byte loop at -Os on the ATmega.
+ * 0/1 and 1/1: a ratio's format cancels, any positive den stands for 1. */
+static void interval_set_full(scale_interval *s)
 {
-    /* 0/1 and 1/1: a ratio's format cancels, any positive den stands for 1 */
-    const scale_interval s = {{FC_INT16(0, UNIT16), FC_INT16(1, UNIT16)},
-                              {FC_INT16(1, UNIT16), FC_INT16(1, UNIT16)},
-                              false};
-    return s;
+    s->low.num = FC_INT16(0, UNIT16);
+    s->low.den = FC_INT16(1, UNIT16);
+    s->high.num = FC_INT16(1, UNIT16);
+    s->high.den = FC_INT16(1, UNIT16);
+    s->zero_violates = false;
 }
 
 /* One constraint s c <= e (c and e 16-bit, one format; e >= -FC_REAL16_MAX,
@@ -668,7 +670,7 @@ static bool interval_feasible(const scale_interval *s)
     if (s->zero_violates) {
         return false;
     }
-    /* low = 0 (its numerator is 0 only as set by interval_full: a bound has
+    /* low = 0 (its numerator is 0 only as set by interval_set_full: a bound has
      * -e > 0): 0 <= high always, high.num >= 0; the product is not needed */
     if (s->low.num == 0) {
         return true;
@@ -744,7 +746,8 @@ static fc_real16 shift_rate(fc_arith *ar, const fc_allocation_rotor *r, fc_real1
 static fc_real16 roll_pitch_room(fc_allocation *a, const rotor_parts *parts)
 {
     fc_arith pair_ar = {0u};
-    scale_interval fit = interval_full();
+    scale_interval fit;
+    interval_set_full(&fit);
     const int n = a->rotor_count;
     const fc_allocation_rotor *rj = a->rotor;
     const rotor_parts *qj = parts;
@@ -887,7 +890,8 @@ static scale_interval split_demand(fc_allocation *a, const fc_real16 *x, uint8_t
 {
     fc_arith *ar = &a->ar;
     fc_arith slack_ar = {0u};
-    scale_interval room = interval_full();
+    scale_interval room;
+    interval_set_full(&room);
     const int n = a->rotor_count;
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
@@ -993,7 +997,7 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
     const fc_real16 rest =
         fc_narrow16(ar, fc_sub_inline(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
     fc_arith slack_ar = {0u};
-    *room = interval_full();
+    interval_set_full(room);
     r = a->rotor;
     q = parts;
     for (int i = 0; i < n; i++, r++, q++) {
@@ -1132,7 +1136,11 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         demand = &a->last_good;
         status |= FC_STEP_BAD_INPUT;
     } else {
-        a->last_good = *d;
+        /* by field: a struct copy is a byte loop at -Os on the ATmega */
+        a->last_good.thrust = d->thrust;
+        a->last_good.moment.x = d->moment.x;
+        a->last_good.moment.y = d->moment.y;
+        a->last_good.moment.z = d->moment.z;
     }
 
     /* v (UNIT) in out->speed, the rotor_count entries written by

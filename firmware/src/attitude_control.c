@@ -307,12 +307,22 @@ STEP_INLINE fc_real gyroscopic(fc_arith *ar, fc_real16 inertia_diff, fc_real16 w
 
 /* One axis of the law in the normalised units (header): -(Kp e + Ki I +
  * Kd r) + dJ w_j w_k with K = k J / authority, dJ = (J_k - J_j) / authority;
- * 16 x 16 -> 32 products summed in NSUM. */
-STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real16 integral,
+ * 16 x 16 -> 32 products summed in NSUM. The integral (ANGLE) is read by
+ * its high half (ANGLE16) where Ki is not zero; with Ki = 0 (no integral
+ * action: the integral stays zero, integrate_axis) its term is left out,
+ * the same sum. No saturation test of the narrowing (fc_round16): ANGLE16
+ * spans ANGLE's [-8, 8) and the integral is at most integral_limit <=
+ * MAX_INTEGRAL_LIMIT = 4 (integrate_axis clamps). */
+STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_real16 gain_i, fc_real integral,
                                 fc_real16 gain_d, fc_real16 rate_err, fc_real gyro)
 {
     /* |Kp e| <= 8 x 2 and |Ki I| <= 8 x 4: their sum is exact in Q24 */
-    const fc_real pi = fc_convert(ar, fc_dot2_16(gain_p, e, gain_i, integral), FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
+    fc_real pi_q24 = fc_mul16(gain_p, e);
+    if (gain_i != FC_INT16(0, NGAIN16)) {
+        const fc_real16 integral16 = fc_round16(integral, FC_ANGLE_FRAC, FC_ANGLE16_FRAC);
+        pi_q24 = fc_dot2_16(gain_p, e, gain_i, integral16);
+    }
+    const fc_real pi = fc_convert(ar, pi_q24, FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
     const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
     return fc_sub_inline(ar, gyro, fc_add_inline(ar, pi, d));
 }
@@ -435,19 +445,15 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
             const fc_real half_head = fc_mul_by16(ar, p->yaw_weight, s, FC_SHIFT(RATIO, UNIT16, ANGLE));
             head = fc_add(ar, half_head, half_head);
         }
-        /* what the 16-bit products read: the error and the integral by their
-         * high halves, the rates rounded to RATE16. No saturation test
-         * (fc_round16): ANGLE16 spans ANGLE's [-8, 8), and the error is at
-         * most 2 (header; twice a product of unit vectors, and the heading
-         * part weighted by yaw_weight <= 1) and the integral at most
-         * integral_limit <= MAX_INTEGRAL_LIMIT = 4 (integrate_axis clamps) */
+        /* what the 16-bit products read: the error by its high halves (the
+         * integral likewise, axis_moment), the rates rounded to RATE16. No
+         * saturation test (fc_round16): ANGLE16 spans ANGLE's [-8, 8), and
+         * the error is at most 2 (header; twice a product of unit vectors,
+         * and the heading part weighted by yaw_weight <= 1) */
         const fc_vec3_16 e16 = {fc_round16(err->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
                                 fc_round16(err->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
                                 fc_round16(head, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
         const fc_vec3 *integral = &c->integral_rad_s;
-        const fc_vec3_16 i16 = {fc_round16(integral->x, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
-                                fc_round16(integral->y, FC_ANGLE_FRAC, FC_ANGLE16_FRAC),
-                                fc_round16(integral->z, FC_ANGLE_FRAC, FC_ANGLE16_FRAC)};
         const fc_vec3_16 w16 = {rate16(ar, rate->x), rate16(ar, rate->y), rate16(ar, rate->z)};
         const fc_real zero = FC_INT(0, RATE);
         const fc_vec3_16 r16 = {rate_error16(ar, rate->x, w16.x, rate_ff_ok ? rate_ff->x : zero),
@@ -455,9 +461,9 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
                                 rate_error16(ar, rate->z, w16.z, rate_ff_ok ? rate_ff->z : zero)};
         const fc_vec3_16 *kp = &c->gain_p, *ki = &c->gain_i, *kd = &c->gain_d, *dj = &c->inertia_diff16;
         const fc_vec3 raw = fc_vec3_make(
-            axis_moment(ar, kp->x, e16.x, ki->x, i16.x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
-            axis_moment(ar, kp->y, e16.y, ki->y, i16.y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
-            axis_moment(ar, kp->z, e16.z, ki->z, i16.z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
+            axis_moment(ar, kp->x, e16.x, ki->x, integral->x, kd->x, r16.x, gyroscopic(ar, dj->x, w16.y, w16.z)),
+            axis_moment(ar, kp->y, e16.y, ki->y, integral->y, kd->y, r16.y, gyroscopic(ar, dj->y, w16.z, w16.x)),
+            axis_moment(ar, kp->z, e16.z, ki->z, integral->z, kd->z, r16.z, gyroscopic(ar, dj->z, w16.x, w16.y)));
         moment = limit_moment(ar, raw, c->moment_limit_sum);
         if (!fc_vec3_is_finite(moment)) {
             /* cannot happen with validated parameters and bounded inputs */

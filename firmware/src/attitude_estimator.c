@@ -221,6 +221,14 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     return FC_INIT_OK;
 }
 
+/* by component: a struct copy is a byte loop at -Os on the ATmega */
+static void copy_vec3(fc_vec3 *to, const fc_vec3 *from)
+{
+    to->x = from->x;
+    to->y = from->y;
+    to->z = from->z;
+}
+
 /* ---- the step ---------------------------------------------------------- */
 
 /* lo <= x <= hi for bounds that are numbers: false for a NaN x and for an
@@ -255,7 +263,7 @@ static bool gyro_valid(fc_attitude_estimator *est, const fc_vec3 *gyro)
     const bool ok = fc_vec3_within(*gyro, est->p.gyro_range_radps) &&
                     (!checked || within_of(gyro, &est->last_gyro_radps, slack));
     if (ok) {
-        est->last_gyro_radps = *gyro;
+        copy_vec3(&est->last_gyro_radps, gyro);
         est->have_gyro = true;
         est->gyro_slack_radps = est->p.gyro_jump_radps;
     } else {
@@ -382,7 +390,7 @@ static fc_real accel_weight_and_direction(fc_attitude_estimator *est, const fc_v
 static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, const fc_vec3 *accel_mps2)
 {
     fc_arith *ar = &est->ar;
-    fc_vec3 rate = est->rate_radps; /* gyro - b, RATE */
+    fc_vec3 rate = fc_vec3_make(est->rate_radps.x, est->rate_radps.y, est->rate_radps.z); /* gyro - b, RATE; by component (copy_vec3) */
     fc_real weight = FC_INT(0, RATIO);
     fc_vec3_16 up_measured = fc_vec3_16_zero();
     if (accel_ok) {
@@ -407,9 +415,13 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
 
 static void write_output(const fc_attitude_estimator *est, fc_attitude_estimate *out)
 {
-    out->attitude = est->attitude; /* the identity until aligned (reset_state, align) */
-    out->rate_radps = est->rate_radps;
-    out->gyro_bias_radps = est->gyro_bias_radps;
+    /* the identity until aligned (reset_state, align) */
+    out->attitude.w = est->attitude.w;
+    out->attitude.x = est->attitude.x;
+    out->attitude.y = est->attitude.y;
+    out->attitude.z = est->attitude.z;
+    copy_vec3(&out->rate_radps, &est->rate_radps);
+    copy_vec3(&out->gyro_bias_radps, &est->gyro_bias_radps);
     out->accel_weight = est->accel_weight;
     out->aligned = est->aligned;
 }
