@@ -34,76 +34,33 @@
 #define Q30(X) FC_C(X, UNIT)
 
 #if defined(__AVR__)
-/*
- * floor((N + floor(D/2)) / D) for N = n 2^shift (0 <= shift < 32) and D > 0,
- * both magnitudes, or UINT32_MAX when the quotient reaches 2^32: restoring
- * division of the halves of N, one quotient bit per round, in 32-bit C (the
- * remainder stays below D <= 2^31, so twice it fits). The rounding from the
- * remainder r: floor((q D + r + floor(D/2)) / D) = q + (r >= D - floor(D/2)).
- */
-static uint32_t div_rounded_u32(uint32_t n, int shift, uint32_t d)
+/* fc_div for 0 <= shift < 32, den != 0: the library's divisions on the
+ * ATmega, where an int64_t division is a 64-round libgcc loop. The
+ * magnitudes by restoring division in 32-bit halves (fc_avr_divide_rounded):
+ * the same value as div_int64 (atmega.scalar_equivalence; the host's
+ * test_scalar.test_div_exact checks the int64_t form against an exact
+ * quotient). */
+static fc_real div_halves(fc_arith *ar, fc_real num, fc_real den, uint8_t shift)
 {
-    /* high:low = n 2^shift: whole bytes by moves, then the bits one at a
-     * time (a C shift by a run-time count is a loop of up to 31 rounds) */
-    uint32_t high = 0u;
-    uint32_t low = n;
-    uint8_t bits = (uint8_t)shift;
-    while (bits >= 8u) {
-        high = (high << 8) | (low >> 24);
-        low <<= 8;
-        bits = (uint8_t)(bits - 8u);
+    const bool negative = (num ^ den) < 0;
+    uint32_t q = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
+    const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
+    if (fc_avr_divide_rounded(&q, d, shift) == 0u) {
+        ar->saturated = 1u;
+        return negative ? FC_REAL_MIN : FC_REAL_MAX;
     }
-    while (bits != 0u) {
-        high = (high << 1) | (low >> 31);
-        low <<= 1;
-        bits--;
-    }
-    if (high >= d) {
-        return UINT32_MAX; /* N / D >= 2^32 */
-    }
-    /* 32 rounds: low becomes the quotient, high the remainder. Eight rounds
-     * whose remainder stays below d set no bit and only shift high:low by a
-     * byte: those are moves (a quotient below 2^24 skips 8 rounds, below
-     * 2^16 16, ...) */
-    uint8_t rounds = 32u;
-    while (rounds != 0u && high < ((uint32_t)1u << 24) && ((high << 8) | (low >> 24)) < d) {
-        high = (high << 8) | (low >> 24);
-        low <<= 8;
-        rounds = (uint8_t)(rounds - 8u);
-    }
-    if (rounds != 0u) {
-        fc_avr_divide_rounds(&high, &low, d, rounds);
-    }
-    const uint32_t quotient = low;
-    const uint32_t rounded = quotient + (high >= d - d / 2u ? 1u : 0u);
-    return rounded < quotient ? UINT32_MAX : rounded;
+    return negative ? -(fc_real)q : (fc_real)q;
 }
+/* out of line on the ATmega: its registers would be saved at every call of
+ * fc_div, also by the 32-bit path */
+#define FC_DIV_INT64_LINKAGE static __attribute__((noinline))
+#else
+#define FC_DIV_INT64_LINKAGE static
 #endif
 
-fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
+/* fc_div for den != 0 by the int64_t quotient */
+FC_DIV_INT64_LINKAGE fc_real div_int64(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
-    if (den == 0) {
-        ar->saturated = 1u;
-        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
-    }
-#if defined(__AVR__)
-    if (shift >= 0 && shift < 32) {
-        /* the library's divisions on the ATmega, where an int64_t division
-         * is a 64-round libgcc loop: in 32-bit halves, the same value as the
-         * int64_t form below (atmega.scalar_equivalence; the host's
-         * test_scalar.test_div_exact checks the int64_t form against an
-         * exact quotient) */
-        const uint32_t n = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
-        const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
-        const uint32_t q = div_rounded_u32(n, shift, d);
-        const bool negative = (num < 0) != (den < 0);
-        if (q > (uint32_t)INT32_MAX) {
-            ar->saturated = 1u;
-            return negative ? FC_REAL_MIN : FC_REAL_MAX;
-        }
-        return negative ? -(fc_real)q : (fc_real)q;
-    }
-#endif
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
     if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
@@ -115,6 +72,20 @@ fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
     /* round to nearest: push the dividend half a divisor away from zero */
     const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
     return fc_fx_saturate(ar, rounded / den64);
+}
+
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
+{
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
+#if defined(__AVR__)
+    if (shift >= 0 && shift < 32) {
+        return div_halves(ar, num, den, (uint8_t)shift);
+    }
+#endif
+    return div_int64(ar, num, den, shift);
 }
 
 /* x << n and x >> n for a run-time n in [0, 31]: whole bytes first (moves

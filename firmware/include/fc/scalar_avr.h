@@ -216,6 +216,99 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
     *low = l;
 }
 
+/* One round of fc_avr_divide_rounds, for the unrolled bytes below. */
+#define FC_AVR_DIVIDE_ROUND                                                                   \
+    "lsl %A1\n\trol %B1\n\trol %C1\n\trol %D1\n\t"                                            \
+    "rol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"                                            \
+    "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"                         \
+    "brlo 5f\n\t"                                                                             \
+    "sub %A0, %A3\n\tsbc %B0, %B3\n\tsbc %C0, %C3\n\tsbc %D0, %D3\n\t"                        \
+    "inc %A1\n"                                                                               \
+    "5:\n\t"
+
+/*
+ * fc_div's magnitudes: *q = floor((N + floor(d/2)) / d) for N = n 2^shift
+ * (n = *q on entry, shift in [0, 31], d in [1, 2^31]) and returns 1 when
+ * that is at most INT32_MAX; returns 0 otherwise (*q is then no quotient).
+ * The same restoring rounds as fc_avr_divide_rounds, after
+ *   rem:low = N                       (whole bytes by moves, then bits)
+ *   rem >= d                          N / d >= 2^32: returns 0
+ *   rem:low shifted by whole bytes    while the byte shifted in keeps
+ *                                     rem < d (those 8 rounds set no bit)
+ *   8 rounds a byte for the rest      (unrolled)
+ * so low and rem are the quotient and remainder of the rounds over all 32
+ * bits. Rounding from the remainder r < d <= 2^31:
+ *   floor((q d + r + floor(d/2)) / d) = q + (r >= d - floor(d/2)) = q + (2 r >= d)
+ */
+static inline __attribute__((always_inline)) uint8_t fc_avr_divide_rounded(uint32_t *q, uint32_t d, uint8_t shift)
+{
+    uint32_t r = 0u;
+    uint32_t l = *q;
+    uint8_t count = shift;
+    __asm__("cpi %2, 8\n\t"
+            "brlo 2f\n"
+            /* whole bytes of the shift */
+            "1:\n\t"
+            "mov %D0, %C0\n\tmov %C0, %B0\n\tmov %B0, %A0\n\tmov %A0, %D1\n\t"
+            "mov %D1, %C1\n\tmov %C1, %B1\n\tmov %B1, %A1\n\tclr %A1\n\t"
+            "subi %2, 8\n\t"
+            "cpi %2, 8\n\t"
+            "brsh 1b\n"
+            /* the bits left */
+            "2:\n\t"
+            "tst %2\n\t"
+            "breq 4f\n"
+            "3:\n\t"
+            "lsl %A1\n\trol %B1\n\trol %C1\n\trol %D1\n\t"
+            "rol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
+            "dec %2\n\t"
+            "brne 3b\n"
+            "4:\n\t"
+            /* the quotient's bound: rem >= d returns 0 */
+            "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"
+            "brlo 0f\n\t"
+            "rjmp 9f\n"
+            "0:\n\t"
+            "ldi %2, 4\n"
+            /* whole bytes while the next one leaves rem below d */
+            "1:\n\t"
+            "tst %D0\n\t"
+            "brne 3f\n\t"
+            "cp %D1, %A3\n\tcpc %A0, %B3\n\tcpc %B0, %C3\n\tcpc %C0, %D3\n\t"
+            "brsh 3f\n\t"
+            "mov %D0, %C0\n\tmov %C0, %B0\n\tmov %B0, %A0\n\tmov %A0, %D1\n\t"
+            "mov %D1, %C1\n\tmov %C1, %B1\n\tmov %B1, %A1\n\tclr %A1\n\t"
+            "dec %2\n\t"
+            "brne 1b\n\t"
+            "rjmp 7f\n"
+            /* 8 rounds for each byte left */
+            "3:\n\t"
+            FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND
+            FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND
+            "dec %2\n\t"
+            "breq 7f\n\t"
+            "rjmp 3b\n"
+            /* round: q + 1 when 2 rem >= d (2 rem < 2^32); returns 0 when
+             * bit 31 of q or of q + 1 is set (q >= 2^31 returns before the
+             * increment, which then cannot wrap) */
+            "7:\n\t"
+            "sbrc %D1, 7\n\t"
+            "rjmp 9f\n\t"
+            "lsl %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
+            "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"
+            "brlo 8f\n\t"
+            "subi %A1, 0xFF\n\tsbci %B1, 0xFF\n\tsbci %C1, 0xFF\n\tsbci %D1, 0xFF\n"
+            "8:\n\t"
+            "ldi %2, 1\n\t"
+            "sbrc %D1, 7\n"
+            "9:\n\t"
+            "clr %2\n"
+            : "+&r"(r), "+&d"(l), "+&d"(count)
+            : "r"(d));
+    *q = l;
+    return count;
+}
+
 /*
  * round(sqrt(m)) 2^14 for m = 4 x, 0 < x <= 2^30 - 2^14 (fc_sqrt_unit16: x
  * in UNIT's Q30, m in Q32, the result the root in Q30; above that range the

@@ -380,6 +380,62 @@ static void sweep_sqrt_unit16(void)
     }
 }
 
+static void compare_div(int32_t num, int32_t den, int shift)
+{
+    fc_arith got = {0u}, want = {0u};
+    const int32_t value = fc_div(&got, num, den, shift);
+    check(OP_DIV, (uint8_t)shift, value, got.saturated, ref_div(&want, num, den, shift), want.saturated);
+}
+
+/* a magnitude of 1 to 31 bits, either sign */
+static int32_t signed_bits(uint8_t bits, uint32_t pick)
+{
+    const int32_t size = (int32_t)((rng_next() | 0x80000000u) >> (32u - bits));
+    return (pick & 1u) != 0u ? -size : size;
+}
+
+/* fc_div where its port's steps decide: dividends whose quotient lands
+ * within one of a rounding tie (N = q d + ceil(d/2), both sides) and of the
+ * saturation bound (q = INT32_MAX), quotients of every size (the rounds by
+ * whole bytes and the bytes skipped), and the altitude law's tilt
+ * compensation (shift 24, a Q24 divisor in [1/2, 1]) densely */
+static void sweep_div(void)
+{
+    for (uint16_t i = 0; i < 1500u; i++) {
+        const uint32_t pick = rng_next();
+        const int shift = (int)(pick % 32u);
+        const uint8_t den_bits = (uint8_t)(1u + (pick >> 8) % 31u);
+        const int32_t den = signed_bits(den_bits, pick >> 16);
+        const uint64_t d = (uint64_t)(den < 0 ? -(int64_t)den : (int64_t)den);
+        const uint8_t q_bits = (uint8_t)(1u + (pick >> 20) % 31u);
+        const uint64_t q = (rng_next() | 0x80000000u) >> (32u - q_bits);
+        /* the tie above q, or the saturation bound */
+        const uint64_t target = ((pick >> 28) & 1u) != 0u ? q * d + (d + 1u) / 2u
+                                                           : (uint64_t)INT32_MAX * d + (d + 1u) / 2u;
+        const uint64_t n = target >> shift;
+        for (int32_t step = -1; step <= 1; step++) {
+            const int64_t num = (int64_t)n + step;
+            if (num >= 0 && num <= INT32_MAX) {
+                const int32_t sign = ((pick >> 29) & 1u) != 0u ? -1 : 1;
+                compare_div(sign * (int32_t)num, den, shift);
+            }
+        }
+        compare_div(signed_bits((uint8_t)(1u + (pick >> 24) % 31u), pick >> 3), den, shift);
+    }
+    for (uint16_t i = 0; i < 1500u; i++) {
+        const int32_t tilt = (int32_t)(((uint32_t)1u << 23) + rng_next() % (((uint32_t)1u << 23) + 1u));
+        compare_div(signed_bits((uint8_t)(1u + rng_next() % 31u), rng_next()), tilt, 24);
+    }
+    for (int32_t den = -3; den <= 3; den++) {
+        for (int32_t num = -3; num <= 3; num++) {
+            compare_div(num, den, 0);
+            compare_div(num, den, 31);
+            compare_div(INT32_MAX - 3 + num, den == 0 ? INT32_MIN : den, 0);
+            compare_div(INT32_MIN + 3 + num, INT32_MAX - 3 + den, 31);
+        }
+    }
+}
+
 static void compare_functions(const int32_t *a, const int32_t *b)
 {
     compare_add_sub(a[0], b[0]);
@@ -581,6 +637,7 @@ int main(void)
         }
     }
     sweep_sqrt_unit16();
+    sweep_div();
     for (uint16_t round = 0; round < SCALAR_TEST_ROUNDS; round++) {
         for (uint8_t k = 0; k < 8; k++) {
             a[k] = operand();
