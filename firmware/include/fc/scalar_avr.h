@@ -1015,7 +1015,8 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
  *   t = x_high m + floor(L / 2^16) = floor(x m / 2^16),  |t| < 2^30 + 2^15
  * (x_high m by MULS/MULSU added onto L's high half sign-extended: fc_mul16's
  * steps), then the shift, whole bytes by moves and the 0..7 bits left by an
- * ASR/ROR loop:
+ * ASR/ROR loop (for shift <= 16, 5..7 bits as 3..1 bits left by LSL/ROL of
+ * the bytes and a sign byte above them, whose top bytes are then taken):
  *   shift > 16   floor((x m + 2^(shift-1)) / 2^shift)
  *                = floor((t + 2^(shift-17)) / 2^(shift-16))  (x m's bits below
  *                2^16 cannot carry into 2^(shift-16))
@@ -1140,7 +1141,9 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "subi r30, 8\n"                                                                            \
     "21:\n\t"                                                                                  \
     "tst r30\n\t"                                                                              \
-    "breq 23f\n"                                                                               \
+    "breq 23f\n\t"                                                                             \
+    "cpi r30, 5\n\t"                                                                           \
+    "brsh 25f\n"                                                                               \
     "22:\n\t"                                                                                  \
     "asr r23\n\tror r22\n\tror r27\n\tror r26\n\tror r25\n\tror r24\n\t"                       \
     "dec r30\n\t"                                                                              \
@@ -1171,6 +1174,25 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "movw r22, r24\n\t"                                                                        \
     "movw r24, r26\n\t"                                                                        \
     "ret\n"                                                                                    \
+    /* 5..7 bits: 8 - j bits right, j = 8 - bits in 1..3, as j bits left of */                 \
+    /* the 7 bytes r21 (the sign):r23..r24 and their top 6 */                                  \
+    "25:\n\t"                                                                                  \
+    "mov r21, r23\n\tlsl r21\n\tsbc r21, r21\n\t"                                              \
+    "cpi r30, 7\n\t"                                                                           \
+    "breq 27f\n\t"                                                                             \
+    "cpi r30, 6\n\t"                                                                           \
+    "breq 26f\n\t"                                                                             \
+    "lsl r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                             \
+    "rol r22\n\trol r23\n\trol r21\n"                                                          \
+    "26:\n\t"                                                                                  \
+    "lsl r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                             \
+    "rol r22\n\trol r23\n\trol r21\n"                                                          \
+    "27:\n\t"                                                                                  \
+    "lsl r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                             \
+    "rol r22\n\trol r23\n\trol r21\n\t"                                                        \
+    "mov r24, r25\n\tmov r25, r26\n\tmov r26, r27\n\t"                                         \
+    "mov r27, r22\n\tmov r22, r23\n\tmov r23, r21\n\t"                                         \
+    "rjmp 23b\n"                                                                               \
     /* saturated: ar->saturated = 1, +-INT32_MAX by the sign of v */                           \
     "30:\n\t"                                                                                  \
     "movw r30, r16\n\t"                                                                        \
