@@ -33,34 +33,21 @@
 /* A Q30 constant, folded at compile time. */
 #define Q30(X) FC_C(X, UNIT)
 
+/* fc_div: on the ATmega, where an int64_t division is a 64-round libgcc
+ * loop, fc_div is the assembly of fc/scalar_avr.h (restoring division in
+ * 32-bit halves, the same value: atmega.scalar_equivalence), which leaves
+ * den == 0 and shifts outside 0..31 to this definition. The host's
+ * test_scalar.test_div_exact checks it against an exact quotient. */
 #if defined(__AVR__)
-/* fc_div for 0 <= shift < 32, den != 0: the library's divisions on the
- * ATmega, where an int64_t division is a 64-round libgcc loop. The
- * magnitudes by restoring division in 32-bit halves (fc_avr_divide_rounded):
- * the same value as div_int64 (atmega.scalar_equivalence; the host's
- * test_scalar.test_div_exact checks the int64_t form against an exact
- * quotient). */
-static fc_real div_halves(fc_arith *ar, fc_real num, fc_real den, uint8_t shift)
-{
-    const bool negative = (num ^ den) < 0;
-    uint32_t q = num < 0 ? 0u - (uint32_t)num : (uint32_t)num;
-    const uint32_t d = den < 0 ? 0u - (uint32_t)den : (uint32_t)den;
-    if (fc_avr_divide_rounded(&q, d, shift) == 0u) {
-        ar->saturated = 1u;
-        return negative ? FC_REAL_MIN : FC_REAL_MAX;
-    }
-    return negative ? -(fc_real)q : (fc_real)q;
-}
-/* out of line on the ATmega: its registers would be saved at every call of
- * fc_div, also by the 32-bit path */
-#define FC_DIV_INT64_LINKAGE static __attribute__((noinline))
+fc_real fc_fx_div_portable(fc_arith *ar, fc_real num, fc_real den, int shift)
 #else
-#define FC_DIV_INT64_LINKAGE static
+fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
 #endif
-
-/* fc_div for den != 0 by the int64_t quotient */
-FC_DIV_INT64_LINKAGE fc_real div_int64(fc_arith *ar, fc_real num, fc_real den, int shift)
 {
+    if (den == 0) {
+        ar->saturated = 1u;
+        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
+    }
     const int64_t scaled_num = fc_fx_rescale(ar, (int64_t)num, -shift);
     const int64_t den64 = den;
     if (scaled_num > INT64_MAX / 2 || scaled_num < -(INT64_MAX / 2)) {
@@ -72,20 +59,6 @@ FC_DIV_INT64_LINKAGE fc_real div_int64(fc_arith *ar, fc_real num, fc_real den, i
     /* round to nearest: push the dividend half a divisor away from zero */
     const int64_t rounded = scaled_num >= 0 ? scaled_num + half_den : scaled_num - half_den;
     return fc_fx_saturate(ar, rounded / den64);
-}
-
-fc_real fc_div(fc_arith *ar, fc_real num, fc_real den, int shift)
-{
-    if (den == 0) {
-        ar->saturated = 1u;
-        return num > 0 ? FC_REAL_MAX : (num < 0 ? FC_REAL_MIN : 0);
-    }
-#if defined(__AVR__)
-    if (shift >= 0 && shift < 32) {
-        return div_halves(ar, num, den, (uint8_t)shift);
-    }
-#endif
-    return div_int64(ar, num, den, shift);
 }
 
 /* x << n and x >> n for a run-time n in [0, 31]: whole bytes first (moves
@@ -1152,6 +1125,14 @@ fc_acc fc_acc_mac(fc_acc acc, fc_real a, fc_real b)
     const fc_fx_wide term = fc_fx_asr_wide(fc_fx_mul_wide(a, b), FC_ACC_GUARD_BITS);
     return fc_fx_join(fc_fx_add_wide_wrap(fc_fx_split(acc), term));
 }
+
+/* The ATmega's fc_div (fc/scalar_avr.h), a function of its own section */
+__asm__(".pushsection .text.fc_div,\"ax\",@progbits\n"
+        ".global fc_div\n"
+        ".type fc_div, @function\n"
+        "fc_div:\n\t" FC_AVR_DIV_BODY "\n"
+        ".size fc_div, .-fc_div\n"
+        ".popsection");
 
 /* The ATmega's product (fc/scalar_avr.h): the assembly, a function of its
  * own section (--gc-sections), and the shifts outside 1..46 by the portable

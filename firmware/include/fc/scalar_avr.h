@@ -216,98 +216,148 @@ static inline __attribute__((always_inline)) void fc_avr_divide_rounds(uint32_t 
     *low = l;
 }
 
-/* One round of fc_avr_divide_rounds, for the unrolled bytes below. */
-#define FC_AVR_DIVIDE_ROUND                                                                   \
-    "lsl %A1\n\trol %B1\n\trol %C1\n\trol %D1\n\t"                                            \
-    "rol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"                                            \
-    "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"                         \
-    "brlo 5f\n\t"                                                                             \
-    "sub %A0, %A3\n\tsbc %B0, %B3\n\tsbc %C0, %C3\n\tsbc %D0, %D3\n\t"                        \
-    "inc %A1\n"                                                                               \
-    "5:\n\t"
+
+/* One round of restoring division in fc_div: rem r27:r24, low r23:r20,
+ * d r31:r30:r19:r18 (as fc_avr_divide_rounds) */
+#define FC_AVR_DIV_ROUND                                                                       \
+    "lsl r20\n\trol r21\n\trol r22\n\trol r23\n\t"                                            \
+    "rol r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                            \
+    "cp r24, r18\n\tcpc r25, r19\n\tcpc r26, r30\n\tcpc r27, r31\n\t"                         \
+    "brlo 11f\n\t"                                                                            \
+    "sub r24, r18\n\tsbc r25, r19\n\tsbc r26, r30\n\tsbc r27, r31\n\t"                        \
+    "inc r20\n"                                                                               \
+    "11:\n\t"
 
 /*
- * fc_div's magnitudes: *q = floor((N + floor(d/2)) / d) for N = n 2^shift
- * (n = *q on entry, shift in [0, 31], d in [1, 2^31]) and returns 1 when
- * that is at most INT32_MAX; returns 0 otherwise (*q is then no quotient).
- * The same restoring rounds as fc_avr_divide_rounds, after
+ * fc_div on the ATmega, round(num 2^shift / den) saturated at +-INT32_MAX as
+ * the int64_t form: one out-of-line function in assembly (scalar.c, naked)
+ * with the registers of the calling convention and r16 (saved):
+ *   in   ar r25:r24, num r23-r20, den r19-r16, shift r15:r14 (read only)
+ *   out  r25-r22
+ * den == 0 and shifts outside 0..31 go to the portable definition
+ * (fc_fx_div_portable, a tail call). Otherwise
+ * ar waits in r0:r1 (r1 cleared before the return), the sign of the
+ * quotient in the T flag; magnitudes d = |den| in r31:r30:r19:r18,
+ * N = |num| 2^shift in rem:low = r27-r24:r23-r20, then restoring division:
  *   rem:low = N                       (whole bytes by moves, then bits)
- *   rem >= d                          N / d >= 2^32: returns 0
+ *   rem >= d                          N / d >= 2^32: saturated
  *   rem:low shifted by whole bytes    while the byte shifted in keeps
  *                                     rem < d (those 8 rounds set no bit)
- *   8 rounds a byte for the rest      (unrolled)
- * so low and rem are the quotient and remainder of the rounds over all 32
- * bits. Rounding from the remainder r < d <= 2^31:
+ *   8 rounds a byte for the rest      (unrolled; each as
+ *                                     fc_avr_divide_rounds)
+ * so low and rem are the quotient q and remainder r of the rounds over all
+ * 32 bits (rem < d <= 2^31: no bit leaves rem). Rounding from r:
  *   floor((q d + r + floor(d/2)) / d) = q + (r >= d - floor(d/2)) = q + (2 r >= d)
+ * saturated when q or q + 1 has bit 31 set (q >= 2^31 is caught before the
+ * increment, which then cannot wrap). The same value and saturation as the
+ * int64_t form (atmega.scalar_equivalence).
  */
-static inline __attribute__((always_inline)) uint8_t fc_avr_divide_rounded(uint32_t *q, uint32_t d, uint8_t shift)
-{
-    uint32_t r = 0u;
-    uint32_t l = *q;
-    uint8_t count = shift;
-    __asm__("cpi %2, 8\n\t"
-            "brlo 2f\n"
-            /* whole bytes of the shift */
-            "1:\n\t"
-            "mov %D0, %C0\n\tmov %C0, %B0\n\tmov %B0, %A0\n\tmov %A0, %D1\n\t"
-            "mov %D1, %C1\n\tmov %C1, %B1\n\tmov %B1, %A1\n\tclr %A1\n\t"
-            "subi %2, 8\n\t"
-            "cpi %2, 8\n\t"
-            "brsh 1b\n"
-            /* the bits left */
-            "2:\n\t"
-            "tst %2\n\t"
-            "breq 4f\n"
-            "3:\n\t"
-            "lsl %A1\n\trol %B1\n\trol %C1\n\trol %D1\n\t"
-            "rol %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
-            "dec %2\n\t"
-            "brne 3b\n"
-            "4:\n\t"
-            /* the quotient's bound: rem >= d returns 0 */
-            "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"
-            "brlo 0f\n\t"
-            "rjmp 9f\n"
-            "0:\n\t"
-            "ldi %2, 4\n"
-            /* whole bytes while the next one leaves rem below d */
-            "1:\n\t"
-            "tst %D0\n\t"
-            "brne 3f\n\t"
-            "cp %D1, %A3\n\tcpc %A0, %B3\n\tcpc %B0, %C3\n\tcpc %C0, %D3\n\t"
-            "brsh 3f\n\t"
-            "mov %D0, %C0\n\tmov %C0, %B0\n\tmov %B0, %A0\n\tmov %A0, %D1\n\t"
-            "mov %D1, %C1\n\tmov %C1, %B1\n\tmov %B1, %A1\n\tclr %A1\n\t"
-            "dec %2\n\t"
-            "brne 1b\n\t"
-            "rjmp 7f\n"
-            /* 8 rounds for each byte left */
-            "3:\n\t"
-            FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND
-            FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND FC_AVR_DIVIDE_ROUND
-            "dec %2\n\t"
-            "breq 7f\n\t"
-            "rjmp 3b\n"
-            /* round: q + 1 when 2 rem >= d (2 rem < 2^32); returns 0 when
-             * bit 31 of q or of q + 1 is set (q >= 2^31 returns before the
-             * increment, which then cannot wrap) */
-            "7:\n\t"
-            "sbrc %D1, 7\n\t"
-            "rjmp 9f\n\t"
-            "lsl %A0\n\trol %B0\n\trol %C0\n\trol %D0\n\t"
-            "cp %A0, %A3\n\tcpc %B0, %B3\n\tcpc %C0, %C3\n\tcpc %D0, %D3\n\t"
-            "brlo 8f\n\t"
-            "subi %A1, 0xFF\n\tsbci %B1, 0xFF\n\tsbci %C1, 0xFF\n\tsbci %D1, 0xFF\n"
-            "8:\n\t"
-            "ldi %2, 1\n\t"
-            "sbrc %D1, 7\n"
-            "9:\n\t"
-            "clr %2\n"
-            : "+&r"(r), "+&d"(l), "+&d"(count)
-            : "r"(d));
-    *q = l;
-    return count;
-}
+#define FC_AVR_DIV_BODY                                                                        \
+    "cp r16, __zero_reg__\n\tcpc r17, __zero_reg__\n\t"                                        \
+    "cpc r18, __zero_reg__\n\tcpc r19, __zero_reg__\n\t"                                       \
+    "brne 30f\n\t"                                                                             \
+    "jmp fc_fx_div_portable\n"                                                                 \
+    "30:\n\t"                                                                                  \
+    "tst r15\n\t"                                                                              \
+    "breq 31f\n\t"                                                                             \
+    "jmp fc_fx_div_portable\n"                                                                 \
+    "31:\n\t"                                                                                  \
+    "mov r30, r14\n\t"                                                                         \
+    "cpi r30, 32\n\t"                                                                          \
+    "brlo 32f\n\t"                                                                             \
+    "jmp fc_fx_div_portable\n"                                                                 \
+    "32:\n\t"                                                                                  \
+    "push r16\n\t"                                                                             \
+    "movw r0, r24\n\t"                                                                         \
+    /* d = |den|, T = the sign of num den */                                                   \
+    "mov r30, r18\n\tmov r31, r19\n\tmovw r18, r16\n\t"                                        \
+    "mov r16, r23\n\teor r16, r31\n\tbst r16, 7\n\t"                                           \
+    "sbrs r31, 7\n\t"                                                                          \
+    "rjmp 1f\n\t"                                                                              \
+    "com r31\n\tcom r30\n\tcom r19\n\tneg r18\n\t"                                             \
+    "sbci r19, 0xFF\n\tsbci r30, 0xFF\n\tsbci r31, 0xFF\n"                                     \
+    "1:\n\t"                                                                                   \
+    "sbrs r23, 7\n\t"                                                                          \
+    "rjmp 2f\n\t"                                                                              \
+    "com r23\n\tcom r22\n\tcom r21\n\tneg r20\n\t"                                             \
+    "sbci r21, 0xFF\n\tsbci r22, 0xFF\n\tsbci r23, 0xFF\n"                                     \
+    /* rem:low = |num| 2^shift: whole bytes, then the bits */                                  \
+    "2:\n\t"                                                                                   \
+    "clr r24\n\tclr r25\n\tmovw r26, r24\n\t"                                                  \
+    "mov r16, r14\n\t"                                                                         \
+    "cpi r16, 8\n\t"                                                                           \
+    "brlo 4f\n"                                                                                \
+    "3:\n\t"                                                                                   \
+    "mov r27, r26\n\tmov r26, r25\n\tmov r25, r24\n\tmov r24, r23\n\t"                         \
+    "mov r23, r22\n\tmov r22, r21\n\tmov r21, r20\n\tclr r20\n\t"                              \
+    "subi r16, 8\n\t"                                                                          \
+    "cpi r16, 8\n\t"                                                                           \
+    "brsh 3b\n"                                                                                \
+    "4:\n\t"                                                                                   \
+    "tst r16\n\t"                                                                              \
+    "breq 6f\n"                                                                                \
+    "5:\n\t"                                                                                   \
+    "lsl r20\n\trol r21\n\trol r22\n\trol r23\n\t"                                             \
+    "rol r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                             \
+    "dec r16\n\t"                                                                              \
+    "brne 5b\n"                                                                                \
+    /* the quotient reaches 2^32: saturated */                                                 \
+    "6:\n\t"                                                                                   \
+    "cp r24, r18\n\tcpc r25, r19\n\tcpc r26, r30\n\tcpc r27, r31\n\t"                          \
+    "brlo 7f\n\t"                                                                              \
+    "rjmp 20f\n"                                                                               \
+    /* whole bytes while the next one leaves rem below d */                                    \
+    "7:\n\t"                                                                                   \
+    "ldi r16, 4\n"                                                                             \
+    "8:\n\t"                                                                                   \
+    "tst r27\n\t"                                                                              \
+    "brne 10f\n\t"                                                                             \
+    "cp r23, r18\n\tcpc r24, r19\n\tcpc r25, r30\n\tcpc r26, r31\n\t"                          \
+    "brsh 10f\n\t"                                                                             \
+    "mov r27, r26\n\tmov r26, r25\n\tmov r25, r24\n\tmov r24, r23\n\t"                         \
+    "mov r23, r22\n\tmov r22, r21\n\tmov r21, r20\n\tclr r20\n\t"                              \
+    "dec r16\n\t"                                                                              \
+    "brne 8b\n\t"                                                                              \
+    "rjmp 12f\n"                                                                               \
+    /* 8 rounds for each byte left */                                                          \
+    "10:\n\t"                                                                                  \
+    FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND                     \
+    FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND FC_AVR_DIV_ROUND                     \
+    "dec r16\n\t"                                                                              \
+    "breq 12f\n\t"                                                                             \
+    "rjmp 10b\n"                                                                               \
+    /* round: q + 1 when 2 rem >= d; q or q + 1 >= 2^31 saturated */                           \
+    "12:\n\t"                                                                                  \
+    "sbrc r23, 7\n\t"                                                                          \
+    "rjmp 20f\n\t"                                                                             \
+    "lsl r24\n\trol r25\n\trol r26\n\trol r27\n\t"                                             \
+    "cp r24, r18\n\tcpc r25, r19\n\tcpc r26, r30\n\tcpc r27, r31\n\t"                          \
+    "brlo 13f\n\t"                                                                             \
+    "subi r20, 0xFF\n\tsbci r21, 0xFF\n\tsbci r22, 0xFF\n\tsbci r23, 0xFF\n\t"                 \
+    "sbrc r23, 7\n\t"                                                                          \
+    "rjmp 20f\n"                                                                               \
+    /* the signed result */                                                                    \
+    "13:\n\t"                                                                                  \
+    "movw r24, r22\n\tmovw r22, r20\n\t"                                                       \
+    "brtc 14f\n\t"                                                                             \
+    "com r25\n\tcom r24\n\tcom r23\n\tneg r22\n\t"                                             \
+    "sbci r23, 0xFF\n\tsbci r24, 0xFF\n\tsbci r25, 0xFF\n"                                     \
+    "14:\n\t"                                                                                  \
+    "pop r16\n\t"                                                                              \
+    "clr r1\n\t"                                                                               \
+    "ret\n"                                                                                    \
+    /* saturated: ar->saturated = 1, +-INT32_MAX by the sign */                                \
+    "20:\n\t"                                                                                  \
+    "movw r30, r0\n\t"                                                                         \
+    "ldi r16, 1\n\t"                                                                           \
+    "st Z, r16\n\t"                                                                            \
+    "ldi r22, 0xFF\n\tldi r23, 0xFF\n\tldi r24, 0xFF\n\tldi r25, 0x7F\n\t"                     \
+    "brtc 14b\n\t"                                                                             \
+    "ldi r22, 0x01\n\tldi r23, 0\n\tldi r24, 0\n\tldi r25, 0x80\n\t"                           \
+    "rjmp 14b"
+
+/* scalar.c: fc_div is the assembly above; the portable definition */
+fc_real fc_fx_div_portable(fc_arith *ar, fc_real num, fc_real den, int shift);
 
 /*
  * round(sqrt(m)) 2^14 for m = 4 x, 0 < x <= 2^30 - 2^14 (fc_sqrt_unit16: x
