@@ -246,6 +246,10 @@ awk -v mods="${modules[*]}" '
     printf "  %-30s | %-26d | %-26d |        (target: fixed <= 24000)\n", "worst step", mx["atmega-f450", m], mx["atmega-fixed-f450", m]
     printf "  %-30s | %-26d | %-26d |        (target: fixed <= 20000)\n", "mean step", mean["atmega-f450", m], mean["atmega-fixed-f450", m]
   }' "$results"
+# the flight image (platform/atmega, its controller from the build-time snapshot), not the bench image
+flight_flash() { avr-size -B "$root/build/$1/platform/atmega/fc-atmega.elf" | awk 'NR == 2 { print $1 + $2 }'; }
+printf "  %-30s | %-26d | %-26d |        (target: fixed <= 131072)\n", "flight image flash, bytes" \
+  "$(flight_flash atmega)" "$(flight_flash atmega-fixed)"
 
 # ---- the M4F float step call by call: which minor frames cost what ----
 echo
