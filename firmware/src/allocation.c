@@ -1115,16 +1115,13 @@ static bool demand_is_finite(const fc_allocation_demand *d)
     return fc_is_finite(d->thrust) && fc_is_finite3(d->moment.x, d->moment.y, d->moment.z);
 }
 
-fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
-                                  fc_allocation_output *out)
+fc_step_status fc_allocation_speeds(fc_allocation *a, const fc_allocation_demand *d, fc_real *speed_unit,
+                                    uint8_t *saturation_bits)
 {
     for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        out->speed[i] = FC_INT(0, UNIT);
-        out->rotor_thrust_n[i] = FC_INT(0, FORCE);
+        speed_unit[i] = FC_INT(0, UNIT);
     }
-    out->thrust_n = FC_INT(0, FORCE);
-    out->moment_nm = fc_vec3_zero();
-    out->saturation = 0u;
+    *saturation_bits = 0u;
     if (a->ready == 0u) {
         return FC_STEP_NOT_READY;
     }
@@ -1143,9 +1140,9 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         a->last_good.moment.z = d->moment.z;
     }
 
-    /* v (UNIT) in out->speed, the rotor_count entries written by
+    /* v (UNIT) in speed_unit, the rotor_count entries written by
      * allocate_linear (the others stay 0), then the speeds in place */
-    fc_real *v = out->speed;
+    fc_real *v = speed_unit;
     /* the 16-bit demand as it is: the step's products are 16 x 16 bits */
     const uint8_t saturation =
         a->nonlinear != 0u ? allocate_nonlinear(a, demand, v) : allocate_linear(a, demand, v);
@@ -1162,17 +1159,33 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
         r++;
     }
 
-    if (a->wrench_output != 0u) {
-        fc_vec3 force;
-        forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
-        out->thrust_n = force.z;
-    }
-    out->saturation = saturation;
+    *saturation_bits = saturation;
     if (saturation != 0u) {
         status |= FC_STEP_OUTPUT_LIMITED;
     }
     if (a->ar.saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
+    }
+    return status;
+}
+
+fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
+                                  fc_allocation_output *out)
+{
+    for (int i = 0; i < FC_MAX_ROTORS; i++) {
+        out->rotor_thrust_n[i] = FC_INT(0, FORCE);
+    }
+    out->thrust_n = FC_INT(0, FORCE);
+    out->moment_nm = fc_vec3_zero();
+    fc_step_status status = fc_allocation_speeds(a, d, out->speed, &out->saturation);
+    if (a->ready != 0u && a->wrench_output != 0u) {
+        /* the model's products may saturate too: reported with the step's */
+        fc_vec3 force;
+        forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);
+        out->thrust_n = force.z;
+        if (a->ar.saturated != 0u) {
+            status |= FC_STEP_ARITH_SATURATED;
+        }
     }
     return status;
 }
@@ -1283,16 +1296,22 @@ fc_allocation_demand fc_allocation_normalise(const fc_allocation *a, fc_real thr
     return d;
 }
 
+void fc_allocation_moment_nm(const fc_allocation *a, const fc_vec3_16 *moment, fc_vec3 *moment_nm)
+{
+    fc_arith ar = {0u};
+    const fc_vec3 *m = &a->moment_authority_nm;
+    const int to_moment = FC_SHIFT(NORM16, MOMENT, MOMENT);
+    moment_nm->x = fc_mul_by16(&ar, m->x, moment->x, to_moment);
+    moment_nm->y = fc_mul_by16(&ar, m->y, moment->y, to_moment);
+    moment_nm->z = fc_mul_by16(&ar, m->z, moment->z, to_moment);
+}
+
 void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *d, fc_real *thrust_n,
                             fc_vec3 *moment_nm)
 {
     fc_arith ar = {0u};
-    const fc_vec3 m = a->moment_authority_nm;
-    const int to_moment = FC_SHIFT(NORM16, MOMENT, MOMENT);
     *thrust_n = fc_mul_by16(&ar, a->thrust_max_n, d->thrust, FC_SHIFT(NORM16, FORCE, FORCE));
-    *moment_nm = fc_vec3_make(fc_mul_by16(&ar, m.x, d->moment.x, to_moment),
-                              fc_mul_by16(&ar, m.y, d->moment.y, to_moment),
-                              fc_mul_by16(&ar, m.z, d->moment.z, to_moment));
+    fc_allocation_moment_nm(a, &d->moment, moment_nm);
 }
 
 /* ---- presets (FC_C constants only) -------------------------------------- */

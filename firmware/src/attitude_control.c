@@ -407,6 +407,14 @@ static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
                                         fc_attitude_control_output *out)
 {
+    const fc_attitude_control_input_ref ref = {&in->attitude, &in->attitude_desired, &in->rate_radps,
+                                               &in->rate_ff_radps, in->allocation_saturation};
+    return fc_attitude_control_step_ref(c, &ref, out);
+}
+
+fc_step_status fc_attitude_control_step_ref(fc_attitude_control *c, const fc_attitude_control_input_ref *in,
+                                            fc_attitude_control_output *out)
+{
     c->ar.saturated = 0u;
     if (c->ready == 0u) {
         out->moment = fc_vec3_16_zero();
@@ -419,10 +427,10 @@ fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitud
 
     bool q_ok = false;
     bool qd_ok = false;
-    const fc_quat16 q = quat16_unit(ar, &in->attitude, &q_ok);
-    const fc_quat16 qd = quat16_unit(ar, &in->attitude_desired, &qd_ok);
-    const fc_vec3 *rate = &in->rate_radps;
-    const fc_vec3 *rate_ff = &in->rate_ff_radps;
+    const fc_quat16 q = quat16_unit(ar, in->attitude, &q_ok);
+    const fc_quat16 qd = quat16_unit(ar, in->attitude_desired, &qd_ok);
+    const fc_vec3 *rate = in->rate_radps;
+    const fc_vec3 *rate_ff = in->rate_ff_radps;
     const bool rate_ff_ok = rate_valid(rate_ff);
     if (!rate_ff_ok) {
         status |= FC_STEP_BAD_INPUT; /* and the feed-forward is taken as zero */

@@ -930,10 +930,11 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
         *status |= FC_STEP_DEGRADED; /* no rate: no moments (the header says why) */
         return fc_vec3_16_zero();
     }
-    const fc_attitude_control_input attitude_in = {*c->attitude, tm->attitude_setpoint, tm->rate_radps,
-                                                   yaw_rate_feedforward(ctl, c), ctl->last_saturation};
+    const fc_vec3 rate_ff_radps = yaw_rate_feedforward(ctl, c);
+    const fc_attitude_control_input_ref attitude_in = {c->attitude, &tm->attitude_setpoint, &tm->rate_radps,
+                                                       &rate_ff_radps, ctl->last_saturation};
     fc_attitude_control_output attitude_out;
-    tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
+    tm->attitude_status = fc_attitude_control_step_ref(&ctl->attitude, &attitude_in, &attitude_out);
     *status |= passed_on(tm->attitude_status);
     return attitude_out.moment;
 }
@@ -945,22 +946,19 @@ static fc_step_status allocate(fc_controller *ctl, fc_real16 thrust, fc_vec3_16 
 {
     fc_controller_telemetry *tm = &out->telemetry;
     const fc_allocation_demand demand = {thrust, moment};
-    fc_allocation_output allocation_out;
-    tm->allocation_status = fc_allocation_step(&ctl->allocation, &demand, &allocation_out);
-    ctl->last_saturation = allocation_out.saturation;
+    /* the speeds straight into the outputs; no forward model (fc/allocation.h) */
+    uint8_t saturation;
+    tm->allocation_status = fc_allocation_speeds(&ctl->allocation, &demand, out->rotor_speed, &saturation);
+    ctl->last_saturation = saturation;
     ctl->last_thrust_n = thrust_n;
-    tm->allocation_saturation = allocation_out.saturation;
-    for (int i = 0; i < FC_MAX_ROTORS; i++) {
-        out->rotor_speed[i] = allocation_out.speed[i];
-    }
+    tm->allocation_saturation = saturation;
     out->rotor_count = ctl->allocation.rotor_count;
     out->motors_on = true;
     out->output = FC_OUTPUT_ROTORS;
     out->velocity_cmd_mps = fc_vec3_zero();
     out->yaw_rate_cmd_radps = FC_INT(0, RATE);
     /* at the library's edge in N and N m: the thrust as set, the moments as sent */
-    fc_real sent_thrust_n;
-    fc_allocation_physical(&ctl->allocation, &demand, &sent_thrust_n, &out->moment_nm);
+    fc_allocation_moment_nm(&ctl->allocation, &demand.moment, &out->moment_nm);
     out->thrust_n = thrust_n;
     return passed_on(tm->allocation_status);
 }

@@ -1347,6 +1347,49 @@ static void test_normalise_round_trip(void **state)
 
 /* ---- bad input and ranges ---------------------------------------------- */
 
+/* fc_allocation_speeds (the controller's step) gives fc_allocation_step's
+ * speeds, saturation and status, with the state carried the same way; and
+ * fc_allocation_moment_nm fc_allocation_physical's moment. */
+static void test_speeds_match_step(void **state)
+{
+    (void)state;
+    rng_seed(0x5eed28u);
+    for (int k = 0; k < PRESET_COUNT; k++) {
+        fc_allocation_params p;
+        presets[k](&p);
+        fc_allocation a;
+        fc_allocation b;
+        assert_int_equal(fc_allocation_init(&a, &p), FC_INIT_OK);
+        assert_int_equal(fc_allocation_init(&b, &p), FC_INIT_OK);
+        const float thrust_max = to_f(a.thrust_max_n, FC_FORCE_FRAC);
+        const fc_vec3 m = a.moment_authority_nm;
+        for (int n = 0; n < 300; n++) {
+            /* beyond the authorities too, so that every saturation case runs */
+            const fc_allocation_demand d =
+                demand_make(&a, thrust_max * uniform(-0.1f, 1.1f),
+                            to_f(m.x, FC_MOMENT_FRAC) * uniform(-1.5f, 1.5f),
+                            to_f(m.y, FC_MOMENT_FRAC) * uniform(-1.5f, 1.5f),
+                            to_f(m.z, FC_MOMENT_FRAC) * uniform(-1.5f, 1.5f));
+            fc_allocation_output out;
+            const fc_step_status status = fc_allocation_step(&a, &d, &out);
+            fc_real speed_unit[FC_MAX_ROTORS];
+            uint8_t saturation_bits = 0xffu;
+            assert_int_equal(fc_allocation_speeds(&b, &d, speed_unit, &saturation_bits), status);
+            assert_int_equal(saturation_bits, out.saturation);
+            for (int i = 0; i < FC_MAX_ROTORS; i++) {
+                assert_true(speed_unit[i] == out.speed[i]);
+            }
+            fc_real thrust_n;
+            fc_vec3 physical_nm;
+            fc_vec3 moment_nm;
+            fc_allocation_physical(&a, &d, &thrust_n, &physical_nm);
+            fc_allocation_moment_nm(&a, &d.moment, &moment_nm);
+            assert_true(moment_nm.x == physical_nm.x && moment_nm.y == physical_nm.y &&
+                        moment_nm.z == physical_nm.z);
+        }
+    }
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -1485,6 +1528,7 @@ int main(void)
         cmocka_unit_test(test_preset_authorities),
         cmocka_unit_test(test_normalise_round_trip),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_speeds_match_step),
         cmocka_unit_test(test_extreme_demands),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -587,6 +587,39 @@ static void test_default_params(void **state)
     assert_int_equal(fc_attitude_control_init(&c, &d), FC_INIT_OK);
 }
 
+/* fc_attitude_control_step_ref (the controller's step) is the step on the
+ * input by reference: the same moments, errors, status and state. */
+static void test_step_ref_matches_step(void **state)
+{
+    (void)state;
+    fc_attitude_control_params p;
+    fc_attitude_control_default_params(&p, R(0.002, FC_DT_FRAC), vec_from(kCfJ, FC_INERTIA_FRAC));
+    p.ki_per_s3 = vec_from((const double[3]){20.0, 20.0, 5.0}, FC_GAIN_FRAC);
+    fc_attitude_control a;
+    fc_attitude_control b;
+    assert_int_equal(fc_attitude_control_init(&a, &p), FC_INIT_OK);
+    assert_int_equal(fc_attitude_control_init(&b, &p), FC_INIT_OK);
+    for (int k = 0; k < 200; k++) {
+        const double t = 0.01 * (double)k;
+        const dq q = dq_axis_angle(1.0, 0.5, 0.2, 0.3 * sin(3.0 * t));
+        const dq qd = dq_axis_angle(0.0, 0.0, 1.0, 0.5 * t);
+        const double w[3] = {0.4 * cos(3.0 * t), -0.2, 0.1};
+        const double wff[3] = {0.0, 0.0, 0.5};
+        fc_attitude_control_input in = make_input(q, qd, w, wff);
+        in.allocation_saturation = (k % 7 == 0) ? (uint8_t)FC_SAT_ROLL_POS : 0u;
+        const fc_attitude_control_input_ref ref = {&in.attitude, &in.attitude_desired, &in.rate_radps,
+                                                   &in.rate_ff_radps, in.allocation_saturation};
+        fc_attitude_control_output out_a;
+        fc_attitude_control_output out_b;
+        assert_int_equal(fc_attitude_control_step_ref(&b, &ref, &out_b), fc_attitude_control_step(&a, &in, &out_a));
+        assert_true(out_a.moment.x == out_b.moment.x && out_a.moment.y == out_b.moment.y &&
+                    out_a.moment.z == out_b.moment.z);
+        assert_true(out_a.attitude_error_rad.x == out_b.attitude_error_rad.x &&
+                    out_a.attitude_error_rad.y == out_b.attitude_error_rad.y &&
+                    out_a.attitude_error_rad.z == out_b.attitude_error_rad.z);
+    }
+}
+
 static void expect_bad(const fc_attitude_control_params *p)
 {
     fc_attitude_control c;
@@ -1784,6 +1817,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_default_params),
+        cmocka_unit_test(test_step_ref_matches_step),
         cmocka_unit_test(test_bad_params),
         cmocka_unit_test(test_normalisation),
         cmocka_unit_test(test_normalised_ranges),

@@ -277,6 +277,13 @@ fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *
 fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
                                   fc_allocation_output *out);
 
+/* The step's speeds alone, for a caller that needs no forward model (the
+ * controller): speed_unit[0..FC_MAX_ROTORS-1] (UNIT) and *saturation_bits (FC_SAT_*
+ * bits) as fc_allocation_step gives out->speed and out->saturation, written
+ * in place (no output struct to copy them from); the status too. */
+fc_step_status fc_allocation_speeds(fc_allocation *a, const fc_allocation_demand *d, fc_real *speed_unit,
+                                    uint8_t *saturation_bits);
+
 /* The authorities of the rotors of p, as init computes them (header):
  * F_max (FORCE) and the moment authority per axis (MOMENT). For the modules
  * that output normalised units (fc_controller_default_params). false when p
@@ -294,6 +301,10 @@ fc_allocation_demand fc_allocation_normalise(const fc_allocation *a, fc_real thr
 /* The physical F_z (FORCE) and M (MOMENT) of a normalised demand. */
 void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *d, fc_real *thrust_n,
                             fc_vec3 *moment_nm);
+
+/* The moment part alone: M (MOMENT) of a normalised moment (NORM16), as
+ * fc_allocation_physical gives it. */
+void fc_allocation_moment_nm(const fc_allocation *a, const fc_vec3_16 *moment, fc_vec3 *moment_nm);
 
 /* Whether fc_allocation_step fills out->thrust_n, moment_nm and rotor_thrust_n
  * from the forward model (2.2)-(2.3) of the speeds it chose (on after init),

@@ -148,6 +148,17 @@ typedef struct fc_attitude_control_input {
     uint8_t allocation_saturation; /* FC_SAT_* bits of the last allocation */
 } fc_attitude_control_input;
 
+/* The same input by reference, for a caller that holds the quaternions and
+ * rates (the controller): read in place, not copied for each step. Units and
+ * ranges as in fc_attitude_control_input. */
+typedef struct fc_attitude_control_input_ref {
+    const fc_quat *attitude;         /* UNIT: q, body -> world */
+    const fc_quat *attitude_desired; /* UNIT: q_d, body -> world */
+    const fc_vec3 *rate_radps;       /* RATE: body rate w */
+    const fc_vec3 *rate_ff_radps;    /* RATE: body-rate feed-forward w_ff */
+    uint8_t allocation_saturation;   /* FC_SAT_* bits of the last allocation */
+} fc_attitude_control_input_ref;
+
 typedef struct fc_attitude_control_output {
     fc_vec3_16 moment;          /* NORM16: body moment / authority, inside +-moment_limit */
     fc_vec3 attitude_error_rad; /* ANGLE: (e_tilt.x, e_tilt.y, e_head.z), unweighted, for
@@ -180,6 +191,10 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
 /* One step of dt_s. out->moment is always finite and inside +-moment_limit. */
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
                                         fc_attitude_control_output *out);
+
+/* fc_attitude_control_step on the input by reference (the same step). */
+fc_step_status fc_attitude_control_step_ref(fc_attitude_control *c, const fc_attitude_control_input_ref *in,
+                                            fc_attitude_control_output *out);
 
 /* Clears the integrals (e.g. on the ground, before take-off). */
 void fc_attitude_control_reset(fc_attitude_control *c);
