@@ -635,15 +635,15 @@ typedef struct tracking_signals {
     fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
-static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input *in)
+static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input_ref *in)
 {
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
     tracking_signals t;
-    t.e_m = fc_sub_inline(ar, in->z_m, in->reference.z_m); /* (4.1) */
+    t.e_m = fc_sub_inline(ar, in->z_m, in->reference->z_m); /* (4.1) */
     const fc_real l0_e = fc_mul_gain(ar, t.e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
     if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
-        t.e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference.vz_mps);
+        t.e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
         t.sigma_mps = fc_add_inline(ar, t.e_dot_mps, l0_e); /* (4.2) */
     } else {
         if (!c->lead_primed) {
@@ -661,7 +661,7 @@ static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_contr
     }
     const fc_real l0_e_dot = fc_mul_gain(ar, t.e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
-    const fc_real az_ff = fc_clamp(in->reference.az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
+    const fc_real az_ff = fc_clamp(in->reference->az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
     t.phi_mps2 = fc_sub_inline(ar, fc_add_inline(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
     t.az_ff_mps2 = az_ff;
     return t;
@@ -682,12 +682,12 @@ static fc_real plant_gain_bound_mps2(fc_altitude_control *c, fc_real u_nom_n, fc
 /* w4 of (4.42): |kp U_d + a_m sigma| / kappa_m <= (w3 + a_m |sigma|) / kappa_m,
  * w3 = max over kp of |kp u_nom - phi|, phi = g + z_r'' - l0 e' (w1 of (4.43) is |phi|),
  * with all of z_r'' (U_d of (4.17)). */
-static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in, const tracking_signals *t,
                         fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
     /* the part of z_r'' not fed forward is disturbance too: phi with all of it */
-    const fc_real phi_full = fc_add(ar, t->phi_mps2, fc_sub(ar, in->reference.az_mps2, t->az_ff_mps2));
+    const fc_real phi_full = fc_add(ar, t->phi_mps2, fc_sub(ar, in->reference->az_mps2, t->az_ff_mps2));
     const fc_real omega3 = plant_gain_bound_mps2(c, u_nom_n, phi_full);
     const fc_real from_omega3 = fc_mul_gain(ar, omega3, c->k.inv_kappa, FC_GAIN_SHIFT(ACCEL, FORCE));
     const fc_real from_sigma =
@@ -706,12 +706,12 @@ static fc_real eta_advance(fc_arith *ar, fc_real w_mps, fc_gain decay, fc_gain i
 /* The eta norm observers (4.3.2) on the cells of the kp range (header): the bound
  * of |d_eq3| (4.81) over the step ahead, and their advance. kp_j D = kp_j u_nom - psi,
  * psi = g + z_r'' + l0^2 e (D of (4.62)). */
-static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_control_input *in,
+static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
                                     const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
     const fc_real l0_sq_e = fc_mul_gain(ar, t->e_m, c->k.l0_sq, FC_GAIN_SHIFT(LENGTH, ACCEL));
-    const fc_real psi = fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference.az_mps2), l0_sq_e);
+    const fc_real psi = fc_add(ar, fc_add(ar, c->p.gravity_mps2, in->reference->az_mps2), l0_sq_e);
     fc_real size[FC_ALT_ETA_CELLS + 1];   /* ACCEL: |kp_j D| */
     fc_real change[FC_ALT_ETA_CELLS + 1]; /* ACCEL: |kp_j D[k] - kp_j D[k-1]| */
     for (unsigned j = 0u; j <= FC_ALT_ETA_CELLS; j++) {
@@ -743,7 +743,7 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
 }
 
 /* The modulation rho of the relay, and the advance of its observers. */
-static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in, const tracking_signals *t,
                             fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
 {
     *observer_bound = FC_INT(0, FORCE);
@@ -793,7 +793,7 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
 
 /* The SSC: returns the vertical force u = u_nom - u0_av and advances the
  * relay, the prediction-error loop and the averaging filter. */
-static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
+static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
                                   const tracking_signals *t, fc_real u_nom_n, fc_altitude_control_output *out)
 {
     fc_arith *ar = &c->ar;
@@ -858,7 +858,7 @@ static fc_real super_twisting_vertical_force(fc_altitude_control *c, const track
 }
 
 /* Baseline: the Crazyflie's cascade, position PID -> velocity PID. */
-static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
+static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
                                   const tracking_signals *t, bool integrate)
 {
     fc_arith *ar = &c->ar;
@@ -868,11 +868,11 @@ static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     const fc_real position_term = fc_add(ar, fc_mul_gain(ar, t->e_m, k->pid_kp_z, FC_GAIN_SHIFT(LENGTH, VEL)),
                                          fc_mul_gain(ar, c->pid_int_z_m, k->pid_ki_z, FC_GAIN_SHIFT(LENGTH, VEL)));
     const fc_real velocity_setpoint =
-        fc_clamp(fc_sub(ar, in->reference.vz_mps, position_term), fc_neg(ar, p->pid_vel_limit_mps), p->pid_vel_limit_mps);
+        fc_clamp(fc_sub(ar, in->reference->vz_mps, position_term), fc_neg(ar, p->pid_vel_limit_mps), p->pid_vel_limit_mps);
     const fc_real velocity_error = fc_sub(ar, in->vz_mps, velocity_setpoint);
     /* velocity loop: u = Theta0 (g + z_r'') - kp_v ev - ki_v int ev */
     const fc_real feed_forward =
-        fc_mul_gain(ar, fc_add(ar, p->gravity_mps2, in->reference.az_mps2), k->theta0, FC_GAIN_SHIFT(ACCEL, FORCE));
+        fc_mul_gain(ar, fc_add(ar, p->gravity_mps2, in->reference->az_mps2), k->theta0, FC_GAIN_SHIFT(ACCEL, FORCE));
     const fc_real velocity_term =
         fc_add(ar, fc_mul_gain(ar, velocity_error, k->pid_kp_v, FC_GAIN_SHIFT(VEL, FORCE)),
                fc_mul_gain(ar, c->pid_int_v_m, k->pid_ki_v, FC_GAIN_SHIFT(LENGTH, FORCE)));
@@ -941,13 +941,13 @@ static void safe_output(const fc_altitude_control *c, fc_altitude_control_output
     out->clamped = false;
 }
 
-static bool input_valid(const fc_altitude_control_input *in)
+static bool input_valid(const fc_altitude_control_input_ref *in)
 {
     const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
     const fc_real accel = FC_C(FC_INPUT_MAX_ACCEL_MPS2, ACCEL);
-    return fc_within(in->z_m, length) && fc_within(in->vz_mps, speed) && fc_within(in->reference.z_m, length) &&
-           fc_within(in->reference.vz_mps, speed) && fc_within(in->reference.az_mps2, accel) &&
+    return fc_within(in->z_m, length) && fc_within(in->vz_mps, speed) && fc_within(in->reference->z_m, length) &&
+           fc_within(in->reference->vz_mps, speed) && fc_within(in->reference->az_mps2, accel) &&
            fc_within(in->tilt_cos, FC_INT(1, RATIO));
 }
 
@@ -958,6 +958,14 @@ void fc_altitude_control_hold(fc_altitude_control *c, bool hold)
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out)
+{
+    const fc_altitude_control_input_ref ref = {in->z_m, in->vz_mps, &in->reference, in->tilt_cos,
+                                               in->allocation_saturation};
+    return fc_altitude_control_step_ref(c, &ref, out);
+}
+
+fc_step_status fc_altitude_control_step_ref(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
+                                            fc_altitude_control_output *out)
 {
     if (!c->ready) {
         safe_output(c, out);

@@ -689,6 +689,28 @@ bool fc_controller_measured_accel(fc_arith *ar, fc_quat attitude, fc_vec3 specif
     return true;
 }
 
+/* The position loop's demand half (minor frame 0), on the gated inputs and
+ * the vertical estimate; its inputs by reference (fc/position_control.h). */
+static fc_step_status position_demand(fc_controller *ctl, const step_context *c)
+{
+    const fc_gated_inputs *in = c->in;
+    /* the newest IMU sample, no average over the major frame: k_a dt
+     * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0);
+     * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
+    fc_vec3 accel_world_mps2;
+    const bool accel_ok =
+        fc_controller_measured_accel(&ctl->ar, *c->attitude, c->raw->imu.accel_mps2,
+                                     c->estimate.accel_ok && c->attitude_ok, &accel_world_mps2);
+    /* the vertical from the vertical estimator; no velocity setpoint, no feedforward */
+    const fc_vec3 position_m = fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m);
+    const fc_vec3 velocity_mps = fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps);
+    const fc_vec3 zero = fc_vec3_zero();
+    const fc_position_control_input_ref pin = {&position_m, &velocity_mps, &in->position_setpoint_m,
+                                               &zero,       &zero,         &accel_world_mps2,
+                                               accel_ok};
+    return passed_on(fc_position_control_demand_ref(&ctl->position, &pin, &ctl->groups.position));
+}
+
 /* The position loop (fc/position_control.h) in two halves: in minor frame 0
  * the demand, horizontal PID -> F = m (a_des - g - I_a), which waits in the
  * rate groups; in the attitude frame (position_attitude_frame) F's attitude
@@ -702,24 +724,7 @@ static fc_step_status horizontal_step(fc_controller *ctl, const step_context *c,
     const fc_gated_inputs *in = c->in;
     fc_controller_rate_groups *g = &ctl->groups;
     if (frame == 0u) {
-        /* the newest IMU sample, no average over the major frame: k_a dt
-         * is the low-pass (a_ff = 0, so a_des,z = 0 = a_z: I_a,z stays 0);
-         * the estimator's accel_ok: in range and not all zero (fc/attitude_estimator.h) */
-        fc_vec3 accel_world_mps2;
-        const bool accel_ok =
-            fc_controller_measured_accel(&ctl->ar, *c->attitude, c->raw->imu.accel_mps2,
-                                         c->estimate.accel_ok && c->attitude_ok, &accel_world_mps2);
-        const fc_position_control_input pin = {
-            fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m),
-            fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps),
-            in->position_setpoint_m,
-            fc_vec3_zero(),
-            fc_vec3_zero(),
-            accel_world_mps2,
-            accel_ok,
-            ctl->heading.yaw_cos,
-            ctl->heading.yaw_sin};
-        g->demand_status = passed_on(fc_position_control_demand(&ctl->position, &pin, &g->position));
+        g->demand_status = position_demand(ctl, c);
         g->have_demand = true;
     }
     if (frame == position_attitude_frame(ctl->p.outer_divider) && g->have_demand) {
@@ -898,13 +903,13 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
     if (!plan->fly_reference) {
         return fc_allocation_thrust_fraction(&ctl->allocation, plan->thrust_n);
     }
-    const fc_altitude_control_input altitude_in = {c->height_m, c->vz_mps, tm->reference,
-                                                   c->tilt_cos, ctl->last_saturation};
+    const fc_altitude_control_input_ref altitude_in = {c->height_m, c->vz_mps, &tm->reference, c->tilt_cos,
+                                                       ctl->last_saturation};
     /* Theta learns from measurements, and not once contact is planned: the press and
      * the pad's reaction are no parameter error (fc/altitude_control.h, "Adaptation
      * in discrete time") */
     fc_altitude_control_hold(&ctl->altitude, c->holding || tm->touchdown_window);
-    tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
+    tm->altitude_status = fc_altitude_control_step_ref(&ctl->altitude, &altitude_in, &tm->altitude);
     *status |= passed_on(tm->altitude_status);
     *thrust_n = tm->altitude.thrust_n;
     return tm->altitude.thrust;

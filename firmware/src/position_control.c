@@ -154,6 +154,15 @@ AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mp
 fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
                                           fc_position_control_output *out)
 {
+    const fc_position_control_input_ref ref = {&in->position_m,    &in->velocity_mps,    &in->position_sp_m,
+                                               &in->velocity_sp_mps, &in->accel_ff_mps2, &in->accel_meas_mps2,
+                                               in->accel_meas_ok};
+    return fc_position_control_demand_ref(pc, &ref, out);
+}
+
+fc_step_status fc_position_control_demand_ref(fc_position_control *pc, const fc_position_control_input_ref *in,
+                                              fc_position_control_output *out)
+{
     if (!pc->ready) {
         out->accel_des_mps2 = fc_vec3_zero();
         out->thrust_world_n = fc_vec3_zero();
@@ -166,24 +175,24 @@ fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_posi
 
     /* inputs: the horizontal errors (zero when an input is not finite), the
      * feedforward */
-    const bool integrate = fc_vec3_is_finite(in->position_m) && fc_vec3_is_finite(in->velocity_mps) &&
-                           fc_vec3_is_finite(in->position_sp_m) && fc_vec3_is_finite(in->velocity_sp_mps);
+    const bool integrate = fc_vec3_is_finite(*in->position_m) && fc_vec3_is_finite(*in->velocity_mps) &&
+                           fc_vec3_is_finite(*in->position_sp_m) && fc_vec3_is_finite(*in->velocity_sp_mps);
     fc_real ex_m = FC_INT(0, LENGTH), ey_m = FC_INT(0, LENGTH);
     fc_real evx_mps = FC_INT(0, VEL), evy_mps = FC_INT(0, VEL);
     if (integrate) {
-        ex_m = fc_sub_inline(ar, in->position_sp_m.x, in->position_m.x);
-        ey_m = fc_sub_inline(ar, in->position_sp_m.y, in->position_m.y);
-        evx_mps = fc_sub_inline(ar, in->velocity_sp_mps.x, in->velocity_mps.x);
-        evy_mps = fc_sub_inline(ar, in->velocity_sp_mps.y, in->velocity_mps.y);
+        ex_m = fc_sub_inline(ar, in->position_sp_m->x, in->position_m->x);
+        ey_m = fc_sub_inline(ar, in->position_sp_m->y, in->position_m->y);
+        evx_mps = fc_sub_inline(ar, in->velocity_sp_mps->x, in->velocity_mps->x);
+        evy_mps = fc_sub_inline(ar, in->velocity_sp_mps->y, in->velocity_mps->y);
     } else {
         status |= FC_STEP_BAD_INPUT;
     }
-    fc_vec3 ff = in->accel_ff_mps2;
+    fc_vec3 ff = *in->accel_ff_mps2;
     if (!fc_vec3_is_finite(ff)) {
         ff = fc_vec3_zero();
         status |= FC_STEP_BAD_INPUT;
     }
-    const bool meas_ok = fc_vec3_is_finite(in->accel_meas_mps2);
+    const bool meas_ok = fc_vec3_is_finite(*in->accel_meas_mps2);
     if (!meas_ok) {
         status |= FC_STEP_BAD_INPUT;
     }
@@ -241,7 +250,7 @@ fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_posi
     }
     /* acceleration feedback (Figure 2.8), frozen while the thrust is limited */
     if (meas_ok && in->accel_meas_ok && !thrust_limited) {
-        const fc_vec3 *meas = &in->accel_meas_mps2;
+        const fc_vec3 *meas = in->accel_meas_mps2;
         fc_vec3 i_a = fc_vec3_make(feedback_axis(ar, fb->x, meas->x, ax_mps2, pc->fb_dt),
                                    feedback_axis(ar, fb->y, meas->y, ay_mps2, pc->fb_dt),
                                    feedback_axis(ar, fb->z, meas->z, ff.z, pc->fb_dt));

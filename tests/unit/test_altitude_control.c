@@ -7,6 +7,7 @@
 #include <setjmp.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "seed44_altitude_loop.h"
@@ -754,10 +755,42 @@ static void test_rho_constants_bounded_params_4(void **state)
     assert_int_equal(fc_altitude_control_init(&c, &q), FC_INIT_BAD_PARAM);
 }
 
+/* fc_altitude_control_step_ref (the controller's step) is the step on the
+ * input with the reference by pointer: the same output, status and state. */
+static void test_step_ref_matches_step(void **state)
+{
+    (void)state;
+    fc_altitude_control a;
+    fc_altitude_control b;
+    fc_altitude_control_params p;
+    fc_altitude_control_variant_params(&p, FC_ALT_VARIANT_SSC_NORM_ADAPTIVE, dt_of(0.002), mass_of(1.5));
+    assert_int_equal(fc_altitude_control_init(&a, &p), FC_INIT_OK);
+    assert_int_equal(fc_altitude_control_init(&b, &p), FC_INIT_OK);
+    for (int k = 0; k < 400; k++) {
+        const double t = 0.002 * (double)k;
+        fc_altitude_control_input in = {0};
+        in.z_m = fc_from_float((float)(1.0 + 0.2 * sin(2.0 * t)), FC_LENGTH_FRAC);
+        in.vz_mps = fc_from_float((float)(0.4 * cos(2.0 * t)), FC_VEL_FRAC);
+        in.reference.z_m = fc_from_float((float)(1.0 - 0.1 * t), FC_LENGTH_FRAC);
+        in.reference.vz_mps = fc_from_float(-0.1f, FC_VEL_FRAC);
+        in.tilt_cos = fc_from_float(0.98f, FC_RATIO_FRAC);
+        in.allocation_saturation = (k % 9 == 0) ? (uint8_t)FC_SAT_THRUST_HIGH : 0u;
+        const fc_altitude_control_input_ref ref = {in.z_m, in.vz_mps, &in.reference, in.tilt_cos,
+                                                   in.allocation_saturation};
+        fc_altitude_control_output out_a;
+        fc_altitude_control_output out_b;
+        memset(&out_a, 0, sizeof out_a);
+        memset(&out_b, 0, sizeof out_b);
+        assert_int_equal(fc_altitude_control_step_ref(&b, &ref, &out_b), fc_altitude_control_step(&a, &in, &out_a));
+        assert_memory_equal(&out_a, &out_b, sizeof out_a);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reference_matches_3_6),
+        cmocka_unit_test(test_step_ref_matches_step),
         cmocka_unit_test(test_reference_restart_and_bad_input),
         cmocka_unit_test(test_discretisation_constants),
         cmocka_unit_test(test_relay_filter_and_prediction_loop_analytic),

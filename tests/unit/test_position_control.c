@@ -359,10 +359,45 @@ static void test_bad_params(void **state)
 #endif
 }
 
+/* fc_position_control_demand_ref (the controller's demand) is the demand on
+ * the input by reference: the same outputs, status and state. */
+static void test_demand_ref_matches_demand(void **state)
+{
+    (void)state;
+    fc_position_control_params p = default_params();
+    p.ki_per_s3 = ratio(0.5);
+    p.accel_fb_gain_per_s = ratio(2.0);
+    fc_position_control a;
+    fc_position_control b;
+    assert_int_equal(fc_position_control_init(&a, &p), FC_INIT_OK);
+    assert_int_equal(fc_position_control_init(&b, &p), FC_INIT_OK);
+    for (int k = 0; k < 300; k++) {
+        const double t = DT * (double)k;
+        fc_position_control_input in = still_input();
+        in.position_m = fc_vec3_make(length(0.3 * sin(t)), length(-0.2 * t), length(1.0));
+        in.velocity_mps = fc_vec3_make(fc_from_float((float)(0.3 * cos(t)), FC_VEL_FRAC),
+                                       fc_from_float(-0.2f, FC_VEL_FRAC), FC_INT(0, VEL));
+        in.position_sp_m = fc_vec3_make(length(1.0), length(2.0 + 60.0 * (double)(k > 150)), length(1.0));
+        in.accel_meas_mps2 = fc_vec3_make(accel(0.1 * sin(3.0 * t)), accel(0.2), accel(-0.1));
+        in.accel_meas_ok = (k % 5) != 0;
+        const fc_position_control_input_ref ref = {&in.position_m,    &in.velocity_mps,   &in.position_sp_m,
+                                                   &in.velocity_sp_mps, &in.accel_ff_mps2, &in.accel_meas_mps2,
+                                                   in.accel_meas_ok};
+        fc_position_control_output out_a;
+        fc_position_control_output out_b;
+        assert_int_equal(fc_position_control_demand_ref(&b, &ref, &out_b), fc_position_control_demand(&a, &in, &out_a));
+        assert_memory_equal(&out_a.thrust_world_n, &out_b.thrust_world_n, sizeof out_a.thrust_world_n);
+        assert_memory_equal(&out_a.accel_des_mps2, &out_b.accel_des_mps2, sizeof out_a.accel_des_mps2);
+    }
+    assert_memory_equal(&a.integral_mps2, &b.integral_mps2, sizeof a.integral_mps2);
+    assert_memory_equal(&a.accel_fb_mps2, &b.accel_fb_mps2, sizeof a.accel_fb_mps2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pd_step_response),
+        cmocka_unit_test(test_demand_ref_matches_demand),
         cmocka_unit_test(test_integral_removes_bias),
         cmocka_unit_test(test_anti_windup),
         cmocka_unit_test(test_integrates_out_of_saturation),

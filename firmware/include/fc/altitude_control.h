@@ -286,6 +286,16 @@ typedef struct fc_altitude_control_input {
     uint8_t allocation_saturation; /* FC_SAT_THRUST_HIGH/LOW from the allocation */
 } fc_altitude_control_input;
 
+/* The same input with the reference by pointer, for a caller that holds it
+ * (the controller): read in place, not copied for each step. */
+typedef struct fc_altitude_control_input_ref {
+    fc_real z_m;                             /* LENGTH: measured altitude */
+    fc_real vz_mps;                          /* VEL: measured vertical speed */
+    const fc_vertical_trajectory *reference; /* z_r, z_r', z_r'' */
+    fc_real tilt_cos;                        /* RATIO: k_h, measured */
+    uint8_t allocation_saturation;           /* FC_SAT_THRUST_HIGH/LOW from the allocation */
+} fc_altitude_control_input_ref;
+
 typedef struct fc_altitude_control_output {
     fc_real16 thrust;            /* NORM16: body thrust command / thrust_authority_n, for the
                                   * allocation (SPEC "Units between modules") */
@@ -449,5 +459,9 @@ void fc_altitude_control_hold(fc_altitude_control *c, bool hold);
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out);
+
+/* fc_altitude_control_step on the input by reference (the same step). */
+fc_step_status fc_altitude_control_step_ref(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
+                                            fc_altitude_control_output *out);
 
 #endif /* FC_ALTITUDE_CONTROL_H */

@@ -72,6 +72,19 @@ typedef struct fc_position_control_input {
     fc_real heading_sin;       /* UNIT: sin psi (only the direction matters, |(c, s)| in [0.5, 1.5]) */
 } fc_position_control_input;
 
+/* The demand half's input by reference, for a caller that holds the vectors
+ * (the controller): read in place, not copied for each step. Units and
+ * meanings as in fc_position_control_input. */
+typedef struct fc_position_control_input_ref {
+    const fc_vec3 *position_m;      /* LENGTH: p, world ENU */
+    const fc_vec3 *velocity_mps;    /* VEL: v, world */
+    const fc_vec3 *position_sp_m;   /* LENGTH: p_sp */
+    const fc_vec3 *velocity_sp_mps; /* VEL: v_sp */
+    const fc_vec3 *accel_ff_mps2;   /* ACCEL: a_ff */
+    const fc_vec3 *accel_meas_mps2; /* ACCEL: measured kinematic acceleration a, world */
+    bool accel_meas_ok;             /* false: no measurement this step */
+} fc_position_control_input_ref;
+
 typedef struct fc_position_control_output {
     fc_vec3 accel_des_mps2;    /* ACCEL: a_des (after the horizontal limit) */
     fc_vec3 thrust_world_n;    /* FORCE: F_req after the limits, world */
@@ -117,6 +130,10 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
  * out->attitude_sp and out->thrust_n are left as they were. */
 fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
                                           fc_position_control_output *out);
+
+/* fc_position_control_demand on the input by reference (the same step). */
+fc_step_status fc_position_control_demand_ref(fc_position_control *pc, const fc_position_control_input_ref *in,
+                                              fc_position_control_output *out);
 
 /* The attitude half: out->attitude_sp and out->thrust_n of out->thrust_world_n
  * (a demand's F_req, F_z > 0) at the heading (cos psi, sin psi) (a bad
