@@ -529,9 +529,11 @@ static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
     const fc_quat16 q16 = fc_quat16_round_unit(*q);
     fc_quat by_hi;
 #if FC_NUMERIC_FIXED
-    fc_arith never = {0u};
     const int q32 = FC_UNIT_FRAC + 2;
-    const fc_vec3 theta32 = fc_vec3_convert(&never, theta, FC_UNIT_FRAC, q32);
+    /* |theta_i| <= 2^-5: at most 2^27 in Q32 */
+    const fc_vec3 theta32 = fc_vec3_make(fc_widen_bounded(theta.x, FC_UNIT_FRAC, q32),
+                                         fc_widen_bounded(theta.y, FC_UNIT_FRAC, q32),
+                                         fc_widen_bounded(theta.z, FC_UNIT_FRAC, q32));
     const fc_vec3_16 hi = {high_half(theta32.x), high_half(theta32.y), high_half(theta32.z)};
     const fc_vec3_16 lo = {low_half(theta32.x), low_half(theta32.y), low_half(theta32.z)};
     fc_quat by_lo;
@@ -550,6 +552,21 @@ static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
 #endif
 }
 
+/* The rare paths of fc_quat_advance_body_rate out of line, their operands
+ * by address: the quaternions they pass by value stay out of the step's
+ * frame. q <- q (x) exp(rate dt / 2) by the exponential map: */
+static __attribute__((noinline)) void advance_by_exponential(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_radps,
+                                                             fc_real half_dt_s)
+{
+    *q = fc_quat_integrate_body_rate(ar, *q, *rate_radps, fc_add(ar, half_dt_s, half_dt_s));
+}
+
+/* q <- p normalised, q kept when p has no direction: */
+static __attribute__((noinline)) void renormalise_into(fc_arith *ar, fc_quat *q, const fc_quat *p)
+{
+    *q = renormalised_or(ar, *p, *q);
+}
+
 void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_radps, fc_real half_dt_s)
 {
     /* the half-angle of the step, w dt / 2; a rate whose half-angle leaves
@@ -560,7 +577,7 @@ void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_rad
                                        fc_mul_inline(&probe, rate_radps->y, half_dt_s, to_unit),
                                        fc_mul_inline(&probe, rate_radps->z, half_dt_s, to_unit));
     if (probe.saturated != 0u || !fc_vec3_within(theta, MAX_HALF_ANGLE_RAD)) {
-        *q = fc_quat_integrate_body_rate(ar, *q, *rate_radps, fc_add(ar, half_dt_s, half_dt_s));
+        advance_by_exponential(ar, q, rate_radps, half_dt_s);
         return;
     }
     fc_quat p;
@@ -568,7 +585,7 @@ void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_rad
     fc_quat16 p16;
     fc_real16 e;
     if (!half_length_error(&p, &p16, &e)) {
-        *q = renormalised_or(ar, p, *q);
+        renormalise_into(ar, q, &p);
         return;
     }
     /* p (1 - e) = p - p16 e: the product of the rounded p is off by
