@@ -298,14 +298,16 @@ static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
 /* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third
  * row of the rotation matrix of q, from q rounded to UNIT16 (products exact
  * in UNIT16_SQ, each component rounded once; each sum of two products is
- * within 1/2 + 2^-13, so twice it fits: no saturation). */
-static fc_vec3_16 estimated_up_body(fc_arith *ar, fc_quat16 q)
+ * within 1/2 + 2^-13, so twice it fits, and x^2 + y^2 <= 1 + 2^-12: every
+ * component within +-(1 + 2^-11), far inside UNIT16, rounded by fc_round16
+ * without a saturation test). */
+static fc_vec3_16 estimated_up_body(fc_quat16 q)
 {
     const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
     const fc_vec3_16 up = {
-        fc_narrow16(ar, 2 * fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y), sq, to),                    /* 2(xz - wy) */
-        fc_narrow16(ar, 2 * fc_dot2_16(q.y, q.z, q.w, q.x), sq, to),                              /* 2(yz + wx) */
-        fc_narrow16(ar, FC_INT(1, UNIT16_SQ) - 2 * fc_sumsq2_16(q.x, q.y), sq, to)};               /* 1 - 2(x^2 + y^2) */
+        fc_round16(2 * fc_dot2_16(q.x, q.z, fc_neg16(q.w), q.y), sq, to),                    /* 2(xz - wy) */
+        fc_round16(2 * fc_dot2_16(q.y, q.z, q.w, q.x), sq, to),                              /* 2(yz + wx) */
+        fc_round16(FC_INT(1, UNIT16_SQ) - 2 * fc_sumsq2_16(q.x, q.y), sq, to)};               /* 1 - 2(x^2 + y^2) */
     return up;
 }
 
@@ -397,11 +399,11 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
         weight = accel_weight_and_direction(est, accel_mps2, &up_measured);
     }
     if (weight > FC_INT(0, RATIO)) {
-        const fc_vec3_16 up_estimated = estimated_up_body(ar, fc_quat16_round_unit(est->attitude));
+        const fc_vec3_16 up_estimated = estimated_up_body(fc_quat16_round_unit(est->attitude));
         /* e = v_a x v_hat; the PI action of w e, weighted by the trust */
         const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
         const fc_vec3_16 e = fc_vec3_16_cross(ar, up_measured, up_estimated, sq, to);
-        const fc_real16 weight16 = fc_narrow16(ar, weight, FC_RATIO_FRAC, FC_UNIT16_FRAC);
+        const fc_real16 weight16 = fc_round16(weight, FC_RATIO_FRAC, FC_UNIT16_FRAC); /* in (0, 1]: no saturation */
         fc_attitude_correct_by(est, &rate, fc_vec3_16_scale(ar, e, weight16, sq, to));
     }
     if (est->heading_steps_left > 0u) {
