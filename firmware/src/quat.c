@@ -554,15 +554,16 @@ static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
 
 /* The rare paths of fc_quat_advance_body_rate out of line, their operands
  * by address: the quaternions they pass by value stay out of the step's
- * frame. q <- q (x) exp(rate dt / 2) by the exponential map: */
-static __attribute__((noinline)) void advance_by_exponential(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_radps,
-                                                             fc_real half_dt_s)
+ * frame; cold, so that the step's code is laid out for the common path.
+ * q <- q (x) exp(rate dt / 2) by the exponential map: */
+static __attribute__((noinline, cold)) void advance_by_exponential(fc_arith *ar, fc_quat *q,
+                                                                   const fc_vec3 *rate_radps, fc_real half_dt_s)
 {
     *q = fc_quat_integrate_body_rate(ar, *q, *rate_radps, fc_add(ar, half_dt_s, half_dt_s));
 }
 
 /* q <- p normalised, q kept when p has no direction: */
-static __attribute__((noinline)) void renormalise_into(fc_arith *ar, fc_quat *q, const fc_quat *p)
+static __attribute__((noinline, cold)) void renormalise_into(fc_arith *ar, fc_quat *q, const fc_quat *p)
 {
     *q = renormalised_or(ar, *p, *q);
 }
