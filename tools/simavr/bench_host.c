@@ -277,10 +277,7 @@ int main(int argc, char **argv)
     uint16_t prev_opcode = 0u;
 
     static elf_firmware_t fw;
-    if (!sim_read_atmega2560(elf_path, &fw)) {
-        return 2;
-    }
-    avr_t *avr = sim_start(&fw);
+    avr_t *avr = sim_load_atmega2560(elf_path, &fw);
     if (avr == NULL) {
         return 2;
     }

@@ -45,10 +45,7 @@ int main(int argc, char **argv)
         return 2;
     }
     static elf_firmware_t fw;
-    if (!sim_read_atmega2560(elf_path, &fw)) {
-        return 2;
-    }
-    avr_t *avr = sim_start(&fw);
+    avr_t *avr = sim_load_atmega2560(elf_path, &fw);
     if (avr == NULL) {
         return 2;
     }

@@ -166,6 +166,14 @@ static inline avr_t *sim_start(elf_firmware_t *fw)
     return avr;
 }
 
+/* The ATmega2560 image at path read into *fw (which must outlive the core)
+ * and started (sim_read_atmega2560, sim_start); NULL, said on stderr, if
+ * either fails. */
+static inline avr_t *sim_load_atmega2560(const char *path, elf_firmware_t *fw)
+{
+    return sim_read_atmega2560(path, fw) ? sim_start(fw) : NULL;
+}
+
 /* A function timed from outside by its addresses: a call runs from the PC
  * reaching its entry to the PC reaching the return address the CALL pushed,
  * with the stack pointer back to where it was at the entry (so a recursive

@@ -72,10 +72,7 @@ static int take_snapshot(const char *path, uint8_t **bytes, uint32_t *size)
         return 2;
     }
     static elf_firmware_t fw;
-    if (!sim_read_atmega2560(path, &fw)) {
-        return 2;
-    }
-    avr_t *avr = sim_start(&fw);
+    avr_t *avr = sim_load_atmega2560(path, &fw);
     if (avr == NULL) {
         return 2;
     }
@@ -223,10 +220,7 @@ static int check_boot(const char *path, const uint8_t *bytes, uint32_t size)
         return 1;
     }
     static elf_firmware_t fw;
-    if (!sim_read_atmega2560(path, &fw)) {
-        return 2;
-    }
-    avr_t *avr = sim_start(&fw);
+    avr_t *avr = sim_load_atmega2560(path, &fw);
     if (avr == NULL) {
         return 2;
     }
