@@ -164,7 +164,6 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->ki_dt16 = 0;
     est->ki_dt16_frac = FC_UNIT16_FRAC;
     est->inv_band_s2pm = FC_INT(0, RATIO);
-    est->accel_trusted_max_mps2 = FC_INT(0, ACCEL);
     est->inv_alignment_samples = FC_INT(0, UNIT);
     est->gyro_bias_limit_fine = FC_INT(0, UNIT);
     est->half_dt_s = FC_INT(0, DT);
@@ -211,7 +210,6 @@ fc_init_result fc_attitude_estimator_init(fc_attitude_estimator *est,
     est->kp16_radps = fc_narrow16(&ar, kp, FC_RATE_FRAC, FC_RATE16_FRAC); /* Kp <= 20 < 32 */
     set_ki_dt16(est, ki_dt);
     est->inv_band_s2pm = inv_band;
-    est->accel_trusted_max_mps2 = fc_add(&ar, p->gravity_mps2, p->accel_trust_band_mps2);
     est->inv_alignment_samples = inv_n;
     est->gyro_bias_limit_fine = bias_limit;
     est->half_dt_s = fc_mul(&ar, p->dt_s, FC_C(0.5f, UNIT), FC_SHIFT(DT, UNIT, DT));
@@ -360,31 +358,52 @@ static fc_vec3 bias_step(fc_arith *ar, const fc_attitude_estimator *est, fc_vec3
 
 /* The PI action (attitude_heading.h) in 16 x 16-bit products: Kp we exact
  * in RATE, Ki dt we rounded to the bias's Q30 (bias_step). One copy for the
- * tilt's and the heading's errors. */
+ * tilt's and the heading's errors. The sums cannot leave their formats (the
+ * bounds of the table at the top: the rate below 128 after both actions,
+ * |b - Ki dt we| < 2), so they are formed without a saturation test. */
 void fc_attitude_correct_by(fc_attitude_estimator *est, fc_vec3 *rate_radps, fc_vec3_16 we)
 {
     fc_arith *ar = &est->ar;
     const fc_real16 kp = est->kp16_radps;
-    rate_radps->x = fc_add_inline(ar, rate_radps->x, fc_mul16(we.x, kp));
-    rate_radps->y = fc_add_inline(ar, rate_radps->y, fc_mul16(we.y, kp));
-    rate_radps->z = fc_add_inline(ar, rate_radps->z, fc_mul16(we.z, kp));
-    est->gyro_bias_fine = fc_vec3_clamp_each(ar, fc_vec3_sub(ar, est->gyro_bias_fine, bias_step(ar, est, we)),
-                                             est->gyro_bias_limit_fine);
+    rate_radps->x += fc_mul16(we.x, kp);
+    rate_radps->y += fc_mul16(we.y, kp);
+    rate_radps->z += fc_mul16(we.z, kp);
+    const fc_vec3 step = bias_step(ar, est, we);
+    const fc_vec3 bias = fc_vec3_make(est->gyro_bias_fine.x - step.x, est->gyro_bias_fine.y - step.y,
+                                      est->gyro_bias_fine.z - step.z);
+    est->gyro_bias_fine = fc_vec3_clamp_each(ar, bias, est->gyro_bias_limit_fine);
     est->gyro_bias_radps = fc_vec3_convert(ar, est->gyro_bias_fine, FC_UNIT_FRAC, FC_RATE_FRAC);
 }
 
 /* The trust of a valid accelerometer sample and, where it is above 0, its
- * direction (UNIT16): a component beyond g + band makes |a| leave the band
- * (no trust), and then no direction is formed. */
+ * direction (UNIT16). No test of the components first: one beyond g + band
+ * makes |a| leave the band, and the trust is 0 all the same (|a| of a valid
+ * sample, below 444, does not saturate its ACCEL length). */
 static fc_real accel_weight_and_direction(fc_attitude_estimator *est, const fc_vec3 *accel_mps2,
                                           fc_vec3_16 *up_measured)
 {
     fc_real norm_mps2 = FC_INT(0, ACCEL);
-    if (!fc_vec3_within(*accel_mps2, est->accel_trusted_max_mps2) ||
-        !fc_vec3_direction16(&est->ar, *accel_mps2, up_measured, &norm_mps2)) {
+    if (!fc_vec3_direction16(&est->ar, *accel_mps2, up_measured, &norm_mps2)) {
         return FC_INT(0, RATIO);
     }
     return accel_trust(est, norm_mps2);
+}
+
+/* w e, e = v_a x v_hat (UNIT16): each component of e the difference of two
+ * exact products rounded once, then w e rounded once. Both are bounded far
+ * inside UNIT16 ([-2, 2)): |e_i| <= |v_a| |v_hat| <= (1 + 2^-13)(1 + 2^-11)
+ * (fc_vec3_direction16's components, estimated_up_body's) and w <= 1, so
+ * the roundings are fc_vec3_16_cross's and fc_vec3_16_scale's without their
+ * saturation tests. */
+static fc_vec3_16 weighted_tilt_error(const fc_vec3_16 *a, const fc_vec3_16 *b, fc_real16 weight16)
+{
+    const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
+    const fc_real16 ex = fc_round16(fc_dot2_16(a->y, b->z, fc_neg16(a->z), b->y), sq, to);
+    const fc_real16 ey = fc_round16(fc_dot2_16(a->z, b->x, fc_neg16(a->x), b->z), sq, to);
+    const fc_real16 ez = fc_round16(fc_dot2_16(a->x, b->y, fc_neg16(a->y), b->x), sq, to);
+    const fc_vec3_16 we = {fc_round16(fc_mul16(ex, weight16), sq, to), fc_round16(fc_mul16(ey, weight16), sq, to),
+                           fc_round16(fc_mul16(ez, weight16), sq, to)};
+    return we;
 }
 
 /* One corrected integration step, with the accelerometer's sample when
@@ -400,11 +419,8 @@ static fc_real correct_and_integrate(fc_attitude_estimator *est, bool accel_ok, 
     }
     if (weight > FC_INT(0, RATIO)) {
         const fc_vec3_16 up_estimated = estimated_up_body(fc_quat16_round_unit(est->attitude));
-        /* e = v_a x v_hat; the PI action of w e, weighted by the trust */
-        const int sq = FC_UNIT16_SQ_FRAC, to = FC_UNIT16_FRAC;
-        const fc_vec3_16 e = fc_vec3_16_cross(ar, up_measured, up_estimated, sq, to);
         const fc_real16 weight16 = fc_round16(weight, FC_RATIO_FRAC, FC_UNIT16_FRAC); /* in (0, 1]: no saturation */
-        fc_attitude_correct_by(est, &rate, fc_vec3_16_scale(ar, e, weight16, sq, to));
+        fc_attitude_correct_by(est, &rate, weighted_tilt_error(&up_measured, &up_estimated, weight16));
     }
     if (est->heading_steps_left > 0u) {
         /* the same actions for the heading's w_h e_h (attitude_heading.c) */
@@ -453,7 +469,12 @@ static sample_check check_sample(fc_attitude_estimator *est, const fc_imu_sample
     }
     c.gyro_ok = gyro_valid(est, &imu->gyro_radps);
     if (c.gyro_ok) {
-        est->rate_radps = fc_vec3_sub(&est->ar, imu->gyro_radps, est->gyro_bias_radps);
+        /* |gyro| <= gyro_range <= 100 and |b| <= 0.8: the difference stays
+         * inside RATE, no saturation to test */
+        const fc_vec3 *gyro = &imu->gyro_radps, *bias = &est->gyro_bias_radps;
+        est->rate_radps.x = gyro->x - bias->x;
+        est->rate_radps.y = gyro->y - bias->y;
+        est->rate_radps.z = gyro->z - bias->z;
     }
     c.accel_ok = accel_valid(est, &imu->accel_mps2);
     return c;

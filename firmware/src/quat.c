@@ -492,28 +492,50 @@ static bool half_length_error(const fc_quat *p, fc_quat16 *high, fc_real16 *erro
 }
 #endif
 
-/* q (x) [0, v] = [-v . w, s w + v x w] (2.8) for 16-bit q and v into *out:
- * each sum exact, in the format whose FRAC is the sum of the operands'
- * (|q| <= 1 + 2^-13, |v_i| <= 2^15 LSB: every sum below 2^30). Operands
- * by address, one component at a time: the ATmega keeps the products in
- * registers. */
-static inline __attribute__((always_inline)) void quat16_times_vector16(const fc_quat16 *q, const fc_vec3_16 *v,
-                                                                       fc_quat *out)
+/* The components of q (x) [0, v] = [-v . w, s w + v x w] (2.8) for 16-bit
+ * q and v: each sum exact, in the format whose FRAC is the sum of the
+ * operands' (|q| <= 1 + 2^-13, |v_i| <= 2^15 LSB: every sum below 2^30).
+ * Operands by address, one component at a time: the ATmega keeps the
+ * products in registers. */
+static inline __attribute__((always_inline)) fc_real times_vector16_w(const fc_quat16 *q, const fc_vec3_16 *v)
 {
-    out->w = -(fc_dot2_16(q->x, v->x, q->y, v->y) + fc_mul16(q->z, v->z));
-    out->x = fc_dot2_16(q->w, v->x, q->y, v->z) - fc_mul16(q->z, v->y);
-    out->y = fc_dot2_16(q->w, v->y, q->z, v->x) - fc_mul16(q->x, v->z);
-    out->z = fc_dot2_16(q->w, v->z, q->x, v->y) - fc_mul16(q->y, v->x);
+    return -(fc_dot2_16(q->x, v->x, q->y, v->y) + fc_mul16(q->z, v->z));
+}
+
+static inline __attribute__((always_inline)) fc_real times_vector16_x(const fc_quat16 *q, const fc_vec3_16 *v)
+{
+    return fc_dot2_16(q->w, v->x, q->y, v->z) - fc_mul16(q->z, v->y);
+}
+
+static inline __attribute__((always_inline)) fc_real times_vector16_y(const fc_quat16 *q, const fc_vec3_16 *v)
+{
+    return fc_dot2_16(q->w, v->y, q->z, v->x) - fc_mul16(q->x, v->z);
+}
+
+static inline __attribute__((always_inline)) fc_real times_vector16_z(const fc_quat16 *q, const fc_vec3_16 *v)
+{
+    return fc_dot2_16(q->w, v->z, q->x, v->y) - fc_mul16(q->y, v->x);
 }
 
 #if FC_NUMERIC_FIXED
-/* q (x) [0, v] and q (x) [0, u] (add_increment's two parts of theta) in one
- * function: one call and one set of register saves for both */
-static __attribute__((noinline)) void quat16_times_vector16_pair(const fc_quat16 *q, const fc_vec3_16 *v,
-                                                                 const fc_vec3_16 *u, fc_quat *out_v, fc_quat *out_u)
+/* q_i + (q16 (x) [0, hi])_i + (q16 (x) [0, lo])_i: the first product UNIT
+ * itself (UNIT16 x Q16), the second (UNIT16 x Q32, Q46) rounded to UNIT by
+ * taking its high half */
+static inline __attribute__((always_inline)) fc_real split_sum(fc_real q_i, fc_real by_hi, fc_real by_lo)
 {
-    quat16_times_vector16(q, v, out_v);
-    quat16_times_vector16(q, u, out_u);
+    return q_i + by_hi + fc_round16(by_lo, FC_UNIT16_FRAC + FC_UNIT_FRAC + 2, FC_UNIT_FRAC);
+}
+
+/* p = q + q16 (x) [0, theta] for theta = 2^16 hi + lo in Q32 (add_increment),
+ * one component of p at a time: its six products and its sum stay in
+ * registers, and only p is stored */
+static __attribute__((noinline)) void add_split_increment(const fc_quat *q, const fc_quat16 *q16,
+                                                          const fc_vec3_16 *hi, const fc_vec3_16 *lo, fc_quat *p)
+{
+    p->w = split_sum(q->w, times_vector16_w(q16, hi), times_vector16_w(q16, lo));
+    p->x = split_sum(q->x, times_vector16_x(q16, hi), times_vector16_x(q16, lo));
+    p->y = split_sum(q->y, times_vector16_y(q16, hi), times_vector16_y(q16, lo));
+    p->z = split_sum(q->z, times_vector16_z(q16, hi), times_vector16_z(q16, lo));
 }
 #endif
 
@@ -527,7 +549,6 @@ static __attribute__((noinline)) void quat16_times_vector16_pair(const fc_quat16
 static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
 {
     const fc_quat16 q16 = fc_quat16_round_unit(*q);
-    fc_quat by_hi;
 #if FC_NUMERIC_FIXED
     const int q32 = FC_UNIT_FRAC + 2;
     /* |theta_i| <= 2^-5: at most 2^27 in Q32 */
@@ -536,19 +557,12 @@ static void add_increment(const fc_quat *q, fc_vec3 theta, fc_quat *p)
                                          fc_widen_bounded(theta.z, FC_UNIT_FRAC, q32));
     const fc_vec3_16 hi = {high_half(theta32.x), high_half(theta32.y), high_half(theta32.z)};
     const fc_vec3_16 lo = {low_half(theta32.x), low_half(theta32.y), low_half(theta32.z)};
-    fc_quat by_lo;
-    quat16_times_vector16_pair(&q16, &hi, &lo, &by_hi, &by_lo); /* UNIT16 x Q16: UNIT; x Q32: UNIT 2^16 */
-    const int from_lo = FC_UNIT16_FRAC + q32;
-    p->w = q->w + by_hi.w + fc_round16(by_lo.w, from_lo, FC_UNIT_FRAC);
-    p->x = q->x + by_hi.x + fc_round16(by_lo.x, from_lo, FC_UNIT_FRAC);
-    p->y = q->y + by_hi.y + fc_round16(by_lo.y, from_lo, FC_UNIT_FRAC);
-    p->z = q->z + by_hi.z + fc_round16(by_lo.z, from_lo, FC_UNIT_FRAC);
+    add_split_increment(q, &q16, &hi, &lo, p);
 #else
-    quat16_times_vector16(&q16, &theta, &by_hi);
-    p->w = q->w + by_hi.w;
-    p->x = q->x + by_hi.x;
-    p->y = q->y + by_hi.y;
-    p->z = q->z + by_hi.z;
+    p->w = q->w + times_vector16_w(&q16, &theta);
+    p->x = q->x + times_vector16_x(&q16, &theta);
+    p->y = q->y + times_vector16_y(&q16, &theta);
+    p->z = q->z + times_vector16_z(&q16, &theta);
 #endif
 }
 
@@ -587,6 +601,10 @@ void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_rad
     fc_real16 e;
     if (!half_length_error(&p, &p16, &e)) {
         renormalise_into(ar, q, &p);
+        return;
+    }
+    if (e == FC_INT16(0, UNIT16)) {
+        *q = p; /* unit to the resolution of e (a slow turn's step): p - p16 0 */
         return;
     }
     /* p (1 - e) = p - p16 e: the product of the rounded p is off by

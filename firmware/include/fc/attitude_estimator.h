@@ -125,8 +125,6 @@ typedef struct fc_attitude_estimator {
                                         * step (rad/s) per unit of |e| */
     uint8_t ki_dt16_frac;              /* 26, 22, 18 or 14: the finest that holds Ki dt */
     fc_real inv_band_s2pm;             /* RATIO: 1 / accel_trust_band (<= 100) */
-    fc_real accel_trusted_max_mps2;    /* ACCEL: g + band; a sample with a component beyond
-                                        * it has no trust (no direction formed) */
     fc_real inv_alignment_samples;     /* UNIT: 1 / alignment_samples */
     fc_real gyro_bias_limit_fine;      /* UNIT (Q30 holding rad/s): the bias clamp */
     fc_real half_dt_s;                 /* DT: dt / 2, the integration's factor */
