@@ -279,18 +279,21 @@ static bool accel_valid(const fc_attitude_estimator *est, const fc_vec3 *accel)
 }
 
 
-/* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1]. */
+/* Trust of the accelerometer (RATIO): 1 - ||a| - g| / band, clamped to [0, 1].
+ * |a| <= 444 and g <= 100: |a| - g and its magnitude stay inside ACCEL, and
+ * 1 - falloff inside RATIO (below), with no saturation to test. */
 static fc_real accel_trust(fc_attitude_estimator *est, fc_real norm_mps2)
 {
     fc_arith *ar = &est->ar;
-    const fc_real deviation = fc_abs(ar, fc_sub_inline(ar, norm_mps2, est->p.gravity_mps2));
+    const fc_real difference = norm_mps2 - est->p.gravity_mps2;
+    const fc_real deviation = difference < FC_INT(0, ACCEL) ? -difference : difference;
     if (!(deviation < est->p.accel_trust_band_mps2) || norm_mps2 < MIN_DIRECTION_NORM_MPS2) {
         return FC_INT(0, RATIO);
     }
-    /* deviation < band, so the product stays below 1; inline: a product of
-     * every step */
+    /* deviation < band, so the product stays below 1 (but for the rounding
+     * of 1/band); inline: a product of every step */
     const fc_real falloff = fc_mul_inline(ar, deviation, est->inv_band_s2pm, FC_SHIFT(ACCEL, RATIO, RATIO));
-    return fc_clamp(fc_sub_inline(ar, FC_INT(1, RATIO), falloff), FC_INT(0, RATIO), FC_INT(1, RATIO));
+    return fc_clamp(FC_INT(1, RATIO) - falloff, FC_INT(0, RATIO), FC_INT(1, RATIO));
 }
 
 /* v_hat = R(q)^T e_z, the world's up direction seen in the body: the third

@@ -529,8 +529,9 @@ static inline __attribute__((always_inline)) fc_real split_sum(fc_real q_i, fc_r
 /* p = q + q16 (x) [0, theta] for theta = 2^16 hi + lo in Q32 (add_increment),
  * one component of p at a time: its six products and its sum stay in
  * registers, and only p is stored */
-static __attribute__((noinline)) void add_split_increment(const fc_quat *q, const fc_quat16 *q16,
-                                                          const fc_vec3_16 *hi, const fc_vec3_16 *lo, fc_quat *p)
+static inline __attribute__((always_inline)) void add_split_increment(const fc_quat *q, const fc_quat16 *q16,
+                                                                     const fc_vec3_16 *hi, const fc_vec3_16 *lo,
+                                                                     fc_quat *p)
 {
     p->w = split_sum(q->w, times_vector16_w(q16, hi), times_vector16_w(q16, lo));
     p->x = split_sum(q->x, times_vector16_x(q16, hi), times_vector16_x(q16, lo));
@@ -604,7 +605,12 @@ void fc_quat_advance_body_rate(fc_arith *ar, fc_quat *q, const fc_vec3 *rate_rad
         return;
     }
     if (e == FC_INT16(0, UNIT16)) {
-        *q = p; /* unit to the resolution of e (a slow turn's step): p - p16 0 */
+        /* unit to the resolution of e (a slow turn's step): p - p16 0; by
+         * component (a struct copy is a byte loop at -Os on the ATmega) */
+        q->w = p.w;
+        q->x = p.x;
+        q->y = p.y;
+        q->z = p.z;
         return;
     }
     /* p (1 - e) = p - p16 e: the product of the rounded p is off by

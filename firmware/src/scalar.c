@@ -582,7 +582,8 @@ void fc_unit2_16(fc_arith *ar, fc_real16 a, fc_real16 b, fc_real n_sq, fc_real16
 /* M_i y (Q30, |.| <= 2^30 (1 + 3e-5): no saturation) rounded to UNIT16, half
  * up, halved first for h = 1: the rounding of floor(M_i y / 2) is
  * floor((M_i y + 2^16) / 2^17) */
-static fc_real16 direction_component(int16_t m_i, uint16_t y_q15, bool halve)
+static inline __attribute__((always_inline)) fc_real16 direction_component(int16_t m_i, uint16_t y_q15,
+                                                                        bool halve)
 {
     const int32_t m_y = fc_mul16_unsigned(y_q15, m_i); /* Q15 x Q15 = Q30 */
     if (halve) {
@@ -599,7 +600,7 @@ static uint32_t magnitude_u32(fc_real x)
 
 /* The top half of a shifted component rounded to nearest (half up; a
  * positive one rounding up to 2^15 held at 2^15 - 1) */
-static int16_t direction_mantissa(uint32_t shifted)
+static inline __attribute__((always_inline)) int16_t direction_mantissa(uint32_t shifted)
 {
     const uint32_t half = (uint32_t)1u << 15;
     const uint32_t positive_max = (uint32_t)INT32_MAX;
@@ -685,7 +686,9 @@ bool fc_direction16(fc_arith *ar, fc_real a, fc_real b, fc_real c, fc_real16 dir
         *length = FC_REAL_MAX;
         return true;
     }
-    *length = (fc_real)shl_u32(length_q4, shift);
+    /* shift in 1..12; for 5..7 bits a byte left and the rest back right, the
+     * shorter loop (length_q4 2^8 < 2^28: nothing lost) */
+    *length = (fc_real)(shift > 4 && shift < 8 ? shr_u32(length_q4 << 8, 8 - shift) : shl_u32(length_q4, shift));
     return true;
 }
 
