@@ -679,8 +679,9 @@ static bool interval_feasible(const scale_interval *s)
 }
 
 /* What the desaturation works with, per rotor (the entries from n on are
- * zeros, never read): the parts of v = t P_0 + a R + b Y, exact in PX, and
- * what the collective shift forms from them. */
+ * neither written nor read: every loop runs to the one n, passed down, which
+ * the analysers follow): the parts of v = t P_0 + a R + b Y, exact in PX,
+ * and what the collective shift forms from them. */
 typedef struct rotor_parts {
     fc_real v;              /* PX: v_i without yaw, x_0 P_i0 + R_i (after a shift t P_i0 + a R_i) */
     fc_real yaw;            /* PX: Y_i = P_i3 x_3 */
@@ -743,12 +744,11 @@ static fc_real16 shift_rate(fc_arith *ar, const fc_allocation_rotor *r, fc_real1
  * values; only then are both sides narrowed to PAIR16: s_j - s_i of two
  * NORM16 values fits it, and a high_j - low_i beyond +-4 is beyond every
  * |s_j - s_i| and saturates without changing the room (not reported). */
-static fc_real16 roll_pitch_room(fc_allocation *a, const rotor_parts *parts)
+static fc_real16 roll_pitch_room(const fc_allocation *a, int n, const rotor_parts *parts)
 {
     fc_arith pair_ar = {0u};
     scale_interval fit;
     interval_set_full(&fit);
-    const int n = a->rotor_count;
     const fc_allocation_rotor *rj = a->rotor;
     const rotor_parts *qj = parts;
     for (int j = 0; j < n; j++, rj++, qj++) {
@@ -886,13 +886,12 @@ static uint8_t demanded_speeds(fc_allocation *a, const fc_real16 *x, fc_real *v_
  * as demanded_speeds forms them; returns the room for the yaw scale b that
  * the rotors of `outside` leave (bit i for rotor i; the others fit at b = 0
  * and b = 1, so at every b between). */
-static scale_interval split_demand(fc_allocation *a, const fc_real16 *x, uint8_t outside, rotor_parts *parts)
+static scale_interval split_demand(fc_allocation *a, int n, const fc_real16 *x, uint8_t outside, rotor_parts *parts)
 {
     fc_arith *ar = &a->ar;
     fc_arith slack_ar = {0u};
     scale_interval room;
     interval_set_full(&room);
-    const int n = a->rotor_count;
     for (int i = 0; i < n; i++) {
         const fc_allocation_rotor *r = &a->rotor[i];
         rotor_parts *q = &parts[i];
@@ -905,17 +904,6 @@ static scale_interval split_demand(fc_allocation *a, const fc_real16 *x, uint8_t
         }
         outside = (uint8_t)(outside >> 1);
     }
-    for (int i = n; i < FC_MAX_ROTORS; i++) {
-        /* never read; stores (not a memset) for the analysers */
-        rotor_parts *q = &parts[i];
-        q->v = FC_INT(0, PX);
-        q->yaw = FC_INT(0, PX);
-        q->roll_pitch = FC_INT(0, PX);
-        q->low = FC_INT(0, RATIO);
-        q->high = FC_INT(0, RATIO);
-        q->roll_pitch16 = FC_INT16(0, ROTOR16);
-        q->rate16 = FC_INT16(0, NORM16);
-    }
     return room;
 }
 
@@ -926,10 +914,10 @@ static scale_interval split_demand(fc_allocation *a, const fc_real16 *x, uint8_t
  * [low_i - a s_i, high_i - a s_i], s_i = q_i R_i (derive_inverse). Returns
  * the FC_SAT_* bits of a and t; the room for the yaw scale b that the
  * shifted parts leave goes to room (every rotor, as each v is formed). */
-static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_parts *parts, scale_interval *room)
+static uint8_t shift_collective(fc_allocation *a, int n, const fc_real16 *x, rotor_parts *parts,
+                                scale_interval *room)
 {
     fc_arith *ar = &a->ar;
-    const int n = a->rotor_count;
     uint8_t saturation = 0u;
     /* the interval of t at a = 1; when it is empty some pair binds and a < 1
      * (a pair that is violated only at a = 0 leaves a = 1: roll_pitch_room
@@ -952,7 +940,7 @@ static uint8_t shift_collective(fc_allocation *a, const fc_real16 *x, rotor_part
     }
     fc_real16 roll_pitch_scale = FC_INT16(1, UNIT16);
     if (t_low > t_high) {
-        roll_pitch_scale = roll_pitch_room(a, parts);
+        roll_pitch_scale = roll_pitch_room(a, n, parts);
     }
     const bool scaled = roll_pitch_scale < FC_INT16(1, UNIT16);
     if (scaled) {
@@ -1025,11 +1013,12 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
     fc_arith *ar = &a->ar;
     uint8_t saturation = 0u;
     /* 1. thrust and roll/pitch as demanded: yaw gives what room it must */
-    scale_interval room = split_demand(a, x, outside, parts);
+    const int n = a->rotor_count;
+    scale_interval room = split_demand(a, n, x, outside, parts);
     if (!interval_feasible(&room)) {
         /* 3. roll/pitch last, 2. then the collective, and the room of b
          * there (b = 0 fits by construction: only its upper bounds matter) */
-        saturation |= shift_collective(a, x, parts, &room);
+        saturation |= shift_collective(a, n, x, parts, &room);
     }
     /* 1. yaw: the largest b that fits; b = 1 keeps Y exact (no product) */
     const fc_real16 yaw_scale = ratio_unit(room.high);
@@ -1039,7 +1028,7 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
     }
     const fc_allocation_rotor *r = a->rotor;
     const rotor_parts *q = parts;
-    for (uint8_t i = a->rotor_count; i != 0u; i--) {
+    for (int i = 0; i < n; i++) {
         fc_real yaw = q->yaw;
         if (yaw_scaled) {
             const fc_real16 yaw16 = fc_narrow16(ar, yaw, FC_PX_FRAC, FC_ROTOR16_FRAC);
@@ -1059,7 +1048,7 @@ static __attribute__((noinline)) uint8_t desaturation_steps(fc_allocation *a, co
 static __attribute__((noinline)) uint8_t desaturate(fc_allocation *a, const fc_real16 *x, uint8_t outside,
                                                     fc_real *v_out)
 {
-    rotor_parts parts[FC_MAX_ROTORS]; /* written by split_demand, all of them */
+    rotor_parts parts[FC_MAX_ROTORS]; /* the first rotor_count written by split_demand */
     return desaturation_steps(a, x, outside, parts, v_out);
 }
 
