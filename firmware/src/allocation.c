@@ -686,8 +686,6 @@ typedef struct rotor_parts {
     fc_real v;              /* PX: v_i without yaw, x_0 P_i0 + R_i (after a shift t P_i0 + a R_i) */
     fc_real yaw;            /* PX: Y_i = P_i3 x_3 */
     fc_real roll_pitch;     /* PX: R_i = P_i1 x_1 + P_i2 x_2 (shift) */
-    fc_real low;            /* RATIO: the bounds of t at a = 1, low_i - s_i and high_i - s_i (shift) */
-    fc_real high;
     fc_real16 roll_pitch16; /* ROTOR16: R_i (shift) */
     fc_real16 rate16;       /* NORM16: s_i = q_i R_i (shift) */
 } rotor_parts;
@@ -755,18 +753,19 @@ static fc_real16 roll_pitch_room(const fc_allocation *a, int n, const rotor_part
         if ((rj->flags & ROTOR_SHIFTS) == 0u) {
             continue;
         }
-        const fc_real high_j = qj->high;
         const fc_real shift_high_j = rj->shift_high;
         const fc_real rate_j = fc_widen16(qj->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+        const fc_real high_j = shift_high_j - rate_j; /* exact, as in shift_collective */
         const fc_allocation_rotor *ri = a->rotor;
         const rotor_parts *qi = parts;
         for (int i = 0; i < n; i++, ri++, qi++) {
             if (i == j || (ri->flags & ROTOR_SHIFTS) == 0u) {
                 continue;
             }
-            if (high_j < qi->low || shift_high_j < ri->shift_low) {
+            const fc_real rate_i = fc_widen16(qi->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+            if (high_j < ri->shift_low - rate_i || shift_high_j < ri->shift_low) {
                 /* exact: |s_j - s_i| < 4 and |high_j - low_i| <= 64 (RATIO) */
-                const fc_real c = rate_j - fc_widen16(qi->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
+                const fc_real c = rate_j - rate_i;
                 const fc_real e = shift_high_j - ri->shift_low;
                 interval_constrain(&fit, fc_narrow16(&pair_ar, c, FC_RATIO_FRAC, FC_PAIR16_FRAC),
                                    fc_narrow16(&pair_ar, e, FC_RATIO_FRAC, FC_PAIR16_FRAC));
@@ -930,12 +929,11 @@ static uint8_t shift_collective(fc_allocation *a, int n, const fc_real16 *x, rot
         q->roll_pitch16 = fc_narrow16(ar, q->roll_pitch, FC_PX_FRAC, FC_ROTOR16_FRAC);
         q->rate16 = shift_rate(ar, r, q->roll_pitch16); /* 0 for a rotor that does not shift */
         const fc_real rate = fc_widen16(q->rate16, FC_NORM16_FRAC, FC_RATIO_FRAC);
-        /* exact: |low_i|, |high_i| <= |q_i| <= 32 and |s_i| < 2 (RATIO) */
-        q->low = r->shift_low - rate;
-        q->high = r->shift_high - rate;
         if ((r->flags & ROTOR_SHIFTS) != 0u) {
-            t_low = fc_max(t_low, q->low);
-            t_high = fc_min(t_high, q->high);
+            /* the bounds of t at a = 1, low_i - s_i and high_i - s_i; exact:
+             * |low_i|, |high_i| <= |q_i| <= 32 and |s_i| < 2 (RATIO) */
+            t_low = fc_max(t_low, r->shift_low - rate);
+            t_high = fc_min(t_high, r->shift_high - rate);
         }
     }
     fc_real16 roll_pitch_scale = FC_INT16(1, UNIT16);
