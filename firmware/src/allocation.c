@@ -984,12 +984,20 @@ static uint8_t shift_collective(fc_allocation *a, int n, const fc_real16 *x, rot
         fc_narrow16(ar, fc_sub_inline(ar, t, fc_widen16(t16, FC_NORM16_FRAC, FC_RATIO_FRAC)), FC_RATIO_FRAC, FC_RATIO_FRAC);
     fc_arith slack_ar = {0u};
     interval_set_full(room);
+    /* t P_i0 formed again only where P_i0 differs from the last rotor's (a
+     * symmetric layout's rotors share one collective share); the first
+     * rotor's is formed unless it is 0, the product's value for 0 */
+    fc_real16 last_share = FC_INT16(0, PINV16);
+    fc_real collective = FC_INT(0, PX);
     r = a->rotor;
     q = parts;
     for (int i = 0; i < n; i++, r++, q++) {
         const fc_real16 share = r->pinv[0];
-        const fc_real collective =
-            fc_add_inline(ar, fc_mul16(t16, share), fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
+        if (share != last_share) {
+            collective = fc_add_inline(ar, fc_mul16(t16, share),
+                                       fc_convert(ar, fc_mul16(rest, share), REST_FRAC, FC_PX_FRAC));
+            last_share = share;
+        }
         const fc_real roll_pitch =
             scaled ? fc_convert(ar, fc_mul16(roll_pitch_scale, q->roll_pitch16), SCALED_FRAC, FC_PX_FRAC)
                    : q->roll_pitch;
