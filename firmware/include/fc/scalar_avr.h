@@ -1041,6 +1041,20 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
         }
         return (fc_real16)(high + (up ? 1 : 0));
     }
+    const int shift = frac_from - frac_to;
+    if (shift == 12 || shift == 14) {
+        /* the rounded value leaves +-FC_REAL16_MAX iff x >= (2^16 - 1)
+         * 2^(shift - 1) or x < -(2^16 - 1) 2^(shift - 1); inside, bits
+         * shift.. of x + 2^(shift - 1) by fc_fx_low16_asr (no 32-bit
+         * shift, no sign byte). At 13 and 15 fc_convert's form, whole
+         * bytes and 3 or 1 bits, is as short. */
+        const fc_real bound = (fc_real)(((uint32_t)1u << 16) - 1u) << (shift - 1);
+        if (x >= bound || x < -bound) {
+            ar->saturated = 1u;
+            return x > 0 ? FC_REAL16_MAX : -FC_REAL16_MAX;
+        }
+        return fc_fx_low16_asr((uint32_t)x + ((uint32_t)1u << (shift - 1)), shift);
+    }
     const fc_real r = frac_from == frac_to ? x : fc_convert(ar, x, frac_from, frac_to);
     if (r > FC_REAL16_MAX || r < -FC_REAL16_MAX) {
         ar->saturated = 1u;

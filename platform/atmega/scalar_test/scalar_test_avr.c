@@ -15,8 +15,9 @@
  * fc_sqrt and fc_hypot3 (Heron step by restoring rounds) and fc_sqrt_unit16
  * (a chord and steps in assembly; also swept over its edges) against the
  * digit-by-digit square
- * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 14, 15,
- * 16) against the rounded value saturated at +-INT16_MAX, and
+ * root of the uint64_t value rounded to nearest, fc_narrow16 (shifts 10 and
+ * 12..16; also at its saturation bounds) against the rounded value saturated
+ * at +-INT16_MAX, and
  * fc_hypot3_within against that root compared, fc_mul16 (MULS/MULSU
  * assembly) against the C product of its operands, fc_add and fc_sub (ADD
  * and the V flag) against the int64_t sum saturated; the out-of-line products
@@ -194,13 +195,17 @@ static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
 }
 
 /* fc_narrow16 at the shifts the library uses, each a constant: 16 (the high
- * half and bit 15), 15 and 14 (fc_convert) */
+ * half and bit 15), 12 and 14 (fc_fx_low16_asr), 10, 13 and 15 (fc_convert) */
 static void compare_narrow16(int32_t x)
 {
-    fc_arith got16 = {0u}, got15 = {0u}, got14 = {0u}, want = {0u};
+    fc_arith got16 = {0u}, got15 = {0u}, got14 = {0u}, got13 = {0u}, got12 = {0u}, got10 = {0u};
+    fc_arith want = {0u};
     const int32_t n16 = fc_narrow16(&got16, x, 30, 14);
     const int32_t n15 = fc_narrow16(&got15, x, 28, 13);
     const int32_t n14 = fc_narrow16(&got14, x, 28, 14);
+    const int32_t n13 = fc_narrow16(&got13, x, 27, 14);
+    const int32_t n12 = fc_narrow16(&got12, x, 26, 14);
+    const int32_t n10 = fc_narrow16(&got10, x, 24, 14);
     int32_t r = ref_narrow16(&want, x, 16);
     check(OP_NARROW16, 16u, n16, got16.saturated, r, want.saturated);
     want.saturated = 0u;
@@ -209,6 +214,37 @@ static void compare_narrow16(int32_t x)
     want.saturated = 0u;
     r = ref_narrow16(&want, x, 14);
     check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
+    want.saturated = 0u;
+    r = ref_narrow16(&want, x, 13);
+    check(OP_NARROW16, 13u, n13, got13.saturated, r, want.saturated);
+    want.saturated = 0u;
+    r = ref_narrow16(&want, x, 12);
+    check(OP_NARROW16, 12u, n12, got12.saturated, r, want.saturated);
+    want.saturated = 0u;
+    r = ref_narrow16(&want, x, 10);
+    check(OP_NARROW16, 10u, n10, got10.saturated, r, want.saturated);
+}
+
+/* fc_narrow16 on either side of its saturation bounds +-(2^16 - 1) 2^(n - 1)
+ * and of the rounding steps (n - 1 bits of x set) for n = 10..16 */
+static void sweep_narrow16(void)
+{
+    for (uint8_t n = 10; n <= 16; n++) {
+        const int32_t bound = (int32_t)(((uint32_t)1u << 16) - 1u) << (n - 1);
+        const int32_t half = (int32_t)((uint32_t)1u << (n - 1));
+        for (int32_t d = -2; d <= 2; d++) {
+            compare_narrow16(bound + d);
+            compare_narrow16(-bound + d);
+            compare_narrow16(half + d);
+            compare_narrow16(-half + d);
+            compare_narrow16(3 * half + d);
+            compare_narrow16(-3 * half + d);
+        }
+    }
+    for (int32_t d = 0; d <= 2; d++) {
+        compare_narrow16(INT32_MAX - d);
+        compare_narrow16(INT32_MIN + d);
+    }
 }
 
 /* fc_mul16, fc_mul16_unsigned and fc_umul16 (the port's MULS/MULSU/MUL assembly) against
@@ -637,6 +673,7 @@ int main(void)
         }
     }
     sweep_sqrt_unit16();
+    sweep_narrow16();
     sweep_div();
     for (uint16_t round = 0; round < SCALAR_TEST_ROUNDS; round++) {
         for (uint8_t k = 0; k < 8; k++) {
