@@ -407,14 +407,6 @@ static fc_real hold_decayed(fc_arith *ar, fc_real m, fc_real decay)
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
                                         fc_attitude_control_output *out)
 {
-    const fc_attitude_control_input_ref ref = {&in->attitude, &in->attitude_desired, &in->rate_radps,
-                                               &in->rate_ff_radps, in->allocation_saturation};
-    return fc_attitude_control_step_ref(c, &ref, out);
-}
-
-fc_step_status fc_attitude_control_step_ref(fc_attitude_control *c, const fc_attitude_control_input_ref *in,
-                                            fc_attitude_control_output *out)
-{
     c->ar.saturated = 0u;
     if (c->ready == 0u) {
         out->moment = fc_vec3_16_zero();

@@ -936,10 +936,10 @@ static fc_vec3_16 moment_demand(fc_controller *ctl, const step_context *c, const
         return fc_vec3_16_zero();
     }
     const fc_vec3 rate_ff_radps = yaw_rate_feedforward(ctl, c);
-    const fc_attitude_control_input_ref attitude_in = {c->attitude, &tm->attitude_setpoint, &tm->rate_radps,
-                                                       &rate_ff_radps, ctl->last_saturation};
+    const fc_attitude_control_input attitude_in = {c->attitude, &tm->attitude_setpoint, &tm->rate_radps,
+                                                   &rate_ff_radps, ctl->last_saturation};
     fc_attitude_control_output attitude_out;
-    tm->attitude_status = fc_attitude_control_step_ref(&ctl->attitude, &attitude_in, &attitude_out);
+    tm->attitude_status = fc_attitude_control_step(&ctl->attitude, &attitude_in, &attitude_out);
     *status |= passed_on(tm->attitude_status);
     return attitude_out.moment;
 }

@@ -1,7 +1,7 @@
 /*
- * fuzz_attitude_control: fc_attitude_control_step on raw
- * fc_attitude_control_input bit patterns (quaternions of any length, NaN, inf,
- * denormal rates, any saturation bits). Byte 0 picks the airframe (the
+ * fuzz_attitude_control: fc_attitude_control_step on raw bit patterns of the
+ * values its input points to (attitude_values: quaternions of any length,
+ * NaN, inf, denormal rates, any saturation bits). Byte 0 picks the airframe (the
  * controller's default attitude parameters for it: the allocation's authority
  * and the normalised budget); bit 2 of it sets ki to kp so that the integrals
  * and the anti-windup run too. Then up to FUZZ_MAX_STEPS inputs, then
@@ -35,6 +35,23 @@ static void check(const fc_attitude_control_params *p, const fc_attitude_control
     FUZZ_FINITE_VEC3(out->attitude_error_rad, ANGLE);
 }
 
+/* The values fc_attitude_control_input points to, in the order the fuzz
+ * bytes give them. */
+typedef struct attitude_values {
+    fc_quat attitude;
+    fc_quat attitude_desired;
+    fc_vec3 rate_radps;
+    fc_vec3 rate_ff_radps;
+    uint8_t allocation_saturation;
+} attitude_values;
+
+static fc_step_status step(fc_attitude_control *c, const attitude_values *v, fc_attitude_control_output *out)
+{
+    const fc_attitude_control_input in = {&v->attitude, &v->attitude_desired, &v->rate_radps, &v->rate_ff_radps,
+                                          v->allocation_saturation};
+    return fc_attitude_control_step(c, &in, out);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -51,18 +68,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fc_attitude_control c;
     FUZZ_CHECK(fc_attitude_control_init(&c, &p) == FC_INIT_OK);
 
-    fc_attitude_control_input level;
+    attitude_values level;
     memset(&level, 0, sizeof level);
     level.attitude.w = FC_C(1.0f, UNIT);
     level.attitude_desired.w = FC_C(1.0f, UNIT);
     fc_attitude_control_output out;
-    fc_attitude_control_input in;
+    attitude_values in;
     for (int k = 0; k < FUZZ_MAX_STEPS && fuzz_take(&b, &in, sizeof in); k++) {
-        (void)fc_attitude_control_step(&c, &in, &out);
+        (void)step(&c, &in, &out);
         check(&p, &out);
     }
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
-        (void)fc_attitude_control_step(&c, &level, &out);
+        (void)step(&c, &level, &out);
         check(&p, &out);
     }
     return 0;

@@ -75,11 +75,11 @@ static void run_attitude_control(fuzz_bytes *b, const fc_controller_params *d, u
     overlay(b, &p, sizeof p, off);
     fc_attitude_control c;
     const fc_init_result r = fc_attitude_control_init(&c, &p);
-    fc_attitude_control_input in;
-    memset(&in, 0, sizeof in);
-    in.attitude = fc_quat_make(FC_C(0.9f, UNIT), FC_C(0.3f, UNIT), FC_C(-0.2f, UNIT), FC_C(0.1f, UNIT));
-    in.attitude_desired.w = FC_C(1.0f, UNIT);
-    in.rate_radps = fc_vec3_make(FC_C(1.0f, RATE), FC_C(-2.0f, RATE), FC_C(0.5f, RATE));
+    const fc_quat attitude = fc_quat_make(FC_C(0.9f, UNIT), FC_C(0.3f, UNIT), FC_C(-0.2f, UNIT), FC_C(0.1f, UNIT));
+    const fc_quat attitude_desired = fc_quat_identity();
+    const fc_vec3 rate_radps = fc_vec3_make(FC_C(1.0f, RATE), FC_C(-2.0f, RATE), FC_C(0.5f, RATE));
+    const fc_vec3 rate_ff_radps = fc_vec3_zero();
+    const fc_attitude_control_input in = {&attitude, &attitude_desired, &rate_radps, &rate_ff_radps, 0u};
     fc_attitude_control_output out;
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
         const fc_step_status s = fc_attitude_control_step(&c, &in, &out);

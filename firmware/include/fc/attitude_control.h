@@ -139,25 +139,22 @@ typedef struct fc_attitude_control_params {
     fc_vec3 moment_limit;       /* RATIO: per-axis budget +-limit, normalised, (0, 1.99] */
 } fc_attitude_control_params;
 
+/* The step's input, by reference: the caller holds the quaternions and
+ * rates (the controller, its estimator's and its setpoint's own), the step
+ * reads them in place instead of copying them. The pointers must be valid
+ * (non-NULL, each to one object) for the call only: the step reads them
+ * during the call and keeps none of them. Out of range (bad input, header
+ * comment): a quaternion of zero length or not finite, a rate not finite or
+ * beyond +-100 rad/s. */
 typedef struct fc_attitude_control_input {
-    fc_quat attitude;         /* UNIT: q, body -> world (normalised here) */
-    fc_quat attitude_desired; /* UNIT: q_d, body -> world (normalised here) */
-    fc_vec3 rate_radps;       /* RATE: body rate w */
-    fc_vec3 rate_ff_radps;    /* RATE: body-rate feed-forward w_ff, zero if unused */
-    /* (rates beyond +-100 rad/s are out of range: bad input) */
-    uint8_t allocation_saturation; /* FC_SAT_* bits of the last allocation */
+    const fc_quat *attitude;         /* UNIT: q, body -> world, of any nonzero length
+                                      * (normalised by the step) */
+    const fc_quat *attitude_desired; /* UNIT: q_d, body -> world, as attitude */
+    const fc_vec3 *rate_radps;       /* RATE: body rate w, within +-100 rad/s */
+    const fc_vec3 *rate_ff_radps;    /* RATE: body-rate feed-forward w_ff, within +-100 rad/s;
+                                      * zero if unused (out of range: taken as zero) */
+    uint8_t allocation_saturation;   /* FC_SAT_* bits of the last allocation (anti-windup) */
 } fc_attitude_control_input;
-
-/* The same input by reference, for a caller that holds the quaternions and
- * rates (the controller): read in place, not copied for each step. Units and
- * ranges as in fc_attitude_control_input. */
-typedef struct fc_attitude_control_input_ref {
-    const fc_quat *attitude;         /* UNIT: q, body -> world */
-    const fc_quat *attitude_desired; /* UNIT: q_d, body -> world */
-    const fc_vec3 *rate_radps;       /* RATE: body rate w */
-    const fc_vec3 *rate_ff_radps;    /* RATE: body-rate feed-forward w_ff */
-    uint8_t allocation_saturation;   /* FC_SAT_* bits of the last allocation */
-} fc_attitude_control_input_ref;
 
 typedef struct fc_attitude_control_output {
     fc_vec3_16 moment;          /* NORM16: body moment / authority, inside +-moment_limit */
@@ -191,10 +188,6 @@ fc_init_result fc_attitude_control_init(fc_attitude_control *c, const fc_attitud
 /* One step of dt_s. out->moment is always finite and inside +-moment_limit. */
 fc_step_status fc_attitude_control_step(fc_attitude_control *c, const fc_attitude_control_input *in,
                                         fc_attitude_control_output *out);
-
-/* fc_attitude_control_step on the input by reference (the same step). */
-fc_step_status fc_attitude_control_step_ref(fc_attitude_control *c, const fc_attitude_control_input_ref *in,
-                                            fc_attitude_control_output *out);
 
 /* Clears the integrals (e.g. on the ground, before take-off). */
 void fc_attitude_control_reset(fc_attitude_control *c);
