@@ -44,7 +44,7 @@ common=(-Os -DNDEBUG -std=gnu11 "${warn[@]}" -I"$root/firmware/include" -I"$root
 # the modules timed on their own: the hexa runs the filter; the Crazyflie flies
 # on the platform's attitude (as its app does), so its filter only forms the rate
 modules=(fc_attitude_estimator_step fc_attitude_control_step fc_allocation_speeds
-         fc_altitude_reference_step fc_altitude_control_step_ref fc_controller_step)
+         fc_altitude_reference_step fc_altitude_control_step fc_controller_step)
 modules_cf=(fc_attitude_estimator_rate_step "${modules[@]:1}")
 
 # ---- host tools: the simavr runner and the QEMU plugin ----

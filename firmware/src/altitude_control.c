@@ -635,7 +635,7 @@ typedef struct tracking_signals {
     fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
-static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input_ref *in)
+static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input *in)
 {
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
@@ -682,7 +682,7 @@ static fc_real plant_gain_bound_mps2(fc_altitude_control *c, fc_real u_nom_n, fc
 /* w4 of (4.42): |kp U_d + a_m sigma| / kappa_m <= (w3 + a_m |sigma|) / kappa_m,
  * w3 = max over kp of |kp u_nom - phi|, phi = g + z_r'' - l0 e' (w1 of (4.43) is |phi|),
  * with all of z_r'' (U_d of (4.17)). */
-static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in, const tracking_signals *t,
+static fc_real omega4_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
                         fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
@@ -706,7 +706,7 @@ static fc_real eta_advance(fc_arith *ar, fc_real w_mps, fc_gain decay, fc_gain i
 /* The eta norm observers (4.3.2) on the cells of the kp range (header): the bound
  * of |d_eq3| (4.81) over the step ahead, and their advance. kp_j D = kp_j u_nom - psi,
  * psi = g + z_r'' + l0^2 e (D of (4.62)). */
-static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
+static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_control_input *in,
                                     const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
@@ -743,7 +743,7 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
 }
 
 /* The modulation rho of the relay, and the advance of its observers. */
-static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input_ref *in, const tracking_signals *t,
+static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
                             fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
 {
     *observer_bound = FC_INT(0, FORCE);
@@ -793,7 +793,7 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
 
 /* The SSC: returns the vertical force u = u_nom - u0_av and advances the
  * relay, the prediction-error loop and the averaging filter. */
-static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
+static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
                                   const tracking_signals *t, fc_real u_nom_n, fc_altitude_control_output *out)
 {
     fc_arith *ar = &c->ar;
@@ -858,7 +858,7 @@ static fc_real super_twisting_vertical_force(fc_altitude_control *c, const track
 }
 
 /* Baseline: the Crazyflie's cascade, position PID -> velocity PID. */
-static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
+static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
                                   const tracking_signals *t, bool integrate)
 {
     fc_arith *ar = &c->ar;
@@ -941,7 +941,7 @@ static void safe_output(const fc_altitude_control *c, fc_altitude_control_output
     out->clamped = false;
 }
 
-static bool input_valid(const fc_altitude_control_input_ref *in)
+static bool input_valid(const fc_altitude_control_input *in)
 {
     const fc_real length = FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH);
     const fc_real speed = FC_C(FC_INPUT_MAX_SPEED_MPS, VEL);
@@ -958,14 +958,6 @@ void fc_altitude_control_hold(fc_altitude_control *c, bool hold)
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out)
-{
-    const fc_altitude_control_input_ref ref = {in->z_m, in->vz_mps, &in->reference, in->tilt_cos,
-                                               in->allocation_saturation};
-    return fc_altitude_control_step_ref(c, &ref, out);
-}
-
-fc_step_status fc_altitude_control_step_ref(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
-                                            fc_altitude_control_output *out)
 {
     if (!c->ready) {
         safe_output(c, out);

@@ -903,13 +903,13 @@ static fc_real16 thrust_demand(fc_controller *ctl, const step_context *c, const 
     if (!plan->fly_reference) {
         return fc_allocation_thrust_fraction(&ctl->allocation, plan->thrust_n);
     }
-    const fc_altitude_control_input_ref altitude_in = {c->height_m, c->vz_mps, &tm->reference, c->tilt_cos,
-                                                       ctl->last_saturation};
+    const fc_altitude_control_input altitude_in = {c->height_m, c->vz_mps, &tm->reference, c->tilt_cos,
+                                                   ctl->last_saturation};
     /* Theta learns from measurements, and not once contact is planned: the press and
      * the pad's reaction are no parameter error (fc/altitude_control.h, "Adaptation
      * in discrete time") */
     fc_altitude_control_hold(&ctl->altitude, c->holding || tm->touchdown_window);
-    tm->altitude_status = fc_altitude_control_step_ref(&ctl->altitude, &altitude_in, &tm->altitude);
+    tm->altitude_status = fc_altitude_control_step(&ctl->altitude, &altitude_in, &tm->altitude);
     *status |= passed_on(tm->altitude_status);
     *thrust_n = tm->altitude.thrust_n;
     return tm->altitude.thrust;

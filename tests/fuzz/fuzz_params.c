@@ -157,12 +157,8 @@ static void run_altitude_control(fuzz_bytes *b, const fc_controller_params *d, u
     fix_bool(&p.velocity_measured);
     static fc_altitude_control c;
     const fc_init_result r = fc_altitude_control_init(&c, &p);
-    fc_altitude_control_input in;
-    memset(&in, 0, sizeof in);
-    in.z_m = FC_C(0.8f, LENGTH);
-    in.vz_mps = FC_C(-0.4f, VEL);
-    in.reference.z_m = FC_C(1.0f, LENGTH);
-    in.tilt_cos = FC_C(0.95f, RATIO);
+    const fc_vertical_trajectory reference = {FC_C(1.0f, LENGTH), FC_INT(0, VEL), FC_INT(0, ACCEL)};
+    const fc_altitude_control_input in = {FC_C(0.8f, LENGTH), FC_C(-0.4f, VEL), &reference, FC_C(0.95f, RATIO), 0u};
     fc_altitude_control_output out;
     for (int k = 0; k < FUZZ_CLEAN_STEPS; k++) {
         const fc_step_status s = fc_altitude_control_step(&c, &in, &out);

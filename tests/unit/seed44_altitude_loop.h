@@ -87,12 +87,10 @@ static bool seed44_run(const fc_altitude_control_params *params, double rate_hz,
         const fc_vertical_trajectory pad = {fc_from_float((float)seed44_pad_z(t), FC_LENGTH_FRAC),
                                             fc_from_float((float)seed44_pad_vz(t), FC_VEL_FRAC),
                                             fc_from_float((float)seed44_pad_az(t), FC_ACCEL_FRAC)};
-        fc_altitude_control_input in;
-        (void)fc_altitude_reference_step(&reference, &pad, &in.reference);
-        in.z_m = fc_from_float((float)s.z, FC_LENGTH_FRAC);
-        in.vz_mps = fc_from_float((float)s.vz, FC_VEL_FRAC);
-        in.tilt_cos = FC_INT(1, RATIO);
-        in.allocation_saturation = 0u;
+        fc_vertical_trajectory zr;
+        (void)fc_altitude_reference_step(&reference, &pad, &zr);
+        const fc_altitude_control_input in = {fc_from_float((float)s.z, FC_LENGTH_FRAC),
+                                              fc_from_float((float)s.vz, FC_VEL_FRAC), &zr, FC_INT(1, RATIO), 0u};
         fc_altitude_control_output out;
         (void)fc_altitude_control_step(&ctl, &in, &out);
         const double u = (double)fc_to_float(out.thrust_n, FC_FORCE_FRAC);

@@ -278,23 +278,23 @@ typedef struct fc_altitude_control_params {
     fc_real pid_vel_limit_mps;   /* VEL: velocity setpoint limit */
 } fc_altitude_control_params;
 
+/* The step's input. The reference is by pointer: the caller holds it (the
+ * controller, fc_altitude_reference_step's output), the step reads it in
+ * place instead of copying it. The pointer must be valid (non-NULL) for the
+ * call only: the step reads it during the call and keeps no pointer. Out of
+ * range (FC_STEP_BAD_INPUT, the last thrust held): a length beyond
+ * +-FC_INPUT_MAX_LENGTH_M, a speed beyond +-FC_INPUT_MAX_SPEED_MPS, an
+ * acceleration beyond +-FC_INPUT_MAX_ACCEL_MPS2 (fc/status.h), tilt_cos
+ * beyond +-1, or any of them not finite. */
 typedef struct fc_altitude_control_input {
-    fc_real z_m;                 /* LENGTH: measured altitude */
-    fc_real vz_mps;              /* VEL: measured vertical speed (ignored without velocity_measured) */
-    fc_vertical_trajectory reference; /* z_r, z_r', z_r'' */
-    fc_real tilt_cos;            /* RATIO: k_h = cos(roll) cos(pitch), measured */
-    uint8_t allocation_saturation; /* FC_SAT_THRUST_HIGH/LOW from the allocation */
+    fc_real z_m;                             /* LENGTH: measured altitude, up */
+    fc_real vz_mps;                          /* VEL: measured vertical speed, up (ignored without
+                                              * velocity_measured, but checked) */
+    const fc_vertical_trajectory *reference; /* z_r, z_r', z_r'' (LENGTH, VEL, ACCEL) */
+    fc_real tilt_cos;                        /* RATIO: k_h = cos(roll) cos(pitch), measured, [-1, 1]
+                                              * (compensated down to tilt_cos_min only) */
+    uint8_t allocation_saturation;           /* FC_SAT_THRUST_HIGH/LOW from the allocation (anti-windup) */
 } fc_altitude_control_input;
-
-/* The same input with the reference by pointer, for a caller that holds it
- * (the controller): read in place, not copied for each step. */
-typedef struct fc_altitude_control_input_ref {
-    fc_real z_m;                             /* LENGTH: measured altitude */
-    fc_real vz_mps;                          /* VEL: measured vertical speed */
-    const fc_vertical_trajectory *reference; /* z_r, z_r', z_r'' */
-    fc_real tilt_cos;                        /* RATIO: k_h, measured */
-    uint8_t allocation_saturation;           /* FC_SAT_THRUST_HIGH/LOW from the allocation */
-} fc_altitude_control_input_ref;
 
 typedef struct fc_altitude_control_output {
     fc_real16 thrust;            /* NORM16: body thrust command / thrust_authority_n, for the
@@ -459,9 +459,5 @@ void fc_altitude_control_hold(fc_altitude_control *c, bool hold);
 
 fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitude_control_input *in,
                                         fc_altitude_control_output *out);
-
-/* fc_altitude_control_step on the input by reference (the same step). */
-fc_step_status fc_altitude_control_step_ref(fc_altitude_control *c, const fc_altitude_control_input_ref *in,
-                                            fc_altitude_control_output *out);
 
 #endif /* FC_ALTITUDE_CONTROL_H */
