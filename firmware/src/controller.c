@@ -705,10 +705,10 @@ static fc_step_status position_demand(fc_controller *ctl, const step_context *c)
     const fc_vec3 position_m = fc_vec3_make(in->position_m.x, in->position_m.y, c->height_m);
     const fc_vec3 velocity_mps = fc_vec3_make(in->velocity_mps.x, in->velocity_mps.y, c->vz_mps);
     const fc_vec3 zero = fc_vec3_zero();
-    const fc_position_control_input_ref pin = {&position_m, &velocity_mps, &in->position_setpoint_m,
-                                               &zero,       &zero,         &accel_world_mps2,
-                                               accel_ok};
-    return passed_on(fc_position_control_demand_ref(&ctl->position, &pin, &ctl->groups.position));
+    const fc_position_control_input pin = {&position_m, &velocity_mps, &in->position_setpoint_m,
+                                           &zero,       &zero,         &accel_world_mps2,
+                                           accel_ok};
+    return passed_on(fc_position_control_demand(&ctl->position, &pin, &ctl->groups.position));
 }
 
 /* The position loop (fc/position_control.h) in two halves: in minor frame 0

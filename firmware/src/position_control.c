@@ -154,15 +154,6 @@ AXIS_INLINE fc_real feedback_axis(fc_arith *ar, fc_real fb_mps2, fc_real meas_mp
 fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
                                           fc_position_control_output *out)
 {
-    const fc_position_control_input_ref ref = {&in->position_m,    &in->velocity_mps,    &in->position_sp_m,
-                                               &in->velocity_sp_mps, &in->accel_ff_mps2, &in->accel_meas_mps2,
-                                               in->accel_meas_ok};
-    return fc_position_control_demand_ref(pc, &ref, out);
-}
-
-fc_step_status fc_position_control_demand_ref(fc_position_control *pc, const fc_position_control_input_ref *in,
-                                              fc_position_control_output *out)
-{
     if (!pc->ready) {
         out->accel_des_mps2 = fc_vec3_zero();
         out->thrust_world_n = fc_vec3_zero();
@@ -306,9 +297,9 @@ fc_step_status fc_position_control_attitude(fc_position_control *pc, fc_real hea
 }
 
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
-                                        fc_position_control_output *out)
+                                        fc_real heading_cos, fc_real heading_sin, fc_position_control_output *out)
 {
     /* each half gives its safe output when not ready */
     const fc_step_status status = fc_position_control_demand(pc, in, out);
-    return status | fc_position_control_attitude(pc, in->heading_cos, in->heading_sin, out);
+    return status | fc_position_control_attitude(pc, heading_cos, heading_sin, out);
 }

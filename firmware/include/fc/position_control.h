@@ -60,30 +60,23 @@ typedef struct fc_position_control_params {
     fc_real thrust_max_n;         /* FORCE: collective thrust limit, > thrust_min, <= 1000 */
 } fc_position_control_params;
 
+/* The demand's input, by reference: the caller holds the vectors (the
+ * controller: its estimate, setpoint and measurement), the demand reads
+ * them in place instead of copying them. The pointers must be
+ * valid (non-NULL, each to one fc_vec3) for the call only: the demand reads
+ * them during the call and keeps none of them. They may point to the same
+ * vector (a zero shared by the setpoint speed and the feedforward), not into
+ * the output (written before the last of them is read). World ENU frame,
+ * z up. Not finite: see fc_position_control_step. */
 typedef struct fc_position_control_input {
-    fc_vec3 position_m;        /* LENGTH: p, world ENU (z unused by the position law) */
-    fc_vec3 velocity_mps;      /* VEL: v, world */
-    fc_vec3 position_sp_m;     /* LENGTH: p_sp */
-    fc_vec3 velocity_sp_mps;   /* VEL: v_sp (feedforward of the D term; zero to regulate) */
-    fc_vec3 accel_ff_mps2;     /* ACCEL: a_ff; z is the wanted vertical acceleration */
-    fc_vec3 accel_meas_mps2;   /* ACCEL: measured kinematic acceleration a, world (gravity removed) */
-    bool accel_meas_ok;        /* false: no measurement this step, the feedback I_a is held */
-    fc_real heading_cos;       /* UNIT: cos psi */
-    fc_real heading_sin;       /* UNIT: sin psi (only the direction matters, |(c, s)| in [0.5, 1.5]) */
+    const fc_vec3 *position_m;      /* LENGTH: p (z unused by the position law) */
+    const fc_vec3 *velocity_mps;    /* VEL: v (z unused) */
+    const fc_vec3 *position_sp_m;   /* LENGTH: p_sp (z unused) */
+    const fc_vec3 *velocity_sp_mps; /* VEL: v_sp, the feedforward of the D term; zero to regulate */
+    const fc_vec3 *accel_ff_mps2;   /* ACCEL: a_ff; z is the wanted vertical acceleration */
+    const fc_vec3 *accel_meas_mps2; /* ACCEL: measured kinematic acceleration a (gravity removed) */
+    bool accel_meas_ok;             /* false: no measurement this step, the feedback I_a is held */
 } fc_position_control_input;
-
-/* The demand half's input by reference, for a caller that holds the vectors
- * (the controller): read in place, not copied for each step. Units and
- * meanings as in fc_position_control_input. */
-typedef struct fc_position_control_input_ref {
-    const fc_vec3 *position_m;      /* LENGTH: p, world ENU */
-    const fc_vec3 *velocity_mps;    /* VEL: v, world */
-    const fc_vec3 *position_sp_m;   /* LENGTH: p_sp */
-    const fc_vec3 *velocity_sp_mps; /* VEL: v_sp */
-    const fc_vec3 *accel_ff_mps2;   /* ACCEL: a_ff */
-    const fc_vec3 *accel_meas_mps2; /* ACCEL: measured kinematic acceleration a, world */
-    bool accel_meas_ok;             /* false: no measurement this step */
-} fc_position_control_input_ref;
 
 typedef struct fc_position_control_output {
     fc_vec3 accel_des_mps2;    /* ACCEL: a_des (after the horizontal limit) */
@@ -116,13 +109,16 @@ fc_init_result fc_position_control_init(fc_position_control *pc, const fc_positi
 /* Clears both integrators. */
 void fc_position_control_reset(fc_position_control *pc);
 
-/* Bad input: a non-finite position, velocity or setpoint gives a zero error
+/* One whole step: fc_position_control_demand, then fc_position_control_attitude
+ * at the heading (heading_cos, heading_sin) = (cos psi, sin psi) (UNIT; only
+ * the direction matters, |(c, s)| in [0.5, 1.5]).
+ * Bad input: a non-finite position, velocity or setpoint gives a zero error
  * (no integration); a non-finite feedforward is taken as zero; a non-finite
  * measured acceleration freezes the acceleration feedback (as accel_meas_ok
  * false does, without BAD_INPUT: a missing sample is no bad input); a bad heading is
  * taken as psi = 0. Not ready: identity attitude, zero thrust. */
 fc_step_status fc_position_control_step(fc_position_control *pc, const fc_position_control_input *in,
-                                        fc_position_control_output *out);
+                                        fc_real heading_cos, fc_real heading_sin, fc_position_control_output *out);
 
 /* The demand half of a step: out->accel_des_mps2 and out->thrust_world_n
  * (F_req after the limits), the integrators updated; the status bits of the
@@ -130,10 +126,6 @@ fc_step_status fc_position_control_step(fc_position_control *pc, const fc_positi
  * out->attitude_sp and out->thrust_n are left as they were. */
 fc_step_status fc_position_control_demand(fc_position_control *pc, const fc_position_control_input *in,
                                           fc_position_control_output *out);
-
-/* fc_position_control_demand on the input by reference (the same step). */
-fc_step_status fc_position_control_demand_ref(fc_position_control *pc, const fc_position_control_input_ref *in,
-                                              fc_position_control_output *out);
 
 /* The attitude half: out->attitude_sp and out->thrust_n of out->thrust_world_n
  * (a demand's F_req, F_z > 0) at the heading (cos psi, sin psi) (a bad
