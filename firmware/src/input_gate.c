@@ -82,15 +82,20 @@ void fc_input_gate_reset(fc_input_gate *g)
 }
 
 /* rate t + margin, t the time since the last accepted sample (in the
- * format of margin: time_shift = FC_GAIN_SHIFT(TIME, that format));
- * one_step: its value for t = dt, formed at init */
-static fc_real slack_since_accepted(fc_input_gate *g, fc_gain rate, fc_real margin, fc_real one_step, int time_shift)
+ * format of margin: time_shift = FC_GAIN_SHIFT(TIME, that format)): the
+ * slack of a sample later than a step after it (one step's is formed at
+ * init). */
+static fc_real slack_over_interval(fc_input_gate *g, fc_gain rate, fc_real margin, int time_shift)
 {
-    const fc_real t_s = g->since_accepted_s;
-    if (t_s == g->per_step.step_s) {
-        return one_step;
-    }
-    return fc_add_inline(&g->ar, fc_mul_gain(&g->ar, t_s, rate, time_shift), margin);
+    return fc_add_inline(&g->ar, fc_mul_gain(&g->ar, g->since_accepted_s, rate, time_shift), margin);
+}
+
+/* low <= x <= high: fc_within(x, high) for low = -high, a number high >= 0
+ * (a NaN or an infinite x fails both), with -high formed once by the
+ * caller for several x. */
+static inline __attribute__((always_inline)) bool gate_between(fc_real x, fc_real low, fc_real high)
+{
+    return x >= low && x <= high;
 }
 
 /* The measurements' absolute checks: numbers the airframe (and the pad) can be at. */
@@ -99,30 +104,66 @@ static bool plausible(const fc_input_gate *g, const fc_input_gate_input *in, boo
     const bool pad_ok = !use_pad || (fc_within(in->pad->z_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                                      fc_within(in->pad->vz_mps, g->p.pad_speed_max_mps) &&
                                      fc_within(in->pad->az_mps2, g->p.pad_accel_max_mps2));
+    const fc_real speed_max = g->p.speed_max_mps;
+    const fc_real speed_min = -speed_max; /* speed_max in (0, 100] (gate_params_valid) */
+    const fc_vec3 *v = in->velocity_mps;
     return fc_vec3_within(*in->position_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
-           fc_vec3_within(*in->velocity_mps, g->p.speed_max_mps) && pad_ok;
+           gate_between(v->x, speed_min, speed_max) && gate_between(v->y, speed_min, speed_max) &&
+           gate_between(v->z, speed_min, speed_max) && pad_ok;
 }
 
-/* The jumps since the last accepted sample, t ago. */
+/* |a - b| <= slack on each axis (the first axis that fails ends it), as
+ * -slack <= a - b <= slack with -slack formed once (slack > 0: a margin
+ * > 0 and a product >= 0; a and b numbers, so is a - b). */
+static inline __attribute__((always_inline)) bool moved_within(fc_arith *ar, const fc_vec3 *a, const fc_vec3 *b,
+                                                               fc_real slack)
+{
+    const fc_real low = -slack;
+    return gate_between(fc_sub_inline(ar, a->x, b->x), low, slack) &&
+           gate_between(fc_sub_inline(ar, a->y, b->y), low, slack) &&
+           gate_between(fc_sub_inline(ar, a->z, b->z), low, slack);
+}
+
+/* |v - v_last| <= slack on each axis (the first axis that fails ends it):
+ * moved_within without saturation, v and v_last passed the speed check
+ * (|v_i| <= speed_max <= 100 m/s), so v - v_last is inside VEL. */
+static inline __attribute__((always_inline)) bool speed_changed_within(const fc_vec3 *v, const fc_vec3 *v_last,
+                                                                       fc_real slack)
+{
+    const fc_real low = -slack;
+    return gate_between(v->x - v_last->x, low, slack) && gate_between(v->y - v_last->y, low, slack) &&
+           gate_between(v->z - v_last->z, low, slack);
+}
+
+/* The jumps since the last accepted sample, t ago, each against its slack
+ * over t: one step's (the usual case) as formed at init, a longer
+ * interval's formed here. The first check that fails ends it. */
 static bool consistent(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad)
 {
     fc_arith *ar = &g->ar;
     const fc_input_gate_params *p = &g->p;
     const fc_input_gate_step_limits *l = &g->per_step;
     const fc_gated_inputs *last = &g->accepted;
-    const fc_real velocity_slack = slack_since_accepted(g, g->accel_max, p->velocity_jump_mps, l->velocity_slack_mps,
-                                                        FC_GAIN_SHIFT(TIME, VEL));
-    const fc_real position_slack = slack_since_accepted(g, g->speed_max, p->position_jump_m, l->position_slack_m,
-                                                        FC_GAIN_SHIFT(TIME, LENGTH));
-    const bool velocity_ok = fc_vec3_within(fc_vec3_sub(ar, *in->velocity_mps, last->velocity_mps), velocity_slack);
-    const bool position_ok = fc_vec3_within(fc_vec3_sub(ar, *in->position_m, last->position_m), position_slack);
-    bool pad_ok = true;
-    if (use_pad && g->pad_accepted) {
-        const fc_real pad_slack = slack_since_accepted(g, g->pad_speed_max, p->position_jump_m, l->pad_slack_m,
-                                                       FC_GAIN_SHIFT(TIME, LENGTH));
-        pad_ok = fc_within(fc_sub_inline(ar, in->pad->z_m, last->pad.z_m), pad_slack);
+    const bool one_step = g->since_accepted_s == l->step_s;
+    const fc_real velocity_slack =
+        one_step ? l->velocity_slack_mps
+                 : slack_over_interval(g, g->accel_max, p->velocity_jump_mps, FC_GAIN_SHIFT(TIME, VEL));
+    if (!speed_changed_within(in->velocity_mps, &last->velocity_mps, velocity_slack)) {
+        return false;
     }
-    return velocity_ok && position_ok && pad_ok;
+    const fc_real position_slack =
+        one_step ? l->position_slack_m
+                 : slack_over_interval(g, g->speed_max, p->position_jump_m, FC_GAIN_SHIFT(TIME, LENGTH));
+    if (!moved_within(ar, in->position_m, &last->position_m, position_slack)) {
+        return false;
+    }
+    if (!use_pad || !g->pad_accepted) {
+        return true;
+    }
+    const fc_real pad_slack =
+        one_step ? l->pad_slack_m
+                 : slack_over_interval(g, g->pad_speed_max, p->position_jump_m, FC_GAIN_SHIFT(TIME, LENGTH));
+    return fc_within(fc_sub_inline(ar, in->pad->z_m, last->pad.z_m), pad_slack);
 }
 
 /* last + (target - last) limited to +-step. */
@@ -170,6 +211,15 @@ static void limit_setpoints(fc_input_gate *g, const fc_input_gate_input *in)
     }
 }
 
+/* *to = *from field by field (a struct assignment is a byte loop on the
+ * ATmega at -Os). */
+static inline __attribute__((always_inline)) void gate_copy_vec3(fc_vec3 *to, const fc_vec3 *from)
+{
+    to->x = from->x;
+    to->y = from->y;
+    to->z = from->z;
+}
+
 /* A sample taken: its measurements, and its commands (the pad's speed and
  * acceleration, fed forward to the reference, among them) at their rates
  * from the last accepted ones unless limit_commands is off or this is the
@@ -178,8 +228,8 @@ static void accept(fc_input_gate *g, const fc_input_gate_input *in, bool use_pad
 {
     fc_arith *ar = &g->ar;
     fc_gated_inputs *accepted = &g->accepted;
-    accepted->position_m = *in->position_m;
-    accepted->velocity_mps = *in->velocity_mps;
+    gate_copy_vec3(&accepted->position_m, in->position_m);
+    gate_copy_vec3(&accepted->velocity_mps, in->velocity_mps);
     if (use_pad) {
         if (g->pad_accepted && limit_commands) {
             fc_vertical_trajectory *pad = &accepted->pad;
@@ -216,7 +266,8 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_input_gate_input *in, bool us
     fc_arith *ar = &g->ar;
     ar->saturated = 0u;
     const fc_real step_s = g->per_step.step_s;
-    g->since_accepted_s = fc_min(fc_add_inline(ar, g->since_accepted_s, step_s), FC_INT(600, TIME));
+    /* times up to 600 s plus a step of at most 0.1 s: inside TIME, no saturation */
+    g->since_accepted_s = fc_min(g->since_accepted_s + step_s, FC_INT(600, TIME));
     const bool commands_ok = fc_vec3_within(*in->position_setpoint_m, FC_C(FC_INPUT_MAX_LENGTH_M, LENGTH)) &&
                              fc_within(in->yaw_setpoint_rad, FC_C(7.0f, ANGLE)) &&
                              fc_within(in->yaw_rate_setpoint_radps, FC_INT(100, RATE));
@@ -230,7 +281,7 @@ bool fc_input_gate_step(fc_input_gate *g, const fc_input_gate_input *in, bool us
     if (accepted || reanchor) {
         accept(g, in, use_pad, limit_commands, first);
     }
-    g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(fc_add_inline(ar, g->rejected_s, step_s), FC_INT(600, TIME));
+    g->rejected_s = accepted ? FC_INT(0, TIME) : fc_min(g->rejected_s + step_s, FC_INT(600, TIME));
     if (reanchor) {
         g->rejected_s = FC_INT(0, TIME);
     }

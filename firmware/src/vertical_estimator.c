@@ -190,6 +190,19 @@ static void learn_hover_thrust(fc_vertical_estimator *v, const fc_vertical_estim
     v->est.hover_thrust_n = fc_clamp(fc_add_inline(ar, v->est.hover_thrust_n, step_n), v->p.hover_min_n, v->p.hover_max_n);
 }
 
+/* The estimate handed out, field by field (a struct assignment is a byte
+ * loop on the ATmega at -Os). */
+static inline __attribute__((always_inline)) void vertical_copy_estimate(fc_vertical_estimate *to,
+                                                                        const fc_vertical_estimate *from)
+{
+    to->vz_mps = from->vz_mps;
+    to->accel_z_mps2 = from->accel_z_mps2;
+    to->accel_bias_mps2 = from->accel_bias_mps2;
+    to->gear_height_m = from->gear_height_m;
+    to->hover_thrust_n = from->hover_thrust_n;
+    to->gear_height_known = from->gear_height_known;
+}
+
 fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_vertical_estimator_input *in,
                                           fc_vertical_estimate *out)
 {
@@ -200,7 +213,8 @@ fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_ver
     fc_arith *ar = &v->ar;
     ar->saturated = 0u;
     fc_step_status status = FC_STEP_OK;
-    v->range_gap_s = fc_min(fc_add_inline(ar, v->range_gap_s, v->p.dt_s), FC_INT(1, DT));
+    /* at most 1 s + a step of at most 0.1 s: inside DT, no saturation */
+    v->range_gap_s = fc_min(v->range_gap_s + v->p.dt_s, FC_INT(1, DT));
     fc_real accel_mps2;
     if (in->accel_ok) {
         const fc_real raw_mps2 = vertical_accel_mps2(ar, in->attitude, in->accel_mps2, v->p.gravity_mps2);
@@ -222,7 +236,7 @@ fc_step_status fc_vertical_estimator_step(fc_vertical_estimator *v, const fc_ver
     if (in->learn_hover && in->accel_ok) {
         learn_hover_thrust(v, in, accel_mps2);
     }
-    *out = v->est;
+    vertical_copy_estimate(out, &v->est);
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }
