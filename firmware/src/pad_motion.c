@@ -386,10 +386,9 @@ static void rls_update(fc_pad_motion *pm, fc_real residual_m)
 
 /* FC_PAD_WORK_COVARIANCE_HEAD updates S's rows [0, COVARIANCE_SPLIT_ROW)
  * (with trace(S)), FC_PAD_WORK_COVARIANCE_TAIL the rest: for 3 modes (n = 7)
- * 13 and 15 of the 28 entries of the upper triangle. The head is the lighter
- * because the controller's arming step, which resets its loops, falls in its
- * minor frame (so that every minor frame of the Crazyflie's step fits the
- * Cortex-M4F's budget, tools/bench.sh). */
+ * 13 and 15 of the 28 entries of the upper triangle. The head goes with the
+ * summary and the tail with the phases (fc_pad_motion_work_ahead), so that
+ * the two slices after a sample are about the same work. */
 #define COVARIANCE_SPLIT_ROW 2u
 
 /* Whether S's update of the newest sample inflates: not while trace(S) is
@@ -528,6 +527,7 @@ static fc_step_status run_deferred(fc_pad_motion *pm, unsigned mask)
         advance_phases(pm);
     }
     if (take_piece(pm, mask, FC_PAD_WORK_SUMMARY)) {
+        update_rotations(pm); /* w_k^2 of the newest frequencies (a no-op once the head or the phases ran) */
         summarise_fit(pm);
     }
     /* (while not learning the next sample restarts the estimate, no RLS) */
@@ -622,10 +622,11 @@ static void fill_estimate(fc_pad_motion *pm, fc_pad_motion_estimate *out)
 
 fc_step_status fc_pad_motion_work_ahead(fc_pad_motion *pm)
 {
-    /* the slices of the header, about the same work each */
+    /* the slices of the header, about the same work each (the summary with
+     * the head, the phases with the tail) */
     static const uint8_t slices[] = {
-        FC_PAD_WORK_COVARIANCE_HEAD,
-        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES | FC_PAD_WORK_SUMMARY,
+        FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_SUMMARY,
+        FC_PAD_WORK_COVARIANCE_TAIL | FC_PAD_WORK_PHASES,
         FC_PAD_WORK_SAMPLE_GAIN,
     };
     if (!pm->ready) {

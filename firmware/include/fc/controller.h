@@ -43,9 +43,9 @@
  *   minor frames 3 and on  the work of the pad model's next step that
  *                  needs no sample, one slice a frame: the
  *                  covariance update of the newest sample in two parts (the
- *                  first with the rotations of adapted frequencies, the second
- *                  with the phases turned to the next step and the summary
- *                  of the newest fit), then the RLS gain for those phases
+ *                  first with the rotations of adapted frequencies and the
+ *                  summary of the newest fit, the second with the phases
+ *                  turned to the next step), then the RLS gain for those phases
  *                  (fc_pad_motion_work_ahead; what no frame did, the model's
  *                  next step does first)
  * These frames are for outer_divider >= 5. With 2 to 4 the position loop

@@ -197,8 +197,8 @@ fc_step_status fc_pad_motion_step(fc_pad_motion *pm, const fc_pad_motion_sample 
 /* The deferred pieces (FC_PAD_WORK_*) of the next step done ahead of it, one
  * slice per call, the first slice with a piece left of:
  *   1. FC_PAD_WORK_COVARIANCE_HEAD (13 of the 28 entries of S's upper
- *      triangle for 3 modes)
- *   2. FC_PAD_WORK_COVARIANCE_TAIL, FC_PAD_WORK_PHASES and FC_PAD_WORK_SUMMARY
+ *      triangle for 3 modes) and FC_PAD_WORK_SUMMARY
+ *   2. FC_PAD_WORK_COVARIANCE_TAIL and FC_PAD_WORK_PHASES
  *   3. FC_PAD_WORK_SAMPLE_GAIN (S phi and phi' S phi: 42 + 6 products of
  *      32 x 16 bits; g; all of a sample's RLS update but theta += g e)
  * The slices are about the same size (the controller calls one per spare
