@@ -170,6 +170,10 @@ void fc_pad_motion_reset(fc_pad_motion *pm)
     pm->deferred &= (uint8_t)~(FC_PAD_WORK_COVARIANCE_HEAD | FC_PAD_WORK_COVARIANCE_TAIL);
     pm->deferred |= (uint8_t)FC_PAD_WORK_SUMMARY;
     pm->covariance_inflate = false;
+    /* the rotations the head would have brought up to date: so a changed w_k
+     * waits only while the head is deferred, and the summary and the phases,
+     * which run after the head, find them current */
+    update_rotations(pm);
 }
 
 fc_init_result fc_pad_motion_init(fc_pad_motion *pm, const fc_pad_motion_params *p)
@@ -289,7 +293,8 @@ static void rotate(fc_arith *ar, fc_real *s, fc_real *c, fc_real rc, fc_real rs)
 static void advance_phases(fc_pad_motion *pm)
 {
     fc_arith *ar = &pm->ar;
-    update_rotations(pm);
+    /* the rotations are current: a changed w_k leaves the head deferred
+     * (rls_update), which runs before the phases */
     for (unsigned k = 0u; k < pm->p.mode_count; k++) {
         fc_real *sin_k = &pm->phi[sin_of(k)], *cos_k = &pm->phi[cos_of(k)];
         rotate(ar, sin_k, cos_k, pm->step_cos[k], pm->step_sin[k]);
@@ -527,7 +532,6 @@ static fc_step_status run_deferred(fc_pad_motion *pm, unsigned mask)
         advance_phases(pm);
     }
     if (take_piece(pm, mask, FC_PAD_WORK_SUMMARY)) {
-        update_rotations(pm); /* w_k^2 of the newest frequencies (a no-op once the head or the phases ran) */
         summarise_fit(pm);
     }
     /* (while not learning the next sample restarts the estimate, no RLS) */
