@@ -444,13 +444,7 @@ fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *
         return result;
     }
     a->ready = 1u;
-    a->wrench_output = 1u;
     return FC_INIT_OK;
-}
-
-void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled)
-{
-    a->wrench_output = enabled ? 1u : 0u;
 }
 
 void fc_allocation_reset(fc_allocation *a)
@@ -1173,7 +1167,7 @@ fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *
     out->thrust_n = FC_INT(0, FORCE);
     out->moment_nm = fc_vec3_zero();
     fc_step_status status = fc_allocation_speeds(a, d, out->speed, &out->saturation);
-    if (a->ready != 0u && a->wrench_output != 0u) {
+    if (a->ready != 0u) {
         /* the model's products may saturate too: reported with the step's */
         fc_vec3 force;
         forward_model(a, out->speed, false, &force, &out->moment_nm, out->rotor_thrust_n);

@@ -1134,8 +1134,6 @@ fc_init_result fc_controller_init(fc_controller *ctl, const fc_controller_params
             result = parts[i];
         }
     }
-    /* the step uses the allocation's speeds and saturation, not its forward model */
-    fc_allocation_set_wrench_output(&ctl->allocation, false);
     if (result == FC_INIT_OK) {
         result = fc_controller_params_agree(p);
     }

@@ -254,7 +254,6 @@ typedef struct fc_allocation {
     uint8_t newton_iterations;
     uint8_t nonlinear;           /* 1 when some rotor has r_i != s_i */
     uint8_t ready;               /* 1 after a successful init */
-    uint8_t wrench_output;       /* 1: the step runs the forward model (fc_allocation_set_wrench_output) */
     fc_arith ar;
     fc_real16 demand_limit[4];   /* NORM16: sum_i |B_ki|, the most any axis can get (at most 2 - 2^-14) */
     fc_allocation_demand last_good; /* held on bad input */
@@ -273,7 +272,8 @@ typedef struct fc_allocation {
  * coaxial-only layout, ...). On failure the allocation is not ready. */
 fc_init_result fc_allocation_init(fc_allocation *a, const fc_allocation_params *p);
 
-/* Rotor speeds for a normalised demand (see the header comment). */
+/* Rotor speeds for a normalised demand (see the header comment), and the
+ * wrench and rotor thrusts they give by the forward model (2.2)-(2.3). */
 fc_step_status fc_allocation_step(fc_allocation *a, const fc_allocation_demand *d,
                                   fc_allocation_output *out);
 
@@ -305,13 +305,6 @@ void fc_allocation_physical(const fc_allocation *a, const fc_allocation_demand *
 /* The moment part alone: M (MOMENT) of a normalised moment (NORM16), as
  * fc_allocation_physical gives it. */
 void fc_allocation_moment_nm(const fc_allocation *a, const fc_vec3_16 *moment, fc_vec3 *moment_nm);
-
-/* Whether fc_allocation_step fills out->thrust_n, moment_nm and rotor_thrust_n
- * from the forward model (2.2)-(2.3) of the speeds it chose (on after init),
- * or leaves them 0. A caller that uses only speed and saturation (the
- * controller) turns it off: the model is 6 x 8 products of 32 bits per step
- * on the hexa. The speeds and the saturation bits do not depend on it. */
-void fc_allocation_set_wrench_output(fc_allocation *a, bool enabled);
 
 /* Forgets the warm start of the r != s iteration and the last good demand. */
 void fc_allocation_reset(fc_allocation *a);
