@@ -270,11 +270,12 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real n_sq = fc_sumsq2_16(e.w, e.z); /* UNIT16_SQ */
     fc_real16 c = FC_INT16(1, UNIT16);
     fc_real16 s = FC_INT16(0, UNIT16);
-    const fc_real d = fc_sub_inline(ar, FC_INT(1, UNIT16_SQ), n_sq); /* 1 - N^2 = sin^2(tilt_e/2) */
+    /* 1 - N^2 = sin^2(tilt_e/2); 0 <= N^2 <= |e|^2, near 1: no saturation test */
+    const fc_real d = FC_INT(1, UNIT16_SQ) - n_sq;
     if (fc_within(d, SERIES_MAX_D)) {
         /* a small tilt error: 1/N = 1 + d/2 + 3 d^2/8 + ..., cut after d/2 */
         const fc_real half_d = fc_half(d);
-        const fc_real inv_n = fc_add_inline(ar, FC_INT(1, UNIT16_SQ), half_d);
+        const fc_real inv_n = FC_INT(1, UNIT16_SQ) + half_d; /* d <= SERIES_MAX_D: no saturation test */
         c = scaled16(ar, e.w, inv_n);
         s = scaled16(ar, e.z, inv_n);
     } else if (n_sq >= MIN_HEADING_NORM_SQ) {
@@ -287,9 +288,11 @@ STEP_INLINE fc_real16 attitude_error(fc_arith *ar, const fc_quat16 *q, const fc_
     const fc_real half_tx = fc_dot2_16(e.x, c, e.y, s);
     const fc_real half_ty = fc_dot2_16(e.y, c, fc_neg16(e.x), s);
     const fc_real half_hz = fc_widen16(s, FC_UNIT16_FRAC, FC_ANGLE_FRAC);
-    err->x = fc_add_inline(ar, half_tx, half_tx);
-    err->y = fc_add_inline(ar, half_ty, half_ty);
-    err->z = fc_add_inline(ar, half_hz, half_hz);
+    /* each half at most |(e.x, e.y)| |(c, s)|, near 1, and |s| <= 1: twice
+     * that is inside ANGLE's [-8, 8), no saturation test */
+    err->x = half_tx + half_tx;
+    err->y = half_ty + half_ty;
+    err->z = half_hz + half_hz;
     return s;
 }
 
@@ -324,7 +327,9 @@ STEP_INLINE fc_real axis_moment(fc_arith *ar, fc_real16 gain_p, fc_real16 e, fc_
     }
     const fc_real pi = fc_convert(ar, pi_q24, FC_NSUM_FRAC + 2, FC_NSUM_FRAC);
     const fc_real d = fc_mul16(gain_d, rate_err); /* NSUM as it stands */
-    return fc_sub_inline(ar, gyro, fc_add_inline(ar, pi, d));
+    /* |pi + d| <= 7.99 (2 + 4) + 7.99 x 32 < 512, inside NSUM: no saturation
+     * test; the gyroscopic term (up to 0.99 x 1024) can leave it: tested */
+    return fc_sub_inline(ar, gyro, pi + d);
 }
 
 /* Conditional integration of one axis (header: anti-windup): I + e dt with
@@ -347,8 +352,10 @@ STEP_INLINE fc_real integrate_axis(fc_arith *ar, fc_real integral, fc_real16 e, 
         return integral;
     }
     const fc_real step = fc_mul_by16(ar, dt, e, FC_SHIFT(DT, ANGLE16, ANGLE));
-    /* -limit without a saturation test: the limit is validated positive */
-    return fc_clamp(fc_add_inline(ar, integral, step), -limit, limit);
+    /* |I| <= MAX_INTEGRAL_LIMIT = 4 and |e dt| <= 2 x 1: the sum is inside
+     * ANGLE's [-8, 8), no saturation test; -limit neither: the limit is
+     * validated positive */
+    return fc_clamp(integral + step, -limit, limit);
 }
 
 /* Roll and pitch scaled down together into their box (the tilt axis is kept);
