@@ -635,36 +635,34 @@ typedef struct tracking_signals {
     fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
-static tracking_signals tracking(fc_altitude_control *c, const fc_altitude_control_input *in)
+static void tracking(fc_altitude_control *c, const fc_altitude_control_input *in, tracking_signals *t)
 {
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
-    tracking_signals t;
-    t.e_m = fc_sub_inline(ar, in->z_m, in->reference->z_m); /* (4.1) */
-    const fc_real l0_e = fc_mul_gain(ar, t.e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
+    t->e_m = fc_sub_inline(ar, in->z_m, in->reference->z_m); /* (4.1) */
+    const fc_real l0_e = fc_mul_gain(ar, t->e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
     if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
-        t.e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
-        t.sigma_mps = fc_add_inline(ar, t.e_dot_mps, l0_e); /* (4.2) */
+        t->e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
+        t->sigma_mps = fc_add_inline(ar, t->e_dot_mps, l0_e); /* (4.2) */
     } else {
         if (!c->lead_primed) {
-            c->lead_state_m = t.e_m; /* start in steady state: sigma_hat = l0 e */
+            c->lead_state_m = t->e_m; /* start in steady state: sigma_hat = l0 e */
             c->lead_primed = true;
         }
         /* (4.18): sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f, then advance x_f */
         const fc_real lead_in =
-            fc_sub(ar, t.e_m, fc_mul_gain(ar, c->lead_state_m, c->k.lead_state, FC_GAIN_SHIFT(LENGTH, LENGTH)));
-        t.sigma_mps = fc_mul_gain(ar, lead_in, c->k.lead_inv_tau, FC_GAIN_SHIFT(LENGTH, VEL));
+            fc_sub(ar, t->e_m, fc_mul_gain(ar, c->lead_state_m, c->k.lead_state, FC_GAIN_SHIFT(LENGTH, LENGTH)));
+        t->sigma_mps = fc_mul_gain(ar, lead_in, c->k.lead_inv_tau, FC_GAIN_SHIFT(LENGTH, VEL));
         /* f x_f + (1 - f) e as x_f + (1 - f)(e - x_f) */
-        c->lead_state_m = fc_add(ar, c->lead_state_m, fc_mul_gain(ar, fc_sub(ar, t.e_m, c->lead_state_m), c->k.lead,
+        c->lead_state_m = fc_add(ar, c->lead_state_m, fc_mul_gain(ar, fc_sub(ar, t->e_m, c->lead_state_m), c->k.lead,
                                                                   FC_GAIN_SHIFT(LENGTH, LENGTH)));
-        t.e_dot_mps = fc_sub(ar, t.sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
+        t->e_dot_mps = fc_sub(ar, t->sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
     }
-    const fc_real l0_e_dot = fc_mul_gain(ar, t.e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
+    const fc_real l0_e_dot = fc_mul_gain(ar, t->e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
     const fc_real az_ff = fc_clamp(in->reference->az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
-    t.phi_mps2 = fc_sub_inline(ar, fc_add_inline(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
-    t.az_ff_mps2 = az_ff;
-    return t;
+    t->phi_mps2 = fc_sub_inline(ar, fc_add_inline(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
+    t->az_ff_mps2 = az_ff;
 }
 
 /* max |kp u_nom - psi| over kp in [kp_min, kp_max]: the expression is linear in
@@ -991,7 +989,8 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     /* Theta and the integrators learn only from a free thrust and inputs not held */
     const bool integrate = !was_clamped_high && !was_clamped_low && !c->hold;
 
-    const tracking_signals t = tracking(c, in);
+    tracking_signals t;
+    tracking(c, in, &t);
     fc_real theta_kg = c->theta_kg;
     if (p->law == FC_ALT_LAW_SSC && p->adaptive) {
         theta_kg = adapted_theta_kg(c, &t, integrate);
