@@ -661,7 +661,11 @@ static void tracking(fc_altitude_control *c, const fc_altitude_control_input *in
     const fc_real l0_e_dot = fc_mul_gain(ar, t->e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
     const fc_real az_ff = fc_clamp(in->reference->az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
-    t->phi_mps2 = fc_sub_inline(ar, fc_add_inline(ar, p->gravity_mps2, az_ff), l0_e_dot); /* (4.83) */
+    /* g + z_r'' with no saturation test: g in (0, 100] (init) and z_r'' inside
+     * [ref_accel_min, ref_accel_max], which is [-g, max(thrust_up - g, 0)] at most with
+     * thrust_up <= 400 (adaptation_and_feed_forward_constants): the sum is in [0, 400],
+     * inside ACCEL's 512 */
+    t->phi_mps2 = fc_sub_inline(ar, p->gravity_mps2 + az_ff, l0_e_dot); /* (4.83) */
     t->az_ff_mps2 = az_ff;
 }
 
@@ -907,7 +911,7 @@ static fc_real adapted_theta_kg(fc_altitude_control *c, const tracking_signals *
                                                             c->k.damping_lp, FC_GAIN_SHIFT(SIGMA_PHI, SIGMA_PHI)));
     /* bounded so that the product stays inside MASS: beyond (Theta_max - Theta_min) / gamma_p
      * the projection below clips it anyway */
-    const fc_real sigma_phi_bounded = fc_clamp(c->sigma_phi_lp, fc_neg(ar, c->sigma_phi_max), c->sigma_phi_max);
+    const fc_real sigma_phi_bounded = fc_clamp(c->sigma_phi_lp, -c->sigma_phi_max, c->sigma_phi_max); /* >= 0 */
     const fc_real damping_kg = fc_mul_gain(ar, sigma_phi_bounded, c->k.gamma_p, FC_GAIN_SHIFT(SIGMA_PHI, MASS));
     return fc_clamp(fc_sub_inline(ar, c->theta_kg, damping_kg), c->theta_min_kg, c->theta_max_kg);
 }
@@ -973,10 +977,6 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         return FC_STEP_BAD_INPUT;
     }
     fc_step_status status = FC_STEP_OK;
-    /* every field of out is written below; these three by the SSC only */
-    out->sigma_tilde_mps = FC_INT(0, VEL);
-    out->rho_n = FC_INT(0, FORCE);
-    out->observer_bound_n = FC_INT(0, FORCE);
 
     /* the thrust that can be delivered, as a vertical force at the current tilt */
     const fc_real tilt_cos = fc_clamp(in->tilt_cos, p->tilt_cos_min, FC_INT(1, RATIO));
@@ -1000,6 +1000,12 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
     const fc_real u_nom = fc_clamp(fc_mul_inline(ar, theta_kg, t.phi_mps2, FC_SHIFT(MASS, ACCEL, FORCE)), u_min, u_max);
 
     fc_real u;
+    if (p->law != FC_ALT_LAW_SSC) {
+        /* every field of out is written below; these three by the SSC only */
+        out->sigma_tilde_mps = FC_INT(0, VEL);
+        out->rho_n = FC_INT(0, FORCE);
+        out->observer_bound_n = FC_INT(0, FORCE);
+    }
     switch (p->law) {
     case FC_ALT_LAW_PID:
         u = pid_vertical_force(c, in, &t, integrate);
@@ -1017,9 +1023,12 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
         /* anti-windup: the averaging filter's state stays inside the band the
          * actuator can deliver next step, u_nom - u0_av in [u_min, u_max], and
          * inside what (4.7) makes of a relay of amplitude rho, |u0_av| <= rho
-         * (the two overlap: u_nom is in [u_min, u_max]) */
-        const fc_real band_low = fc_max(fc_sub_inline(ar, u_nom, u_max), fc_neg(ar, out->rho_n));
-        const fc_real band_high = fc_min(fc_sub_inline(ar, u_nom, u_min), out->rho_n);
+         * (the two overlap: u_nom is in [u_min, u_max]). No saturation test:
+         * u_nom - u_max is in [u_min - u_max, 0] and u_nom - u_min in
+         * [0, u_max - u_min], with 0 <= u_min <= u_max <= thrust_max <= 2000 N
+         * (init) inside FORCE's 2048; rho >= 0, so -rho is a value */
+        const fc_real band_low = fc_max(u_nom - u_max, -out->rho_n);
+        const fc_real band_high = fc_min(u_nom - u_min, out->rho_n);
         c->u0_av_n = fc_clamp(c->u0_av_n, band_low, band_high);
         break;
     }
@@ -1030,14 +1039,25 @@ fc_step_status fc_altitude_control_step(fc_altitude_control *c, const fc_altitud
      * itself (F = u / k_h rounds either way of the thrust's limit) */
     const bool at_max = u >= u_max;
     const bool at_min = u <= u_min;
-    const fc_real thrust = fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE));
-    out->thrust_n = at_max ? p->thrust_max_n : (at_min ? p->thrust_min_n : fc_clamp(thrust, p->thrust_min_n, p->thrust_max_n));
-    out->clamped = at_max || at_min || thrust >= p->thrust_max_n || thrust <= p->thrust_min_n;
-    if (out->clamped) {
+    const fc_real thrust_max_n = p->thrust_max_n;
+    const fc_real thrust_min_n = p->thrust_min_n;
+    fc_real thrust_n = fc_clamp(fc_div(ar, u, tilt_cos, FC_DIV_SHIFT(FORCE, RATIO, FORCE)), thrust_min_n, thrust_max_n);
+    if (at_max) {
+        thrust_n = thrust_max_n;
+    } else if (at_min) {
+        thrust_n = thrust_min_n;
+    } else {
+        /* F inside the actuator's range, or clamped onto its end */
+    }
+    /* clamped: at a limit of u, or F beyond the range (the clamp put it on an end) */
+    const bool clamped = thrust_n >= thrust_max_n || thrust_n <= thrust_min_n;
+    out->thrust_n = thrust_n;
+    out->clamped = clamped;
+    if (clamped) {
         status |= FC_STEP_OUTPUT_LIMITED;
     }
-    out->thrust = thrust_fraction(c, out->thrust_n);
-    c->last_thrust_n = out->thrust_n;
+    out->thrust = thrust_fraction(c, thrust_n);
+    c->last_thrust_n = thrust_n;
     c->last_error_m = t.e_m;
 
     out->vertical_force_n = u;
