@@ -635,6 +635,25 @@ typedef struct tracking_signals {
     fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
+/* Relative degree two: sigma_hat from the lead filter (4.18), and e' = sigma_hat - l0 e.
+ * Out of line: a measured velocity's step does not carry its registers. */
+static __attribute__((noinline)) void lead_filter(fc_altitude_control *c, fc_real l0_e, tracking_signals *t)
+{
+    fc_arith *ar = &c->ar;
+    if (!c->lead_primed) {
+        c->lead_state_m = t->e_m; /* start in steady state: sigma_hat = l0 e */
+        c->lead_primed = true;
+    }
+    /* (4.18): sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f, then advance x_f */
+    const fc_real lead_in =
+        fc_sub(ar, t->e_m, fc_mul_gain(ar, c->lead_state_m, c->k.lead_state, FC_GAIN_SHIFT(LENGTH, LENGTH)));
+    t->sigma_mps = fc_mul_gain(ar, lead_in, c->k.lead_inv_tau, FC_GAIN_SHIFT(LENGTH, VEL));
+    /* f x_f + (1 - f) e as x_f + (1 - f)(e - x_f) */
+    c->lead_state_m = fc_add(ar, c->lead_state_m, fc_mul_gain(ar, fc_sub(ar, t->e_m, c->lead_state_m), c->k.lead,
+                                                              FC_GAIN_SHIFT(LENGTH, LENGTH)));
+    t->e_dot_mps = fc_sub(ar, t->sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
+}
+
 static void tracking(fc_altitude_control *c, const fc_altitude_control_input *in, tracking_signals *t)
 {
     fc_arith *ar = &c->ar;
@@ -645,18 +664,7 @@ static void tracking(fc_altitude_control *c, const fc_altitude_control_input *in
         t->e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
         t->sigma_mps = fc_add_inline(ar, t->e_dot_mps, l0_e); /* (4.2) */
     } else {
-        if (!c->lead_primed) {
-            c->lead_state_m = t->e_m; /* start in steady state: sigma_hat = l0 e */
-            c->lead_primed = true;
-        }
-        /* (4.18): sigma_hat = (e - (1 - tau_f l0) x_f) / tau_f, then advance x_f */
-        const fc_real lead_in =
-            fc_sub(ar, t->e_m, fc_mul_gain(ar, c->lead_state_m, c->k.lead_state, FC_GAIN_SHIFT(LENGTH, LENGTH)));
-        t->sigma_mps = fc_mul_gain(ar, lead_in, c->k.lead_inv_tau, FC_GAIN_SHIFT(LENGTH, VEL));
-        /* f x_f + (1 - f) e as x_f + (1 - f)(e - x_f) */
-        c->lead_state_m = fc_add(ar, c->lead_state_m, fc_mul_gain(ar, fc_sub(ar, t->e_m, c->lead_state_m), c->k.lead,
-                                                                  FC_GAIN_SHIFT(LENGTH, LENGTH)));
-        t->e_dot_mps = fc_sub(ar, t->sigma_mps, l0_e); /* e' = sigma_hat - l0 e */
+        lead_filter(c, l0_e, t);
     }
     const fc_real l0_e_dot = fc_mul_gain(ar, t->e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
@@ -744,16 +752,16 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
     return bound;
 }
 
-/* The modulation rho of the relay, and the advance of its observers. */
-static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
-                            fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
+/* The modulation rho of an observer (NORM_OBSERVER, EXTRA), and the advance of
+ * its observers. Out of line: the constant modulation's step does not carry
+ * their registers (see modulation_n). */
+static __attribute__((noinline)) fc_real observed_modulation_n(fc_altitude_control *c,
+                                                               const fc_altitude_control_input *in,
+                                                               const tracking_signals *t, fc_real u_nom_n,
+                                                               fc_real sigma_tilde_mps, fc_real *observer_bound)
 {
-    *observer_bound = FC_INT(0, FORCE);
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
-    if (p->modulation == FC_SSC_MODULATION_CONSTANT) {
-        return p->rho_n;
-    }
     const fc_real k0_term = fc_mul_gain(ar, fc_abs(ar, sigma_tilde_mps), c->k.k0, FC_GAIN_SHIFT(VEL, FORCE));
     switch (p->modulation) {
     case FC_SSC_MODULATION_NORM_OBSERVER:
@@ -793,6 +801,17 @@ static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_in
     }
 }
 
+/* The modulation rho of the relay, and the advance of its observers. */
+static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+                            fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
+{
+    *observer_bound = FC_INT(0, FORCE);
+    if (c->p.modulation == FC_SSC_MODULATION_CONSTANT) {
+        return c->p.rho_n;
+    }
+    return observed_modulation_n(c, in, t, u_nom_n, sigma_tilde_mps, observer_bound);
+}
+
 /* The SSC: returns the vertical force u = u_nom - u0_av and advances the
  * relay, the prediction-error loop and the averaging filter. */
 static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
@@ -829,7 +848,7 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
 }
 
 /* Baseline: first-order sliding mode, sign or boundary-layer relay. */
-static fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n)
+static __attribute__((noinline)) fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n)
 {
     fc_arith *ar = &c->ar;
     fc_real switching; /* UNIT in [-1, 1] */
@@ -843,7 +862,7 @@ static fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals
 }
 
 /* Baseline: super-twisting. v is integrated only while the thrust is free. */
-static fc_real super_twisting_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n,
+static __attribute__((noinline)) fc_real super_twisting_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n,
                                              bool integrate)
 {
     fc_arith *ar = &c->ar;
@@ -860,7 +879,7 @@ static fc_real super_twisting_vertical_force(fc_altitude_control *c, const track
 }
 
 /* Baseline: the Crazyflie's cascade, position PID -> velocity PID. */
-static fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
+static __attribute__((noinline)) fc_real pid_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
                                   const tracking_signals *t, bool integrate)
 {
     fc_arith *ar = &c->ar;

@@ -86,7 +86,8 @@ fc_step_status fc_altitude_reference_step(fc_altitude_reference *ref, const fc_v
     reference->az_mps2 = fc_add_inline(
         ar, pad_used.az_mps2, fc_mul_by16(ar, ref->offset_accel_mps2, decay16, FC_SHIFT(ACCEL, UNIT16, ACCEL)));
     const fc_real decay_loss = fc_mul_gain(ar, ref->decay, ref->decay_loss_per_step, FC_GAIN_SHIFT(UNIT, UNIT));
-    ref->decay = fc_sub_inline(ar, ref->decay, decay_loss);
+    /* decay in [0, 1] and its loss a share of it in [0, 1): no saturation test */
+    ref->decay = ref->decay - decay_loss;
     if (ar->saturated != 0u) {
         status |= FC_STEP_ARITH_SATURATED;
     }
