@@ -635,9 +635,8 @@ typedef struct tracking_signals {
     fc_real az_ff_mps2;   /* ACCEL: the z_r'' in phi */
 } tracking_signals;
 
-/* Relative degree two: sigma_hat from the lead filter (4.18), and e' = sigma_hat - l0 e.
- * Out of line: a measured velocity's step does not carry its registers. */
-static __attribute__((noinline)) void lead_filter(fc_altitude_control *c, fc_real l0_e, tracking_signals *t)
+/* Relative degree two: sigma_hat from the lead filter (4.18), and e' = sigma_hat - l0 e. */
+static void lead_filter(fc_altitude_control *c, fc_real l0_e, tracking_signals *t)
 {
     fc_arith *ar = &c->ar;
     if (!c->lead_primed) {
@@ -658,15 +657,19 @@ static void tracking(fc_altitude_control *c, const fc_altitude_control_input *in
 {
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
-    t->e_m = fc_sub_inline(ar, in->z_m, in->reference->z_m); /* (4.1) */
-    const fc_real l0_e = fc_mul_gain(ar, t->e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
+    const fc_real e_m = fc_sub_inline(ar, in->z_m, in->reference->z_m); /* (4.1) */
+    t->e_m = e_m;
+    const fc_real l0_e = fc_mul_gain(ar, e_m, c->k.l0, FC_GAIN_SHIFT(LENGTH, VEL));
+    fc_real e_dot_mps;
     if (p->velocity_measured || p->law != FC_ALT_LAW_SSC) {
-        t->e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
-        t->sigma_mps = fc_add_inline(ar, t->e_dot_mps, l0_e); /* (4.2) */
+        e_dot_mps = fc_sub_inline(ar, in->vz_mps, in->reference->vz_mps);
+        t->sigma_mps = fc_add_inline(ar, e_dot_mps, l0_e); /* (4.2) */
     } else {
         lead_filter(c, l0_e, t);
+        e_dot_mps = t->e_dot_mps;
     }
-    const fc_real l0_e_dot = fc_mul_gain(ar, t->e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
+    t->e_dot_mps = e_dot_mps;
+    const fc_real l0_e_dot = fc_mul_gain(ar, e_dot_mps, c->k.l0, FC_GAIN_SHIFT(VEL, ACCEL));
     /* z_r'' inside what the thrust can give (the start of (3.6) asks for z_r_init/tau_zr^2) */
     const fc_real az_ff = fc_clamp(in->reference->az_mps2, c->ref_accel_min_mps2, c->ref_accel_max_mps2);
     /* g + z_r'' with no saturation test: g in (0, 100] (init) and z_r'' inside
@@ -752,16 +755,16 @@ static fc_real eta_observer_bound_n(fc_altitude_control *c, const fc_altitude_co
     return bound;
 }
 
-/* The modulation rho of an observer (NORM_OBSERVER, EXTRA), and the advance of
- * its observers. Out of line: the constant modulation's step does not carry
- * their registers (see modulation_n). */
-static __attribute__((noinline)) fc_real observed_modulation_n(fc_altitude_control *c,
-                                                               const fc_altitude_control_input *in,
-                                                               const tracking_signals *t, fc_real u_nom_n,
-                                                               fc_real sigma_tilde_mps, fc_real *observer_bound)
+/* The modulation rho of the relay, and the advance of its observers. */
+static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
+                            fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
 {
+    *observer_bound = FC_INT(0, FORCE);
     fc_arith *ar = &c->ar;
     const fc_altitude_control_params *p = &c->p;
+    if (p->modulation == FC_SSC_MODULATION_CONSTANT) {
+        return p->rho_n;
+    }
     const fc_real k0_term = fc_mul_gain(ar, fc_abs(ar, sigma_tilde_mps), c->k.k0, FC_GAIN_SHIFT(VEL, FORCE));
     switch (p->modulation) {
     case FC_SSC_MODULATION_NORM_OBSERVER:
@@ -801,17 +804,6 @@ static __attribute__((noinline)) fc_real observed_modulation_n(fc_altitude_contr
     }
 }
 
-/* The modulation rho of the relay, and the advance of its observers. */
-static fc_real modulation_n(fc_altitude_control *c, const fc_altitude_control_input *in, const tracking_signals *t,
-                            fc_real u_nom_n, fc_real sigma_tilde_mps, fc_real *observer_bound)
-{
-    *observer_bound = FC_INT(0, FORCE);
-    if (c->p.modulation == FC_SSC_MODULATION_CONSTANT) {
-        return c->p.rho_n;
-    }
-    return observed_modulation_n(c, in, t, u_nom_n, sigma_tilde_mps, observer_bound);
-}
-
 /* The SSC: returns the vertical force u = u_nom - u0_av and advances the
  * relay, the prediction-error loop and the averaging filter. */
 static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_control_input *in,
@@ -846,6 +838,9 @@ static fc_real ssc_vertical_force(fc_altitude_control *c, const fc_altitude_cont
     out->observer_bound_n = observer_bound;
     return u;
 }
+
+/* The baselines below are out of line (noinline): inlined, the SSC's step on the
+ * ATmega carried their registers and frame. */
 
 /* Baseline: first-order sliding mode, sign or boundary-layer relay. */
 static __attribute__((noinline)) fc_real smc_vertical_force(fc_altitude_control *c, const tracking_signals *t, fc_real u_nom_n)
