@@ -596,6 +596,25 @@ static void extrapolate_one_step(fc_controller_pad_samples *ps, fc_arith *ar)
     ps->height_step_m = fc_add_inline(ar, ps->height_step_m, ps->height_step_change_m);
 }
 
+/* *to = *from field by field: the estimate goes to the telemetry at every
+ * step, and a struct assignment is a byte loop on the ATmega at -Os. */
+static void copy_pad_estimate(fc_pad_motion_estimate *to, const fc_pad_motion_estimate *from)
+{
+    to->now.z_m = from->now.z_m;
+    to->now.vz_mps = from->now.vz_mps;
+    to->now.az_mps2 = from->now.az_mps2;
+    to->mean_m = from->mean_m;
+    to->heave_bound_m = from->heave_bound_m;
+    to->accel_bound_mps2 = from->accel_bound_mps2;
+    to->prediction_error_m = from->prediction_error_m;
+    to->confidence = from->confidence;
+    to->observed_s = from->observed_s;
+    to->dominant_mode = from->dominant_mode;
+    to->dominant_period_s = from->dominant_period_s;
+    to->dominant_amplitude_m = from->dominant_amplitude_m;
+    to->learning = from->learning;
+}
+
 /* In the pad model's minor frame (pad_model_frame) the model takes the
  * waiting sample, carried to this step along the model's vertical speed,
  * and gives a new estimate; in the work-ahead frames (work_ahead_frame) it
@@ -626,7 +645,7 @@ static fc_step_status pad_step(fc_controller_pad_samples *ps, fc_pad_motion *mod
     } else {
         extrapolate_one_step(ps, ar);
     }
-    *estimate = ps->estimate;
+    copy_pad_estimate(estimate, &ps->estimate);
     if (ps->pending) {
         ps->pending_age_s = fc_min(fc_add_inline(ar, ps->pending_age_s, p->dt_s), FC_C(1.0f, DT));
     }
