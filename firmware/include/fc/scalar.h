@@ -1267,9 +1267,9 @@ FC_FX_INLINE fc_real fc_fx_mul_gain_reference(fc_arith *ar, fc_real x, int16_t m
 
 /* (port: FC_PORT_MUL_GAIN) */
 #ifndef FC_PORT_MUL_GAIN
-FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int shift)
+FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int8_t frac, int shift_in_out)
 {
-    return fc_fx_mul_gain_reference(ar, x, mantissa, shift);
+    return fc_fx_mul_gain_reference(ar, x, mantissa, frac + shift_in_out);
 }
 #endif
 
@@ -1277,7 +1277,7 @@ FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t manti
  * FC_GAIN_SHIFT(X, OUT) = frac_x - frac_out. */
 FC_FX_INLINE fc_real fc_mul_gain(fc_arith *ar, fc_real x, fc_gain g, int shift_in_out)
 {
-    return fc_fx_mul_gain_shift(ar, x, g.mantissa, g.frac + shift_in_out);
+    return fc_fx_mul_gain_shift(ar, x, g.mantissa, g.frac, shift_in_out);
 }
 #else
 typedef float fc_gain;

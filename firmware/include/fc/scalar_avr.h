@@ -1274,9 +1274,11 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
 /* scalar.c: the assembly above, and the portable definition for the other shifts */
 fc_real fc_fx_mul_gain_avr(fc_real x, int16_t mantissa, uint8_t shift, fc_arith *ar);
 fc_real fc_fx_mul_gain_avr_far(fc_real x, int16_t mantissa, uint8_t shift, fc_arith *ar);
-FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int shift)
+/* the shift frac + shift_in_out modulo 2^8, as the assembly reads it, formed
+ * in one byte (avr-gcc adds the int sum in two) */
+FC_FX_INLINE fc_real fc_fx_mul_gain_shift(fc_arith *ar, fc_real x, int16_t mantissa, int8_t frac, int shift_in_out)
 {
-    return fc_fx_mul_gain_avr(x, mantissa, (uint8_t)shift, ar);
+    return fc_fx_mul_gain_avr(x, mantissa, (uint8_t)((uint8_t)frac + (uint8_t)shift_in_out), ar);
 }
 /* ======================================================================= */
 

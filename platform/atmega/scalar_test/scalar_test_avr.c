@@ -340,10 +340,13 @@ static const int16_t mantissa_edges[MANTISSA_EDGE_COUNT] = {
     INT16_MIN, -INT16_MAX, INT16_MAX, 0, 1, -1, 16384, -16384, 16383, -16385,
 };
 
+/* the shift as the gain's frac and a signal's shift_in_out (fc_mul_gain),
+ * split both ways and not at all */
 static void compare_mul_gain_at(int32_t x, int16_t m, int shift)
 {
+    const int in_out = shift > 0 && shift < 100 ? shift % 7 - 3 : 0;
     fc_arith got = {0u}, want = {0u};
-    const int32_t value = fc_fx_mul_gain_shift(&got, x, m, shift);
+    const int32_t value = fc_fx_mul_gain_shift(&got, x, m, (int8_t)(shift - in_out), in_out);
     check(OP_MUL_GAIN, (uint8_t)shift, value, got.saturated, ref_mul_gain(&want, x, m, shift), want.saturated);
 }
 
