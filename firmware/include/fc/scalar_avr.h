@@ -1180,7 +1180,10 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "mov r25, r23\n"                                                                           \
     "14:\n\t"                                                                                  \
     "andi r30, 7\n\t"                                                                          \
-    "breq 16f\n"                                                                               \
+    "breq 16f\n\t"                                                                             \
+    "cpi r30, 5\n\t"                                                                           \
+    "brlo 15f\n\t"                                                                             \
+    "rjmp 17f\n"                                                                               \
     "15:\n\t"                                                                                  \
     "asr r25\n\tror r24\n\tror r23\n\tror r22\n\t"                                             \
     "dec r30\n\t"                                                                              \
@@ -1268,6 +1271,22 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "ret\n"                                                                                    \
     "31:\n\t"                                                                                  \
     "ldi r22, 0x01\n\tldi r23, 0\n\tldi r24, 0\n\tldi r25, 0x80\n\t"                           \
+    "ret\n"                                                                                    \
+    /* 5..7 bits: w >> 1 = the top 4 of the 5 bytes r21 (the sign):r25..r22 */                 \
+    /* shifted left by 7 - bits in 0..2, w & 1 the top bit of the byte dropped */              \
+    "17:\n\t"                                                                                  \
+    "mov r21, r25\n\tlsl r21\n\tsbc r21, r21\n\t"                                              \
+    "cpi r30, 7\n\t"                                                                           \
+    "breq 19f\n\t"                                                                             \
+    "cpi r30, 6\n\t"                                                                           \
+    "breq 18f\n\t"                                                                             \
+    "lsl r22\n\trol r23\n\trol r24\n\trol r25\n\trol r21\n"                                   \
+    "18:\n\t"                                                                                  \
+    "lsl r22\n\trol r23\n\trol r24\n\trol r25\n\trol r21\n"                                   \
+    "19:\n\t"                                                                                  \
+    "lsl r22\n\t"                                                                              \
+    "mov r22, r23\n\tmov r23, r24\n\tmov r24, r25\n\tmov r25, r21\n\t"                         \
+    "adc r22, r1\n\tadc r23, r1\n\tadc r24, r1\n\tadc r25, r1\n\t"                             \
     "ret"
 
 #define FC_PORT_MUL_GAIN
