@@ -955,6 +955,13 @@ static inline bool fc_in_range(fc_real x, fc_real lo, fc_real hi)
 static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real limit)
 {
 #if FC_NUMERIC_FIXED
+    /* -limit <= x <= limit as one unsigned comparison: x + limit modulo 2^32
+     * is in [0, 2 limit] exactly for those x when 0 <= limit <= INT32_MAX
+     * (the 2 limit + 1 values there are the images of the interval's), and
+     * a negative limit holds no x; a constant limit folds */
+    if (__builtin_constant_p(limit)) {
+        return limit >= 0 && (uint32_t)x + (uint32_t)limit <= 2u * (uint32_t)limit;
+    }
     return x <= limit && x >= -limit;
 #else
     /* one comparison of |x| (a NaN compares false), with a limit past the
