@@ -1092,20 +1092,18 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
  *                its low 32 bits not 0 or 1 (the result -2^31).
  * The same value and saturation as fc_fx_mul_gain_reference
  * (atmega.scalar_equivalence).
- * Registers: x_high moves to r18:r19 and shift to r30 (MULS and MULSU take
- * r16-r23); L in r24-r27, r31 the zero; t = r23:r22:r27:r26 (x_low's place
- * once L is formed), L_low r25:r24.
+ * Registers: x_high moves to r18:r19 and shift - 1 to r30 (MULS and MULSU
+ * take r16-r23); L in r24-r27, r31 the zero; t = r23:r22:r27:r26 (x_low's
+ * place once L is formed), L_low r25:r24.
  */
 #define FC_AVR_MUL_GAIN_BODY                                                                   \
     "mov r30, r18\n\t"                                                                         \
-    "subi r18, 1\n\t"                                                                          \
-    "cpi r18, 46\n\t"                                                                          \
+    "subi r30, 1\n\t"                                                                          \
+    "cpi r30, 46\n\t"                                                                          \
     "brlo 1f\n\t"                                                                              \
-    "mov r18, r30\n\t"                                                                         \
     "jmp fc_fx_mul_gain_avr_far\n"                                                             \
     "1:\n\t"                                                                                   \
-    "mov r18, r24\n\t"                                                                         \
-    "mov r19, r25\n\t"                                                                         \
+    "movw r18, r24\n\t"                                                                        \
     /* L = x_low m: r27:r26:r25:r24 */                                                         \
     "clr r31\n\t"                                                                              \
     "mulsu r21, r23\n\t"                                                                       \
@@ -1145,10 +1143,10 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "add r22, r0\n\t"                                                                          \
     "adc r23, r1\n\t"                                                                          \
     "clr r1\n\t"                                                                               \
-    "cpi r30, 17\n\t"                                                                          \
+    "cpi r30, 16\n\t"                                                                          \
     "brlo 20f\n\t"                                                                             \
     /* shift > 16: k = shift - 17, t's bytes k / 8 on into r25:r24:r23:r22 */                 \
-    "subi r30, 17\n\t"                                                                         \
+    "subi r30, 16\n\t"                                                                         \
     "cpi r30, 8\n\t"                                                                           \
     "brsh 11f\n\t"                                                                             \
     "movw r24, r22\n\t"                                                                        \
@@ -1195,7 +1193,6 @@ FC_FX_INLINE fc_real16 fc_narrow16(fc_arith *ar, fc_real x, int frac_from, int f
     "ret\n"                                                                                    \
     /* shift <= 16: the 48 bits r23:r22:r27:r26:r25:r24 by shift - 1 */                        \
     "20:\n\t"                                                                                  \
-    "dec r30\n\t"                                                                              \
     "cpi r30, 8\n\t"                                                                           \
     "brlo 21f\n\t"                                                                             \
     "mov r24, r25\n\t"                                                                         \
