@@ -959,7 +959,7 @@ static inline __attribute__((always_inline)) bool fc_within(fc_real x, fc_real l
      * is in [0, 2 limit] exactly for those x when 0 <= limit <= INT32_MAX
      * (the 2 limit + 1 values there are the images of the interval's), and
      * a negative limit holds no x; a constant limit folds */
-    if (__builtin_constant_p(limit)) {
+    if (__builtin_constant_p(limit) != 0) {
         return limit >= 0 && (uint32_t)x + (uint32_t)limit <= 2u * (uint32_t)limit;
     }
     return x <= limit && x >= -limit;
