@@ -194,35 +194,26 @@ static int32_t ref_narrow16(fc_arith *ar, int32_t x, int shift)
     return r;
 }
 
-/* fc_narrow16 at the shifts the library uses, each a constant: 16 (the high
- * half and bit 15), 12 and 14 (fc_fx_low16_asr), 10, 13 and 15 (fc_convert) */
+/* one narrowing of x by shift against the portable definition */
+static void check_narrow16(int32_t x, uint8_t shift, int32_t got, const fc_arith *got_ar)
+{
+    fc_arith want = {0u};
+    const int32_t r = ref_narrow16(&want, x, shift);
+    check(OP_NARROW16, shift, got, got_ar->saturated, r, want.saturated);
+}
+
+/* fc_narrow16 at the shifts the library uses, each a constant (the port
+ * specialises on it): 16 (the high half and bit 15), 12 and 14
+ * (fc_fx_low16_asr), 10, 13 and 15 (fc_convert) */
 static void compare_narrow16(int32_t x)
 {
     fc_arith got16 = {0u}, got15 = {0u}, got14 = {0u}, got13 = {0u}, got12 = {0u}, got10 = {0u};
-    fc_arith want = {0u};
-    const int32_t n16 = fc_narrow16(&got16, x, 30, 14);
-    const int32_t n15 = fc_narrow16(&got15, x, 28, 13);
-    const int32_t n14 = fc_narrow16(&got14, x, 28, 14);
-    const int32_t n13 = fc_narrow16(&got13, x, 27, 14);
-    const int32_t n12 = fc_narrow16(&got12, x, 26, 14);
-    const int32_t n10 = fc_narrow16(&got10, x, 24, 14);
-    int32_t r = ref_narrow16(&want, x, 16);
-    check(OP_NARROW16, 16u, n16, got16.saturated, r, want.saturated);
-    want.saturated = 0u;
-    r = ref_narrow16(&want, x, 15);
-    check(OP_NARROW16, 15u, n15, got15.saturated, r, want.saturated);
-    want.saturated = 0u;
-    r = ref_narrow16(&want, x, 14);
-    check(OP_NARROW16, 14u, n14, got14.saturated, r, want.saturated);
-    want.saturated = 0u;
-    r = ref_narrow16(&want, x, 13);
-    check(OP_NARROW16, 13u, n13, got13.saturated, r, want.saturated);
-    want.saturated = 0u;
-    r = ref_narrow16(&want, x, 12);
-    check(OP_NARROW16, 12u, n12, got12.saturated, r, want.saturated);
-    want.saturated = 0u;
-    r = ref_narrow16(&want, x, 10);
-    check(OP_NARROW16, 10u, n10, got10.saturated, r, want.saturated);
+    check_narrow16(x, 16u, fc_narrow16(&got16, x, 30, 14), &got16);
+    check_narrow16(x, 15u, fc_narrow16(&got15, x, 28, 13), &got15);
+    check_narrow16(x, 14u, fc_narrow16(&got14, x, 28, 14), &got14);
+    check_narrow16(x, 13u, fc_narrow16(&got13, x, 27, 14), &got13);
+    check_narrow16(x, 12u, fc_narrow16(&got12, x, 26, 14), &got12);
+    check_narrow16(x, 10u, fc_narrow16(&got10, x, 24, 14), &got10);
 }
 
 /* fc_narrow16 on either side of its saturation bounds +-(2^16 - 1) 2^(n - 1)
